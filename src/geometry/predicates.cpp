@@ -1,0 +1,339 @@
+// src/geometry/predicates.cpp — exact stages of the geometric predicates of mwst/geometry.hpp.
+//
+// Implements detail::orient2d_exact, detail::incircle_exact, compare_squared_lengths,
+// in_diametral_circle and the internal detail::orient2d_value (a faithful approximation of the
+// orient2d determinant, used by the constructions). Technique: floating-point expansion arithmetic
+// after J. R. Shewchuk, "Adaptive Precision Floating-Point Arithmetic and Fast Robust Geometric
+// Predicates", Discrete & Computational Geometry 18:305–363, 1997 (error-free transformations
+// Two-Sum / Fast-Two-Sum / Two-Product, Grow-Expansion, Fast-Expansion-Sum and Scale-Expansion with
+// zero elimination). Written from the paper's theorems; no code is taken from his predicates.c.
+//
+// Why the result is exact in the supported range (coordinates 0 or of magnitude in [1e-50, 1e50]):
+// every such coordinate is an integer multiple of 2^-219 (the ulp of 1e-50), so every coordinate
+// difference and every component produced by an error-free transformation on degree-k quantities is
+// an integer multiple of 2^(-219k) >= 2^-876 > 2^-1074 (incircle has degree 4): no operation
+// underflows, and every product stays far below overflow (|value| <= ~1e203). In that regime the
+// transformations below are exact, so the expansions hold the exact value of the determinant, and
+// the sign of a nonoverlapping expansion is the sign of its largest component.
+//
+// The whole file must be compiled with -ffp-contract=off (a contracted a*b-c would break Two-Product
+// in its Dekker form and the filter bounds), and in round-to-nearest-even.
+
+#include <cmath>
+#include <cstring>
+
+#include "mwst/geometry.hpp"
+
+namespace mwst {
+namespace detail {
+// Internal (not in the public header): the orient2d determinant of (a, b, c), computed exactly and
+// rounded to double (faithfully: the error is below about one ulp). Used by constructions.cpp.
+double orient2d_value(const Point& a, const Point& b, const Point& c);
+}  // namespace detail
+
+namespace {
+
+// ---- error-free transformations ---------------------------------------------------------------
+
+// x + y == a + b exactly, x == fl(a + b). No precondition (Knuth's Two-Sum).
+inline void two_sum(double a, double b, double& x, double& y) {
+  x = a + b;
+  const double b_virtual = x - a;
+  const double a_virtual = x - b_virtual;
+  const double b_roundoff = b - b_virtual;
+  const double a_roundoff = a - a_virtual;
+  y = a_roundoff + b_roundoff;
+}
+
+// x + y == a + b exactly, x == fl(a + b). Precondition: |a| >= |b| (or a == 0) (Dekker).
+inline void fast_two_sum(double a, double b, double& x, double& y) {
+  x = a + b;
+  const double b_virtual = x - a;
+  y = b - b_virtual;
+}
+
+// x + y == a - b exactly, x == fl(a - b).
+inline void two_diff(double a, double b, double& x, double& y) {
+  x = a - b;
+  const double b_virtual = a - x;
+  const double a_virtual = x + b_virtual;
+  const double b_roundoff = b_virtual - b;
+  const double a_roundoff = a - a_virtual;
+  y = a_roundoff + b_roundoff;
+}
+
+// x + y == a * b exactly, x == fl(a * b). The error term comes from an explicit fused multiply-add,
+// which is exact here (the error of a product is representable when nothing underflows). With
+// hardware FMA (-mfma) this is one instruction; otherwise glibc dispatches std::fma to the FMA
+// instruction at run time when the CPU has it. Dekker's splitting is the portable alternative and
+// is used when MWST_DEKKER_PRODUCT is defined (kept for machines without fast fma).
+#if defined(MWST_DEKKER_PRODUCT)
+inline void split(double a, double& hi, double& lo) {
+  constexpr double kSplitter = 134217729.0;  // 2^27 + 1
+  const double c = kSplitter * a;
+  const double a_big = c - a;
+  hi = c - a_big;
+  lo = a - hi;
+}
+inline void two_product(double a, double b, double& x, double& y) {
+  x = a * b;
+  double ahi = 0.0, alo = 0.0, bhi = 0.0, blo = 0.0;
+  split(a, ahi, alo);
+  split(b, bhi, blo);
+  const double err1 = x - ahi * bhi;
+  const double err2 = err1 - alo * bhi;
+  const double err3 = err2 - ahi * blo;
+  y = alo * blo - err3;
+}
+#else
+inline void two_product(double a, double b, double& x, double& y) {
+  x = a * b;
+  y = std::fma(a, b, -x);
+}
+#endif
+
+// ---- expansions -------------------------------------------------------------------------------
+//
+// An expansion is a sum of doubles stored in increasing order of magnitude, nonoverlapping (in
+// fact strongly nonoverlapping, as all the routines below produce under round-to-even), with no
+// zero components. The empty expansion is 0. N is a compile-time capacity.
+
+template <int N>
+struct Expansion {
+  static constexpr int kCapacity = N;
+  double c[N];
+  int n = 0;
+  void push(double v) {
+    if (v != 0.0) c[n++] = v;
+  }
+};
+
+template <int N>
+inline int sign_of(const Expansion<N>& e) {
+  if (e.n == 0) return 0;
+  return e.c[e.n - 1] > 0.0 ? 1 : -1;
+}
+
+// Faithful approximation of the value: components summed from the smallest.
+template <int N>
+inline double estimate(const Expansion<N>& e) {
+  double s = 0.0;
+  for (int i = 0; i < e.n; ++i) s += e.c[i];
+  return s;
+}
+
+// The exact difference a - b as an expansion of at most two components.
+inline Expansion<2> difference(double a, double b) {
+  double x = 0.0, y = 0.0;
+  two_diff(a, b, x, y);
+  Expansion<2> h;
+  h.push(y);
+  h.push(x);
+  return h;
+}
+
+template <int N>
+inline void negate(Expansion<N>& e) {
+  for (int i = 0; i < e.n; ++i) e.c[i] = -e.c[i];
+}
+
+// h = e + b (Grow-Expansion, Shewchuk Theorem 10, with zero elimination). h may not alias e.
+inline int grow_expansion(const double* e, int n, double b, double* h) {
+  double q = b;
+  int hn = 0;
+  for (int i = 0; i < n; ++i) {
+    double sum = 0.0, err = 0.0;
+    two_sum(q, e[i], sum, err);
+    q = sum;
+    if (err != 0.0) h[hn++] = err;
+  }
+  if (q != 0.0) h[hn++] = q;
+  return hn;
+}
+
+// h = e + f by merging the components by magnitude and running a Two-Sum chain through them
+// (Fast-Expansion-Sum, Shewchuk Theorem 13, with zero elimination). h may not alias e or f.
+inline int expansion_sum(const double* e, int n, const double* f, int m, double* h) {
+  if (n == 0) {
+    std::memcpy(h, f, sizeof(double) * static_cast<std::size_t>(m));
+    return m;
+  }
+  if (m == 0) {
+    std::memcpy(h, e, sizeof(double) * static_cast<std::size_t>(n));
+    return n;
+  }
+  if (m == 1) return grow_expansion(e, n, f[0], h);
+  if (n == 1) return grow_expansion(f, m, e[0], h);
+  int i = 0, j = 0, hn = 0;
+  // Next component in increasing magnitude order.
+  auto next = [&]() -> double {
+    if (i < n && (j >= m || std::fabs(e[i]) < std::fabs(f[j]))) return e[i++];
+    return f[j++];
+  };
+  double q = next();
+  while (i < n || j < m) {
+    const double g = next();
+    double sum = 0.0, err = 0.0;
+    two_sum(q, g, sum, err);
+    q = sum;
+    if (err != 0.0) h[hn++] = err;
+  }
+  if (q != 0.0) h[hn++] = q;
+  return hn;
+}
+
+// h = e * b (Scale-Expansion, Shewchuk Theorem 19, with zero elimination). h may not alias e.
+inline int scale_expansion(const double* e, int n, double b, double* h) {
+  if (n == 0 || b == 0.0) return 0;
+  int hn = 0;
+  double q = 0.0, err = 0.0;
+  two_product(e[0], b, q, err);
+  if (err != 0.0) h[hn++] = err;
+  for (int i = 1; i < n; ++i) {
+    double p_hi = 0.0, p_lo = 0.0;
+    two_product(e[i], b, p_hi, p_lo);
+    double s = 0.0;
+    two_sum(q, p_lo, s, err);
+    if (err != 0.0) h[hn++] = err;
+    fast_two_sum(p_hi, s, q, err);  // |p_hi| >= |s| by Theorem 19's argument
+    if (err != 0.0) h[hn++] = err;
+  }
+  if (q != 0.0) h[hn++] = q;
+  return hn;
+}
+
+template <int N, int M>
+inline Expansion<N + M> operator+(const Expansion<N>& e, const Expansion<M>& f) {
+  Expansion<N + M> h;
+  h.n = expansion_sum(e.c, e.n, f.c, f.n, h.c);
+  return h;
+}
+
+template <int N, int M>
+inline Expansion<N + M> operator-(const Expansion<N>& e, Expansion<M> f) {
+  negate(f);
+  return e + f;
+}
+
+template <int N>
+inline Expansion<2 * N> scale(const Expansion<N>& e, double b) {
+  Expansion<2 * N> h;
+  h.n = scale_expansion(e.c, e.n, b, h.c);
+  return h;
+}
+
+// Exact product of two expansions: the sum over f's components of e scaled by each.
+template <int N, int M>
+inline Expansion<2 * N * M> operator*(const Expansion<N>& e, const Expansion<M>& f) {
+  Expansion<2 * N * M> result;
+  if (e.n == 0 || f.n == 0) return result;
+  if (f.n == 1) {
+    result.n = scale_expansion(e.c, e.n, f.c[0], result.c);
+    return result;
+  }
+  if (e.n == 1) {
+    result.n = scale_expansion(f.c, f.n, e.c[0], result.c);
+    return result;
+  }
+  Expansion<2 * N * M> other;
+  Expansion<2 * N * M>* acc = &result;
+  Expansion<2 * N * M>* tmp = &other;
+  acc->n = scale_expansion(e.c, e.n, f.c[0], acc->c);
+  double scaled[2 * N];
+  for (int j = 1; j < f.n; ++j) {
+    const int sn = scale_expansion(e.c, e.n, f.c[j], scaled);
+    tmp->n = expansion_sum(acc->c, acc->n, scaled, sn, tmp->c);
+    Expansion<2 * N * M>* t = acc;
+    acc = tmp;
+    tmp = t;
+  }
+  if (acc != &result) {
+    std::memcpy(result.c, acc->c, sizeof(double) * static_cast<std::size_t>(acc->n));
+    result.n = acc->n;
+  }
+  return result;
+}
+
+// Exact orient2d determinant (a.x-c.x)(b.y-c.y) - (a.y-c.y)(b.x-c.x), up to 32 components.
+inline Expansion<32> orient2d_expansion(const Point& a, const Point& b, const Point& c) {
+  const Expansion<2> acx = difference(a.x, c.x), bcx = difference(b.x, c.x);
+  const Expansion<2> acy = difference(a.y, c.y), bcy = difference(b.y, c.y);
+  return acx * bcy - acy * bcx;
+}
+
+}  // namespace
+
+namespace detail {
+
+int orient2d_exact(const Point& a, const Point& b, const Point& c) {
+  return sign_of(orient2d_expansion(a, b, c));
+}
+
+double orient2d_value(const Point& a, const Point& b, const Point& c) {
+  return estimate(orient2d_expansion(a, b, c));
+}
+
+int incircle_exact(const Point& a, const Point& b, const Point& c, const Point& d) {
+  // det [[adx, ady, adx²+ady²], [bdx, bdy, ...], [cdx, cdy, ...]] with the differences kept exact
+  // as (at most) two-component expansions. When the differences are exact (the usual case for
+  // nearby points) every factor has one component and the expansions stay short.
+  const Expansion<2> adx = difference(a.x, d.x), ady = difference(a.y, d.y);
+  const Expansion<2> bdx = difference(b.x, d.x), bdy = difference(b.y, d.y);
+  const Expansion<2> cdx = difference(c.x, d.x), cdy = difference(c.y, d.y);
+
+  const Expansion<16> bc = bdx * cdy - cdx * bdy;
+  const Expansion<16> ca = cdx * ady - adx * cdy;
+  const Expansion<16> ab = adx * bdy - bdx * ady;
+  const Expansion<16> alift = adx * adx + ady * ady;
+  const Expansion<16> blift = bdx * bdx + bdy * bdy;
+  const Expansion<16> clift = cdx * cdx + cdy * cdy;
+
+  const Expansion<512> aterm = alift * bc;
+  const Expansion<512> bterm = blift * ca;
+  const Expansion<512> cterm = clift * ab;
+  const Expansion<1024> abterm = aterm + bterm;
+  const Expansion<1536> det = abterm + cterm;
+  return sign_of(det);
+}
+
+}  // namespace detail
+
+int compare_squared_lengths(const Point& a, const Point& b, const Point& c, const Point& d) {
+  // Filter. Each computed squared length is l·(1+θ) with |θ| <= (1+ε)^4 - 1 (difference, square,
+  // sum), both nonnegative; the final subtraction adds ε. The error of l1 - l2 is therefore below
+  // (5ε + 33ε² + O(ε³))·(l1 + l2) including the rounding of the bound itself; we use (5 + 64ε)ε.
+  constexpr double kBound = (5.0 + 64.0 * detail::kEpsilon) * detail::kEpsilon;
+  const double abx = a.x - b.x, aby = a.y - b.y;
+  const double cdx = c.x - d.x, cdy = c.y - d.y;
+  const double l1 = abx * abx + aby * aby;
+  const double l2 = cdx * cdx + cdy * cdy;
+  const double det = l1 - l2;
+  const double bound = kBound * (l1 + l2);
+  if (det > bound) return 1;
+  if (-det > bound) return -1;
+
+  const Expansion<2> eabx = difference(a.x, b.x), eaby = difference(a.y, b.y);
+  const Expansion<2> ecdx = difference(c.x, d.x), ecdy = difference(c.y, d.y);
+  const Expansion<16> len1 = eabx * eabx + eaby * eaby;
+  const Expansion<16> len2 = ecdx * ecdx + ecdy * ecdy;
+  return sign_of(len1 - len2);
+}
+
+int in_diametral_circle(const Point& a, const Point& b, const Point& p) {
+  // s = (p-a)·(p-b) = l + r with two products of rounded differences: the same error analysis as
+  // orient2d's first stage (Shewchuk's ccwerrboundA applies to l + r as to l - r).
+  const double pax = p.x - a.x, pbx = p.x - b.x;
+  const double pay = p.y - a.y, pby = p.y - b.y;
+  const double l = pax * pbx;
+  const double r = pay * pby;
+  const double s = l + r;
+  const double bound = detail::kOrientBound * (std::fabs(l) + std::fabs(r));
+  if (s > bound) return -1;
+  if (-s > bound) return 1;
+
+  const Expansion<2> epax = difference(p.x, a.x), epbx = difference(p.x, b.x);
+  const Expansion<2> epay = difference(p.y, a.y), epby = difference(p.y, b.y);
+  return -sign_of(epax * epbx + epay * epby);
+}
+
+}  // namespace mwst

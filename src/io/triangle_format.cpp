@@ -1,0 +1,701 @@
+// src/io/triangle_format.cpp — Triangle's file formats (declared in mwst/io.hpp): the readers of
+// .node, .poly and .ele (read_node, read_poly, read_input, parse_node, parse_poly, read_mesh) and
+// the mesh writer (write_mesh). write_file_atomic lives in atomic_file.cpp.
+//
+// Reading: the whole file is read into memory with one read(2) and scanned in place. A Scanner
+// walks the text line by line (memchr for '\n' and '#', so comments and blank lines cost almost
+// nothing) and hands out the fields of the current line; numbers are converted directly from the
+// text with std::from_chars (no iostreams, no copies). Every problem is an InputError naming the
+// file and line. Counts are checked against the size of the file before anything is allocated, so
+// a bogus header can never make us reserve gigabytes.
+//
+// Writing: each file is built in one std::string (numbers via std::to_chars, shortest round-trip)
+// and written with write_file_atomic (temporary name, rename).
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <utility>
+#include <vector>
+
+#include "mwst/error.hpp"
+#include "mwst/io.hpp"
+
+namespace mwst::io {
+namespace {
+
+// ---- files -------------------------------------------------------------------------------------
+
+// A file's bytes, read whole. (Uninitialised storage: no memset of a large buffer before reading.)
+struct FileBytes {
+  std::unique_ptr<char[]> data;
+  std::size_t size = 0;
+  std::string_view view() const { return {data.get(), size}; }
+};
+
+std::string errno_message(int err) { return std::error_code(err, std::generic_category()).message(); }
+
+// Reads the whole file. If `missing` is given and the file does not exist, sets *missing and
+// returns an empty buffer instead of throwing.
+FileBytes read_whole_file(const std::string& path, bool* missing = nullptr) {
+  int fd;
+  do {
+    fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  } while (fd < 0 && errno == EINTR);
+  if (fd < 0) {
+    const int err = errno;
+    if (missing != nullptr && err == ENOENT) {
+      *missing = true;
+      return {};
+    }
+    throw InputError(path, 0, "cannot open: " + errno_message(err));
+  }
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) throw InputError(path, 0, "cannot read: " + errno_message(errno));
+  if (S_ISDIR(st.st_mode)) throw InputError(path, 0, "cannot read: is a directory");
+
+  FileBytes out;
+  std::size_t capacity = st.st_size > 0 ? static_cast<std::size_t>(st.st_size) : std::size_t{4096};
+  out.data = std::make_unique_for_overwrite<char[]>(capacity);
+  for (;;) {
+    if (out.size == capacity) {  // the file grew, or is not a regular file: enlarge
+      const std::size_t bigger = capacity * 2;
+      auto grown = std::make_unique_for_overwrite<char[]>(bigger);
+      std::memcpy(grown.get(), out.data.get(), out.size);
+      out.data = std::move(grown);
+      capacity = bigger;
+    }
+    const ssize_t got = ::read(fd, out.data.get() + out.size, capacity - out.size);
+    if (got < 0) {
+      if (errno == EINTR) continue;
+      throw InputError(path, 0, "cannot read: " + errno_message(errno));
+    }
+    if (got == 0) break;
+    out.size += static_cast<std::size_t>(got);
+  }
+  return out;
+}
+
+bool file_exists(const std::string& path) {
+  struct stat st {};
+  return ::stat(path.c_str(), &st) == 0;
+}
+
+// "dir/foo.poly" -> "dir/foo.node" (the last extension of the last path component is replaced;
+// a name without one gets ".node" appended).
+std::string sibling_with_extension(const std::string& path, std::string_view ext) {
+  const std::size_t slash = path.find_last_of('/');
+  const std::size_t dot = path.find_last_of('.');
+  std::string stem = path;
+  if (dot != std::string::npos && (slash == std::string::npos || dot > slash + 1)) {
+    stem.resize(dot);
+  }
+  stem += ext;
+  return stem;
+}
+
+bool ends_with(std::string_view s, std::string_view suffix) {
+  return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
+}
+
+// ---- scanning ----------------------------------------------------------------------------------
+
+inline bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+
+// A token quoted for a message: at most 32 characters, control and non-ASCII bytes escaped.
+std::string quote(std::string_view token) {
+  std::string s = "'";
+  const std::size_t n = token.size() < 32 ? token.size() : 32;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto c = static_cast<unsigned char>(token[i]);
+    if (c >= 0x20 && c < 0x7F) {
+      s += static_cast<char>(c);
+    } else {
+      static constexpr char kHex[] = "0123456789abcdef";
+      s += "\\x";
+      s += kHex[c >> 4];
+      s += kHex[c & 15];
+    }
+  }
+  if (token.size() > n) s += "...";
+  return s + "'";
+}
+
+std::string coordinate_range_text() { return "0 or a magnitude between 1e-50 and 1e50"; }
+
+// What is being read, for messages: "vertex 7", "segment 3", "the header".
+struct Item {
+  const char* kind;          // "vertex", "segment", ... or a complete phrase when number < 0
+  std::int64_t number = -1;  // the item's index as written in the file (or ordinal)
+  std::string text() const {
+    return number < 0 ? std::string(kind) : std::string(kind) + " " + std::to_string(number);
+  }
+};
+
+class Scanner {
+ public:
+  Scanner(std::string_view text, const std::string& name)
+      : next_(text.data()), end_(text.data() + text.size()), name_(name) {}
+
+  // Advances to the next line that holds data (skipping blank and comment-only lines). Returns
+  // false at the end of the file.
+  bool next_line() {
+    while (next_ < end_) {
+      const char* start = next_;
+      const auto* nl = static_cast<const char*>(std::memchr(start, '\n', end_ - start));
+      const char* line_end = nl != nullptr ? nl : end_;
+      next_ = nl != nullptr ? nl + 1 : end_;
+      ++line_;
+      const auto* hash = static_cast<const char*>(std::memchr(start, '#', line_end - start));
+      const char* content_end = hash != nullptr ? hash : line_end;
+      while (start < content_end && is_blank(*start)) ++start;
+      if (start < content_end) {
+        cur_ = start;
+        cur_end_ = content_end;
+        return true;
+      }
+    }
+    cur_ = cur_end_ = end_;
+    return false;
+  }
+
+  std::size_t line() const { return line_ == 0 ? 1 : line_; }
+  // Bytes not yet scanned (an upper bound for what the rest of the file can hold).
+  std::size_t remaining() const { return static_cast<std::size_t>(end_ - next_); }
+  const std::string& name() const { return name_; }
+
+  // True if the current line has another field (skips the blanks before it).
+  bool has_field() {
+    while (cur_ < cur_end_ && is_blank(*cur_)) ++cur_;
+    return cur_ < cur_end_;
+  }
+
+  [[noreturn]] void fail(const std::string& message) const { throw InputError(name_, line(), message); }
+
+  // ---- fields (each skips leading blanks; a missing required field is an error) ----
+
+  // An integer field.
+  std::int64_t integer(const Item& item, const char* field) {
+    require(item, field);
+    std::int64_t v = 0;
+    const char* p = cur_;
+    if (*p == '+' && p + 1 < cur_end_ && p[1] != '-' && p[1] != '+') ++p;
+    const auto r = std::from_chars(p, cur_end_, v);
+    if (r.ec == std::errc::result_out_of_range && delimited(r.ptr)) {
+      fail(item.text() + ": " + field + " " + quote(token()) + " is out of range");
+    }
+    if (r.ec != std::errc() || !delimited(r.ptr)) {
+      fail(item.text() + ": expected an integer for the " + field + ", found " + quote(token()));
+    }
+    cur_ = r.ptr;
+    return v;
+  }
+
+  // An optional integer field: `fallback` if the line has no more fields.
+  std::int64_t optional_integer(const Item& item, const char* field, std::int64_t fallback) {
+    return has_field() ? integer(item, field) : fallback;
+  }
+
+  // A count in a section header: non-negative, and no larger than the rest of the file could hold
+  // (every record needs at least two bytes), so that a bogus header never allocates much.
+  std::size_t count(const char* what) {
+    const Item header{"header"};
+    const std::int64_t n = integer(header, what);
+    if (n < 0) fail(std::string("negative ") + what + " " + std::to_string(n));
+    if (static_cast<std::uint64_t>(n) > remaining() / 2) {
+      fail(std::string(what) + " " + std::to_string(n) + " is more than the rest of the file can hold");
+    }
+    return static_cast<std::size_t>(n);
+  }
+
+  // A boundary marker (an int32).
+  std::int32_t marker(const Item& item) {
+    const std::int64_t v = integer(item, "boundary marker");
+    if (v < std::numeric_limits<std::int32_t>::min() || v > std::numeric_limits<std::int32_t>::max()) {
+      fail(item.text() + ": boundary marker " + std::to_string(v) + " is out of range");
+    }
+    return static_cast<std::int32_t>(v);
+  }
+
+  // Any double (attributes, area constraints): must be a well-formed number.
+  double real(const Item& item, const char* field) {
+    require(item, field);
+    double v = 0.0;
+    const Status s = parse_double(v);
+    if (s == Status::kMalformed) {
+      fail(item.text() + ": expected a number for the " + field + ", found " + quote(token()));
+    }
+    if (s == Status::kOutOfRange || !std::isfinite(v)) {
+      fail(item.text() + ": " + field + " " + quote(token()) + " is not a finite double");
+    }
+    return v;
+  }
+
+  // A coordinate: finite and in the supported range (see geometry.hpp).
+  double coordinate(const Item& item, const char* field) {
+    require(item, field);
+    double v = 0.0;
+    const Status s = parse_double(v);
+    if (s == Status::kMalformed) {
+      fail(item.text() + ": expected a number for the " + field + ", found " + quote(token()));
+    }
+    if (s == Status::kOutOfRange) {
+      fail(item.text() + ": " + field + " " + quote(token()) + " is outside the supported range (" +
+           coordinate_range_text() + ")");
+    }
+    if (!std::isfinite(v)) fail(item.text() + ": non-finite coordinate " + quote(token()));
+    if (!in_supported_range(v)) {
+      fail(item.text() + ": " + field + " " + quote(token()) + " is outside the supported range (" +
+           coordinate_range_text() + ")");
+    }
+    cur_ = after_;
+    return v;
+  }
+
+ private:
+  enum class Status { kOk, kMalformed, kOutOfRange };
+
+  bool delimited(const char* p) const { return p == cur_end_ || is_blank(*p); }
+
+  // The current token (up to the next blank), for messages.
+  std::string_view token() const {
+    const char* e = cur_;
+    while (e < cur_end_ && !is_blank(*e)) ++e;
+    return {cur_, static_cast<std::size_t>(e - cur_)};
+  }
+
+  void require(const Item& item, const char* field) {
+    if (!has_field()) fail(item.text() + ": missing " + field);
+  }
+
+  // Parses the double at cur_ (decimal as strtod, without the locale; also C99 hexadecimal
+  // "0x1.8p3"; a leading '+' is allowed). On success leaves the end in after_ and, for real(),
+  // advances cur_. A non-zero number that underflows to zero is out of range.
+  Status parse_double(double& v) {
+    const char* p = cur_;
+    bool negative = false;
+    if (*p == '+' || *p == '-') {
+      negative = *p == '-';
+      ++p;
+      if (p == cur_end_ || *p == '+' || *p == '-') return Status::kMalformed;
+    }
+    const bool hex = cur_end_ - p >= 2 && p[0] == '0' && (p[1] == 'x' || p[1] == 'X');
+    const char* digits = hex ? p + 2 : p;
+    if (hex && (digits == cur_end_ || *digits == '+' || *digits == '-')) return Status::kMalformed;
+    const auto r = hex ? std::from_chars(digits, cur_end_, v, std::chars_format::hex)
+                       : std::from_chars(digits, cur_end_, v);
+    if (r.ec == std::errc::invalid_argument || !delimited(r.ptr)) return Status::kMalformed;
+    after_ = r.ptr;
+    if (r.ec == std::errc::result_out_of_range) return Status::kOutOfRange;
+    if (v == 0.0) {
+      // Only zero digits may spell zero (guards against a silent underflow to 0).
+      for (const char* q = digits; q < r.ptr; ++q) {
+        const char c = *q;
+        if (c == 'e' || c == 'E' || (hex && (c == 'p' || c == 'P'))) break;
+        if (c != '0' && c != '.') return Status::kOutOfRange;
+      }
+    }
+    if (negative) v = -v;
+    cur_ = after_;
+    return Status::kOk;
+  }
+
+  const char* next_;     // start of the next unscanned line
+  const char* end_;
+  const char* cur_ = nullptr;      // position in the current line
+  const char* cur_end_ = nullptr;  // end of the current line's content (before '#' or '\n')
+  const char* after_ = nullptr;
+  std::size_t line_ = 0;  // number of the current line (1-based)
+  const std::string& name_;
+};
+
+// Reads the header line of a section; `what` names the section for the end-of-file message.
+void expect_line(Scanner& s, const std::string& what) {
+  if (!s.next_line()) s.fail("unexpected end of file: expected " + what);
+}
+
+[[noreturn]] void truncated(const Scanner& s, std::size_t expected, std::size_t found, const char* what) {
+  s.fail("unexpected end of file: expected " + std::to_string(expected) + " " + what + ", found " +
+         std::to_string(found));
+}
+
+std::string index_range_text(std::size_t count, int base) {
+  if (count == 0) return "there are no vertices";
+  return "vertices are numbered " + std::to_string(base) + " to " +
+         std::to_string(static_cast<std::int64_t>(count) - 1 + base);
+}
+
+// Converts a vertex reference (in the vertices' base) to a 0-based index, or fails.
+std::uint32_t vertex_reference(Scanner& s, const Item& item, const char* field, std::size_t count,
+                               int base) {
+  const std::int64_t v = s.integer(item, field);
+  const std::int64_t i = v - base;
+  if (v < base || i >= static_cast<std::int64_t>(count)) {
+    s.fail(item.text() + " names vertex " + std::to_string(v) + ", which does not exist (" +
+           index_range_text(count, base) + ")");
+  }
+  return static_cast<std::uint32_t>(i);
+}
+
+// The index at the start of a record: the first one decides the base (0 or 1), the rest must
+// follow consecutively. Returns it.
+std::int64_t record_index(Scanner& s, const char* kind, std::size_t ordinal, int& base) {
+  const Item item{kind, static_cast<std::int64_t>(ordinal) + (base < 0 ? 1 : base)};
+  const std::int64_t index = s.integer(item, "index");
+  if (base < 0) {
+    if (index != 0 && index != 1) {
+      s.fail(std::string("the first ") + kind + " index must be 0 or 1, found " + std::to_string(index));
+    }
+    base = static_cast<int>(index);
+  } else if (index != static_cast<std::int64_t>(ordinal) + base) {
+    s.fail(std::string(kind) + " index " + std::to_string(index) + " out of sequence: expected " +
+           std::to_string(static_cast<std::int64_t>(ordinal) + base));
+  }
+  return index;
+}
+
+// Reads a vertex section (header line already current): "N dim nattr nmarkers" then N vertices.
+// Returns the count from the header; with count 0 nothing more is read.
+std::size_t read_vertex_section(Scanner& s, Pslg& out) {
+  const Item header{"header"};
+  const std::size_t n = s.count("vertex count");
+  const std::int64_t dim = s.optional_integer(header, "dimension", 2);
+  if (dim != 2) s.fail("dimension must be 2, found " + std::to_string(dim));
+  const std::int64_t nattr = s.optional_integer(header, "attribute count", 0);
+  if (nattr < 0) s.fail("negative attribute count " + std::to_string(nattr));
+  const std::int64_t nmarkers = s.optional_integer(header, "marker count", 0);
+  if (nmarkers < 0) s.fail("negative marker count " + std::to_string(nmarkers));
+  if (n == 0) return 0;
+  if (n >= kInfinite) s.fail("vertex count " + std::to_string(n) + " is too large");
+
+  out.points.reserve(n);
+  out.point_markers.reserve(n);
+  int base = -1;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!s.next_line()) truncated(s, n, i, "vertices");
+    const std::int64_t index = record_index(s, "vertex", i, base);
+    const Item item{"vertex", index};
+    Point p;
+    p.x = s.coordinate(item, "x coordinate");
+    p.y = s.coordinate(item, "y coordinate");
+    // Attributes (tolerated, ignored; missing ones count as 0, as in Triangle), then the marker.
+    std::int64_t a = 0;
+    for (; a < nattr && s.has_field(); ++a) s.real(item, "attribute");
+    std::int32_t marker = 0;
+    if (nmarkers > 0 && a == nattr && s.has_field()) marker = s.marker(item);
+    out.points.push_back(p);
+    out.point_markers.push_back(marker);
+  }
+  out.first_index = base;
+  return n;
+}
+
+// Parses a .node file's text.
+Pslg parse_node_text(std::string_view text, const std::string& name) {
+  Pslg out;
+  out.source = name;
+  out.is_poly = false;
+  if (text.empty()) throw InputError(name, 0, "empty file");
+  Scanner s(text, name);
+  if (!s.next_line()) s.fail("no data: the file holds only comments and blank lines");
+  read_vertex_section(s, out);
+  if (s.next_line()) {
+    s.fail("unexpected data after the last vertex (the header says " + std::to_string(out.points.size()) +
+           " vertices)");
+  }
+  return out;
+}
+
+// Parses a .poly file's text. `beside` (may be null) supplies the vertices when the .poly's
+// vertex count is 0; otherwise they are read from the .node next to `name`.
+Pslg parse_poly_text(std::string_view text, const std::string& name, const Pslg* beside,
+                     bool* own_vertices = nullptr) {
+  Pslg out;
+  out.source = name;
+  out.is_poly = true;
+  if (text.empty()) throw InputError(name, 0, "empty file");
+  Scanner s(text, name);
+  if (!s.next_line()) s.fail("no data: the file holds only comments and blank lines");
+  const std::size_t header_line = s.line();
+  const std::size_t n = read_vertex_section(s, out);
+  if (own_vertices != nullptr) *own_vertices = n > 0;
+  if (n == 0) {
+    if (beside != nullptr) {
+      out.points = beside->points;
+      out.point_markers = beside->point_markers;
+      out.first_index = beside->first_index;
+    } else {
+      const std::string node_path = sibling_with_extension(name, ".node");
+      bool missing = false;
+      const FileBytes bytes = read_whole_file(node_path, &missing);
+      if (missing) throw InputError(name, header_line, "vertex count 0 but " + node_path + " not found");
+      Pslg nodes = parse_node_text(bytes.view(), node_path);
+      out.points = std::move(nodes.points);
+      out.point_markers = std::move(nodes.point_markers);
+      out.first_index = nodes.first_index;
+    }
+  }
+  const std::size_t nv = out.points.size();
+  const int base = out.first_index;
+
+  // Segments: "M markerflag", then "index a b [marker]".
+  expect_line(s, "the segment count");
+  {
+    const std::size_t m = s.count("segment count");
+    const bool markers = s.optional_integer(Item{"header"}, "marker flag", 0) != 0;
+    out.segments.reserve(m);
+    out.segment_lines.reserve(m);
+    for (std::size_t i = 0; i < m; ++i) {
+      if (!s.next_line()) truncated(s, m, i, "segments");
+      const std::int64_t index = s.integer(Item{"segment", static_cast<std::int64_t>(i) + base}, "index");
+      const Item item{"segment", index};
+      Segment seg;
+      seg.a = vertex_reference(s, item, "first endpoint", nv, base);
+      seg.b = vertex_reference(s, item, "second endpoint", nv, base);
+      if (markers && s.has_field()) seg.marker = s.marker(item);
+      out.segments.push_back(seg);
+      out.segment_lines.push_back(s.line());
+    }
+  }
+
+  // Holes: "H", then "index x y". A file may end before this section (no holes).
+  if (!s.next_line()) return out;
+  {
+    const std::size_t h = s.count("hole count");
+    out.holes.reserve(h);
+    for (std::size_t i = 0; i < h; ++i) {
+      if (!s.next_line()) truncated(s, h, i, "holes");
+      const std::int64_t index = s.integer(Item{"hole", static_cast<std::int64_t>(i) + base}, "index");
+      const Item item{"hole", index};
+      Point p;
+      p.x = s.coordinate(item, "x coordinate");
+      p.y = s.coordinate(item, "y coordinate");
+      out.holes.push_back(p);
+    }
+  }
+
+  // Optional regional attributes: "R", then "index x y attribute [maxarea]".
+  if (!s.next_line()) return out;
+  {
+    const std::size_t r = s.count("region count");
+    out.regions.reserve(r);
+    for (std::size_t i = 0; i < r; ++i) {
+      if (!s.next_line()) truncated(s, r, i, "regions");
+      const std::int64_t index = s.integer(Item{"region", static_cast<std::int64_t>(i) + base}, "index");
+      const Item item{"region", index};
+      Region region;
+      region.seed.x = s.coordinate(item, "x coordinate");
+      region.seed.y = s.coordinate(item, "y coordinate");
+      region.attribute = s.real(item, "regional attribute");
+      if (s.has_field()) region.max_area = s.real(item, "maximum area");
+      out.regions.push_back(region);
+    }
+  }
+  if (s.next_line()) s.fail("unexpected data after the regional attributes section");
+  return out;
+}
+
+// Parses a .ele file's text against `points` vertices numbered from `base`.
+std::vector<std::array<std::uint32_t, 3>> parse_ele_text(std::string_view text, const std::string& name,
+                                                         std::size_t points, int base) {
+  if (text.empty()) throw InputError(name, 0, "empty file");
+  Scanner s(text, name);
+  if (!s.next_line()) s.fail("no data: the file holds only comments and blank lines");
+  const Item header{"header"};
+  const std::size_t t = s.count("triangle count");
+  const std::int64_t corners = s.optional_integer(header, "nodes per triangle", 3);
+  if (corners != 3 && corners != 6) {
+    s.fail("nodes per triangle must be 3 or 6, found " + std::to_string(corners));
+  }
+  const std::int64_t nattr = s.optional_integer(header, "attribute count", 0);
+  if (nattr < 0) s.fail("negative attribute count " + std::to_string(nattr));
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  triangles.reserve(t);
+  int tri_base = -1;
+  for (std::size_t i = 0; i < t; ++i) {
+    if (!s.next_line()) truncated(s, t, i, "triangles");
+    const std::int64_t index = record_index(s, "triangle", i, tri_base);
+    const Item item{"triangle", index};
+    std::array<std::uint32_t, 3> tri{};
+    for (auto& v : tri) v = vertex_reference(s, item, "corner", points, base);
+    // Further nodes (6-node triangles) and attributes are tolerated and ignored.
+    triangles.push_back(tri);
+  }
+  if (s.next_line()) {
+    s.fail("unexpected data after the last triangle (the header says " + std::to_string(t) + " triangles)");
+  }
+  return triangles;
+}
+
+// ---- writing -----------------------------------------------------------------------------------
+
+void append_int(std::string& s, std::int64_t v) {
+  char buf[24];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  s.append(buf, r.ptr);
+}
+
+void append_double(std::string& s, double v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);  // shortest round-trip
+  s.append(buf, r.ptr);
+}
+
+}  // namespace
+
+// ---- public API --------------------------------------------------------------------------------
+
+Pslg parse_node(std::string_view text, const std::string& name) { return parse_node_text(text, name); }
+
+Pslg parse_poly(std::string_view text, const std::string& name) {
+  return parse_poly_text(text, name, nullptr);
+}
+
+Pslg read_node(const std::string& path) {
+  const FileBytes bytes = read_whole_file(path);
+  return parse_node_text(bytes.view(), path);
+}
+
+Pslg read_poly(const std::string& path) {
+  const FileBytes bytes = read_whole_file(path);
+  return parse_poly_text(bytes.view(), path, nullptr);
+}
+
+Pslg read_input(const std::string& path) {
+  if (ends_with(path, ".node")) return read_node(path);
+  if (ends_with(path, ".poly")) return read_poly(path);
+  throw InputError(path, 0, "unknown input type: expected a .node or .poly file");
+}
+
+MeshFiles read_mesh(const std::string& prefix) {
+  MeshFiles out;
+  const std::string node_path = prefix + ".node";
+  Pslg nodes = read_node(node_path);
+  {
+    const std::string ele_path = prefix + ".ele";
+    const FileBytes bytes = read_whole_file(ele_path);
+    out.triangles = parse_ele_text(bytes.view(), ele_path, nodes.points.size(), nodes.first_index);
+  }
+  const std::string poly_path = prefix + ".poly";
+  if (file_exists(poly_path)) {
+    const FileBytes bytes = read_whole_file(poly_path);
+    bool own_vertices = false;
+    Pslg poly = parse_poly_text(bytes.view(), poly_path, &nodes, &own_vertices);
+    if (own_vertices && poly.points != nodes.points) {
+      throw InputError(poly_path, 0, "its vertices differ from those of " + node_path);
+    }
+    out.segments = std::move(poly.segments);
+  }
+  out.points = std::move(nodes.points);
+  return out;
+}
+
+void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index) {
+  if (mesh.flags.size() != mesh.triangles.size()) {
+    throw InternalError("write_mesh: flags and triangles differ in size");
+  }
+  const std::int64_t base = first_index;
+  const std::size_t nv = mesh.points.size();
+
+  // PREFIX.node: every vertex, with its boundary marker.
+  std::string node;
+  node.reserve(64 + nv * 48);
+  append_int(node, static_cast<std::int64_t>(nv));
+  node += " 2 0 1\n";
+  for (std::size_t i = 0; i < nv; ++i) {
+    append_int(node, static_cast<std::int64_t>(i) + base);
+    node += ' ';
+    append_double(node, mesh.points[i].x);
+    node += ' ';
+    append_double(node, mesh.points[i].y);
+    node += ' ';
+    append_int(node, i < mesh.vertex_marker.size() ? mesh.vertex_marker[i] : 0);
+    node += '\n';
+  }
+
+  // PREFIX.ele: the live, finite, in-domain triangles, corners counter-clockwise.
+  const std::size_t slots = mesh.triangles.size();
+  std::size_t count = 0;
+  for (TriangleId t = 0; t < slots; ++t) count += mesh.in_domain(t) ? 1 : 0;
+  std::string ele;
+  ele.reserve(32 + count * 32);
+  append_int(ele, static_cast<std::int64_t>(count));
+  ele += " 3 0\n";
+  std::int64_t k = base;
+  for (TriangleId t = 0; t < slots; ++t) {
+    if (!mesh.in_domain(t)) continue;
+    append_int(ele, k++);
+    for (const VertexId v : mesh.triangles[t].v) {
+      if (v >= nv) throw InternalError("write_mesh: triangle names a vertex that does not exist");
+      ele += ' ';
+      append_int(ele, static_cast<std::int64_t>(v) + base);
+    }
+    ele += '\n';
+  }
+
+  // PREFIX.poly: every subsegment bordering the domain, once.
+  std::string poly;
+  std::size_t segments = 0;
+  std::string body;
+  for (TriangleId t = 0; t < slots; ++t) {
+    if (!mesh.in_domain(t)) continue;
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle h = make_handle(t, e);
+      if (!mesh.is_segment(h)) continue;
+      const Handle other = mesh.triangles[t].n[e];
+      if (other != kNone) {
+        const TriangleId u = triangle_of(other);
+        // Seen from both sides: write it from the lower-numbered triangle only.
+        if (u < slots && u < t && mesh.in_domain(u) && mesh.is_segment(other)) continue;
+      }
+      const std::size_t slot = 3 * static_cast<std::size_t>(t) + e;
+      const std::int32_t marker = slot < mesh.segment_marker.size() ? mesh.segment_marker[slot] : 1;
+      append_int(body, static_cast<std::int64_t>(segments) + base);
+      body += ' ';
+      append_int(body, static_cast<std::int64_t>(mesh.org(h)) + base);
+      body += ' ';
+      append_int(body, static_cast<std::int64_t>(mesh.dest(h)) + base);
+      body += ' ';
+      append_int(body, marker);
+      body += '\n';
+      ++segments;
+    }
+  }
+  if (segments > 0) {
+    poly = "0 2 0 1\n";
+    append_int(poly, static_cast<std::int64_t>(segments));
+    poly += " 1\n";
+    poly += body;
+    poly += "0\n";
+  }
+
+  // Each file is atomic; if a later one fails, the earlier ones are removed again so that a
+  // failure leaves no partial mesh behind.
+  const std::string paths[3] = {prefix + ".node", prefix + ".ele", prefix + ".poly"};
+  const std::string_view contents[3] = {node, ele, poly};
+  const int files = segments > 0 ? 3 : 2;
+  for (int i = 0; i < files; ++i) {
+    try {
+      write_file_atomic(paths[i], contents[i]);
+    } catch (...) {
+      for (int j = 0; j < i; ++j) ::unlink(paths[j].c_str());
+      throw;
+    }
+  }
+}
+
+}  // namespace mwst::io

@@ -1,0 +1,591 @@
+// tests/test_predicates.cpp — exactness tests of the predicates and accuracy tests of the
+// constructions in mwst/geometry.hpp (src/geometry/predicates.cpp, src/geometry/constructions.cpp).
+//
+// Oracle: GMP rationals (mpq_class). Every double is a dyadic rational, so the oracle's sign is the
+// true sign. Inputs are adversarial after Shewchuk, "Adaptive Precision Floating-Point Arithmetic
+// and Fast Robust Geometric Predicates" (1997): near-collinear points on y = x perturbed by ulps,
+// his orient2d grid near (0.5, 0.5) against (12, 12), (24, 24), exactly cocircular symmetric sets,
+// near-cocircular points, huge (1e50), tiny (1e-50) and mixed scales, random exponents. Both the
+// public predicates (filter + exact stage) and the exact stages alone are checked.
+
+#include <gmpxx.h>
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "mwst/geometry.hpp"
+
+namespace mwst {
+namespace {
+
+// ---- oracle -----------------------------------------------------------------------------------
+
+struct QPoint {
+  mpq_class x, y;
+  explicit QPoint(const Point& p) : x(p.x), y(p.y) {}
+};
+
+int sign(const mpq_class& v) { return sgn(v); }
+
+int oracle_orient(const Point& pa, const Point& pb, const Point& pc) {
+  const QPoint a(pa), b(pb), c(pc);
+  const mpq_class det = (a.x - c.x) * (b.y - c.y) - (a.y - c.y) * (b.x - c.x);
+  return sign(det);
+}
+
+int oracle_incircle(const Point& pa, const Point& pb, const Point& pc, const Point& pd) {
+  const QPoint a(pa), b(pb), c(pc), d(pd);
+  const mpq_class adx = a.x - d.x, ady = a.y - d.y;
+  const mpq_class bdx = b.x - d.x, bdy = b.y - d.y;
+  const mpq_class cdx = c.x - d.x, cdy = c.y - d.y;
+  const mpq_class alift = adx * adx + ady * ady;
+  const mpq_class blift = bdx * bdx + bdy * bdy;
+  const mpq_class clift = cdx * cdx + cdy * cdy;
+  const mpq_class det = alift * (bdx * cdy - cdx * bdy) + blift * (cdx * ady - adx * cdy) +
+                        clift * (adx * bdy - bdx * ady);
+  return sign(det);
+}
+
+int oracle_compare_lengths(const Point& pa, const Point& pb, const Point& pc, const Point& pd) {
+  const QPoint a(pa), b(pb), c(pc), d(pd);
+  const mpq_class abx = a.x - b.x, aby = a.y - b.y, cdx = c.x - d.x, cdy = c.y - d.y;
+  return sign(abx * abx + aby * aby - cdx * cdx - cdy * cdy);
+}
+
+int oracle_diametral(const Point& pa, const Point& pb, const Point& pp) {
+  const QPoint a(pa), b(pb), p(pp);
+  return -sign((p.x - a.x) * (p.x - b.x) + (p.y - a.y) * (p.y - b.y));
+}
+
+// ---- checkers (count oracle cases; check every permutation identity too) ----------------------
+
+std::int64_t g_orient_cases = 0, g_incircle_cases = 0, g_length_cases = 0, g_diametral_cases = 0;
+
+std::int64_t g_failures = 0;
+constexpr std::int64_t kMaxReported = 20;  // keep the log readable if something is badly wrong
+
+#define MWST_CHECK_SIGN(got, want, what)                                                     \
+  do {                                                                                        \
+    if ((got) != (want)) {                                                                    \
+      if (++g_failures <= kMaxReported) ADD_FAILURE() << what << ": got " << (got)            \
+                                                      << ", want " << (want);                 \
+      else ADD_FAILURE_AT(__FILE__, __LINE__) << "(further failure)";                         \
+    }                                                                                         \
+  } while (false)
+
+std::string show(const Point& p) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "(%a, %a)", p.x, p.y);
+  return buf;
+}
+
+// Returns the oracle sign.
+int check_orient(const Point& a, const Point& b, const Point& c) {
+  ++g_orient_cases;
+  const int s = oracle_orient(a, b, c);
+  const auto where = [&] { return "orient2d" + show(a) + show(b) + show(c); };
+  MWST_CHECK_SIGN(orient2d(a, b, c), s, where());
+  MWST_CHECK_SIGN(detail::orient2d_exact(a, b, c), s, where() + " [exact]");
+  // Cyclic rotations keep the sign; transpositions flip it.
+  MWST_CHECK_SIGN(orient2d(b, c, a), s, where() + " [bca]");
+  MWST_CHECK_SIGN(orient2d(c, a, b), s, where() + " [cab]");
+  MWST_CHECK_SIGN(orient2d(b, a, c), -s, where() + " [bac]");
+  MWST_CHECK_SIGN(orient2d(a, c, b), -s, where() + " [acb]");
+  MWST_CHECK_SIGN(detail::orient2d_exact(c, b, a), -s, where() + " [cba exact]");
+  return s;
+}
+
+int check_incircle(const Point& a, const Point& b, const Point& c, const Point& d) {
+  ++g_incircle_cases;
+  const int s = oracle_incircle(a, b, c, d);
+  const auto where = [&] { return "incircle" + show(a) + show(b) + show(c) + show(d); };
+  MWST_CHECK_SIGN(incircle(a, b, c, d), s, where());
+  MWST_CHECK_SIGN(detail::incircle_exact(a, b, c, d), s, where() + " [exact]");
+  // The 4x4 lifted determinant is alternating in its four rows: an even permutation keeps the
+  // sign, a transposition flips it.
+  MWST_CHECK_SIGN(incircle(b, c, a, d), s, where() + " [bcad]");
+  MWST_CHECK_SIGN(incircle(b, a, c, d), -s, where() + " [bacd]");
+  MWST_CHECK_SIGN(incircle(d, b, c, a), -s, where() + " [dbca]");
+  MWST_CHECK_SIGN(detail::incircle_exact(a, d, c, b), -s, where() + " [adcb exact]");
+  MWST_CHECK_SIGN(incircle(b, a, d, c), s, where() + " [badc]");
+  return s;
+}
+
+int check_lengths(const Point& a, const Point& b, const Point& c, const Point& d) {
+  ++g_length_cases;
+  const int s = oracle_compare_lengths(a, b, c, d);
+  const auto where = [&] { return "compare_squared_lengths" + show(a) + show(b) + show(c) + show(d); };
+  MWST_CHECK_SIGN(compare_squared_lengths(a, b, c, d), s, where());
+  MWST_CHECK_SIGN(compare_squared_lengths(c, d, a, b), -s, where() + " [swapped]");
+  MWST_CHECK_SIGN(compare_squared_lengths(b, a, d, c), s, where() + " [reversed]");
+  return s;
+}
+
+int check_diametral(const Point& a, const Point& b, const Point& p) {
+  ++g_diametral_cases;
+  const int s = oracle_diametral(a, b, p);
+  const auto where = [&] { return "in_diametral_circle" + show(a) + show(b) + show(p); };
+  MWST_CHECK_SIGN(in_diametral_circle(a, b, p), s, where());
+  MWST_CHECK_SIGN(in_diametral_circle(b, a, p), s, where() + " [ba]");
+  return s;
+}
+
+// ---- generators -------------------------------------------------------------------------------
+
+using Rng = std::mt19937_64;
+
+// Uniform mantissa in [1, 2), exponent uniform in [emin, emax], random sign. With emin >= -166 and
+// emax <= 165 the magnitude lies in [2^-166, 2^166) ⊂ [1e-50, 1e50].
+double random_coordinate(Rng& rng, int emin, int emax) {
+  std::uniform_real_distribution<double> mant(1.0, 2.0);
+  std::uniform_int_distribution<int> ex(emin, emax);
+  const double v = std::ldexp(mant(rng), ex(rng));
+  return (rng() & 1U) ? -v : v;
+}
+
+double random_wide(Rng& rng) {
+  if (rng() % 16 == 0) return 0.0;
+  return random_coordinate(rng, -166, 165);
+}
+
+// Moves v by k ulps (k may be negative).
+double nudge(double v, int k) {
+  const double dir = k > 0 ? std::numeric_limits<double>::infinity()
+                           : -std::numeric_limits<double>::infinity();
+  for (int i = 0; i < std::abs(k); ++i) v = std::nextafter(v, dir);
+  return v;
+}
+
+double uniform(Rng& rng, double lo, double hi) {
+  return std::uniform_real_distribution<double>(lo, hi)(rng);
+}
+
+// Scales that keep every generated coordinate in the supported range: 1, huge, tiny.
+constexpr std::array<double, 3> kScales = {1.0, 0x1p150, 0x1p-150};
+
+void expect_in_range(const Point& p) {
+  ASSERT_TRUE(in_supported_range(p)) << show(p);
+}
+
+// ---- orient2d ---------------------------------------------------------------------------------
+
+// Shewchuk's figure: p = (0.5 + i·u, 0.5 + j·u), u = ulp(0.5) = 2^-53, against (12,12), (24,24),
+// at three scales (exact power-of-two scaling) and with the line through the other end.
+TEST(Orient2d, ShewchukGrid) {
+  constexpr double u = 0x1p-53;
+  int positives = 0, negatives = 0, zeros = 0;
+  for (const double scale : {1.0, 0x1p160, 0x1p-160}) {
+    const Point b{12 * scale, 12 * scale}, c{24 * scale, 24 * scale};
+    for (int i = 0; i < 256; ++i) {
+      for (int j = 0; j < 256; ++j) {
+        const Point p{(0.5 + i * u) * scale, (0.5 + j * u) * scale};
+        expect_in_range(p);
+        const int s = check_orient(p, b, c);
+        (s > 0 ? positives : s < 0 ? negatives : zeros) += 1;
+      }
+    }
+  }
+  EXPECT_EQ(zeros, 3 * 256);  // the diagonal i == j is exactly collinear
+  EXPECT_GT(positives, 0);
+  EXPECT_GT(negatives, 0);
+  // The same near (0.5, 0.5) with a line through points on the other side (differences with tails).
+  for (int i = -64; i < 64; ++i) {
+    for (int j = -64; j < 64; ++j) {
+      const Point p{0.5 + i * u, 0.5 + j * u};
+      check_orient(p, Point{-12.0, -12.0}, Point{0x1p-60, 0x1p-60});
+    }
+  }
+  EXPECT_EQ(g_failures, 0);
+}
+
+// Points on y = x perturbed by a few ulps, at every scale and across scales.
+TEST(Orient2d, NearLineYEqualsX) {
+  Rng rng(12345);
+  for (int iter = 0; iter < 12000; ++iter) {
+    const double scale = kScales[iter % 3];
+    const double x1 = uniform(rng, -1.0, 1.0) * scale;
+    const double x2 = uniform(rng, -1.0, 1.0) * scale;
+    const double x3 = uniform(rng, -1.0, 1.0) * scale;
+    if (x1 == 0.0 || x2 == 0.0 || x3 == 0.0) continue;
+    const int k = static_cast<int>(rng() % 7) - 3, l = static_cast<int>(rng() % 7) - 3;
+    const Point a{x1, x1}, b{x2, x2}, c{nudge(x3, k), nudge(x3, l)};
+    if (!in_supported_range(a) || !in_supported_range(b) || !in_supported_range(c)) continue;
+    const int s = check_orient(a, b, c);
+    if (k == l) EXPECT_EQ(s, 0);
+    // Mixed: one point far away on the same line (huge against tiny).
+    const double far = (rng() & 1U ? 1.0 : -1.0) * 0x1p160 * uniform(rng, 0.5, 1.0);
+    check_orient(Point{far, far}, Point{nudge(x1 / scale * 0x1p-150, k), x1 / scale * 0x1p-150}, b);
+  }
+  EXPECT_EQ(g_failures, 0);
+}
+
+// c on the line through a and b rounded, with random exponents: near-collinear in general position.
+TEST(Orient2d, RoundedCollinearRandomExponents) {
+  Rng rng(777);
+  for (int iter = 0; iter < 30000; ++iter) {
+    const int e = static_cast<int>(rng() % 300) - 150;
+    const int spread = static_cast<int>(rng() % 12);
+    const Point a{random_coordinate(rng, e - spread, e + spread),
+                  random_coordinate(rng, e - spread, e + spread)};
+    const Point b{random_coordinate(rng, e - spread, e + spread),
+                  random_coordinate(rng, e - spread, e + spread)};
+    const double t = uniform(rng, -2.0, 3.0);
+    Point c{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
+    c = Point{snap_to_range(c.x), snap_to_range(c.y)};
+    if (!in_supported_range(c) || !in_supported_range(a) || !in_supported_range(b)) continue;
+    check_orient(a, b, c);
+  }
+  EXPECT_EQ(g_failures, 0);
+}
+
+// Fully random coordinates over the whole range (exact stage called directly as well).
+TEST(Orient2d, RandomWideExponents) {
+  Rng rng(4242);
+  for (int iter = 0; iter < 30000; ++iter) {
+    const Point a{random_wide(rng), random_wide(rng)};
+    const Point b{random_wide(rng), random_wide(rng)};
+    const Point c{random_wide(rng), random_wide(rng)};
+    check_orient(a, b, c);
+    // Repeated and axis-degenerate cases.
+    check_orient(a, a, c);
+    check_orient(a, Point{a.x, b.y}, Point{a.x, c.y});
+  }
+  EXPECT_EQ(g_failures, 0);
+}
+
+// ---- incircle ---------------------------------------------------------------------------------
+
+// Exactly cocircular sets (±a, ±b), (±b, ±a) and one-ulp perturbations of them.
+TEST(Incircle, SymmetricCocircular) {
+  Rng rng(99);
+  for (int iter = 0; iter < 8000; ++iter) {
+    const double scale = kScales[iter % 3];
+    const double p = uniform(rng, 0.01, 1.0) * scale, q = uniform(rng, 0.01, 1.0) * scale;
+    const std::array<Point, 8> ring = {Point{p, q},   Point{-q, p}, Point{-p, q}, Point{-q, -p},
+                                       Point{-p, -q}, Point{q, -p}, Point{p, -q}, Point{q, p}};
+    std::array<int, 4> idx{};
+    for (int& i : idx) i = static_cast<int>(rng() % 8);
+    const Point a = ring[idx[0]], b = ring[idx[1]], c = ring[idx[2]], d = ring[idx[3]];
+    EXPECT_EQ(check_incircle(a, b, c, d), 0);
+    const int k = static_cast<int>(rng() % 5) - 2;
+    const Point d2{nudge(d.x, k), nudge(d.y, static_cast<int>(rng() % 5) - 2)};
+    check_incircle(a, b, c, d2);
+  }
+  EXPECT_EQ(g_failures, 0);
+}
+
+// Shewchuk-style grid for incircle: d = (0.5 + i·u, 0.5 + j·u) against the circle through
+// (-0.5, 0.5), (-0.5, -0.5), (0.5, -0.5), which passes through (0.5, 0.5). The differences have
+// tails for odd i, j, so the general expansion path is exercised.
+TEST(Incircle, Grid) {
+  constexpr double u = 0x1p-53;
+  int zeros = 0;
+  for (const double scale : {1.0, 0x1p150, 0x1p-150}) {
+    const Point a{-0.5 * scale, 0.5 * scale}, b{-0.5 * scale, -0.5 * scale},
+        c{0.5 * scale, -0.5 * scale};
+    for (int i = -48; i < 48; ++i) {
+      for (int j = -48; j < 48; ++j) {
+        const Point d{(0.5 + i * u) * scale, (0.5 + j * u) * scale};
+        zeros += check_incircle(a, b, c, d) == 0;
+      }
+    }
+  }
+  EXPECT_EQ(zeros, 3);
+  EXPECT_EQ(g_failures, 0);
+}
+
+// Lattice circles: integer points on x² + y² = 5^4 · 13² (many representations), scaled by 2^k
+// and translated by a dyadic offset that keeps them exact; then perturbed.
+TEST(Incircle, LatticeCircles) {
+  std::vector<Point> base;
+  const long long r2 = 625LL * 169LL;  // 105625
+  for (long long x = -325; x <= 325; ++x) {
+    const long long y2 = r2 - x * x;
+    const auto y = static_cast<long long>(std::llround(std::sqrt(static_cast<double>(y2))));
+    if (y * y == y2) {
+      base.push_back(Point{static_cast<double>(x), static_cast<double>(y)});
+      if (y != 0) base.push_back(Point{static_cast<double>(x), static_cast<double>(-y)});
+    }
+  }
+  ASSERT_GT(base.size(), 20U);
+  Rng rng(2024);
+  for (int iter = 0; iter < 9000; ++iter) {
+    const int shift = static_cast<int>(rng() % 300) - 150;
+    const double s = std::ldexp(1.0, shift);
+    const double ox = std::ldexp(static_cast<double>(rng() % 4096), shift),
+                 oy = std::ldexp(static_cast<double>(rng() % 4096), shift);
+    auto pick = [&] {
+      const Point& p = base[rng() % base.size()];
+      return Point{snap_to_range(p.x * s + ox), snap_to_range(p.y * s + oy)};
+    };
+    const Point a = pick(), b = pick(), c = pick(), d = pick();
+    EXPECT_EQ(check_incircle(a, b, c, d), 0);
+    const Point d2{nudge(d.x, static_cast<int>(rng() % 3) - 1), nudge(d.y, 1)};
+    if (in_supported_range(d2)) check_incircle(a, b, c, d2);
+  }
+  EXPECT_EQ(g_failures, 0);
+}
+
+// d on the circumcircle of a random triangle, rounded: near-cocircular, random exponents, mixed.
+TEST(Incircle, NearCocircularRandom) {
+  Rng rng(31337);
+  for (int iter = 0; iter < 25000; ++iter) {
+    const int e = static_cast<int>(rng() % 300) - 150;
+    const double s = std::ldexp(1.0, e);
+    const Point center{uniform(rng, -1.0, 1.0) * s, uniform(rng, -1.0, 1.0) * s};
+    const double radius = uniform(rng, 0.01, 1.0) * s;
+    auto on_circle = [&] {
+      const double th = uniform(rng, 0.0, 2.0 * std::numbers::pi);
+      return Point{snap_to_range(center.x + radius * std::cos(th)),
+                   snap_to_range(center.y + radius * std::sin(th))};
+    };
+    const Point a = on_circle(), b = on_circle(), c = on_circle(), d = on_circle();
+    check_incircle(a, b, c, d);
+    // Mixed scales: a point near the origin at the tiny end and a triangle at the huge end.
+    if (iter % 5 == 0) {
+      const Point tiny{random_coordinate(rng, -166, -140), random_coordinate(rng, -166, -140)};
+      check_incircle(Point{0x1p160, 0.0}, Point{0.0, 0x1p160}, Point{-0x1p160, 0.0}, tiny);
+      check_incircle(Point{tiny.x, 0.0}, Point{0.0, tiny.y}, Point{-tiny.x, 0.0},
+                     Point{nudge(tiny.x, 1) * 0.0, -tiny.y});
+    }
+  }
+  EXPECT_EQ(g_failures, 0);
+}
+
+TEST(Incircle, RandomWideExponents) {
+  Rng rng(8080);
+  for (int iter = 0; iter < 20000; ++iter) {
+    const Point a{random_wide(rng), random_wide(rng)};
+    const Point b{random_wide(rng), random_wide(rng)};
+    const Point c{random_wide(rng), random_wide(rng)};
+    const Point d{random_wide(rng), random_wide(rng)};
+    check_incircle(a, b, c, d);
+    // Degenerate: collinear a, b, c with d on their line, and repeated points: always 0.
+    EXPECT_EQ(check_incircle(a, a, c, d), oracle_incircle(a, a, c, d));
+    EXPECT_EQ(check_incircle(Point{a.x, b.y}, Point{a.x, c.y}, Point{a.x, d.y}, Point{a.x, a.y}), 0);
+  }
+  EXPECT_EQ(g_failures, 0);
+}
+
+// ---- squared lengths and diametral circles ----------------------------------------------------
+
+TEST(CompareSquaredLengths, TiesAndNearTies) {
+  Rng rng(5);
+  // Pythagorean pairs: (3,4) vs (5,0), (0,5), (4,3); (5,12) vs (13,0); (20,21) vs (29,0).
+  const std::array<std::array<Point, 2>, 3> pairs = {
+      {{Point{3, 4}, Point{5, 0}}, {Point{5, 12}, Point{0, 13}}, {Point{20, 21}, Point{-29, 0}}}};
+  for (int iter = 0; iter < 20000; ++iter) {
+    const int shift = static_cast<int>(rng() % 300) - 150;
+    const auto& pr = pairs[rng() % pairs.size()];
+    const double ox = random_coordinate(rng, shift, shift + 12);
+    const double oy = random_coordinate(rng, shift, shift + 12);
+    const double s = std::ldexp(1.0, shift);
+    // Endpoints chosen so the differences are exact multiples of s (offsets share the exponent).
+    const Point a{ox, oy};
+    const Point b{ox + pr[0].x * s, oy + pr[0].y * s};
+    const Point c{oy, ox};
+    const Point d{oy + pr[1].x * s, ox + pr[1].y * s};
+    if (!in_supported_range(b) || !in_supported_range(d)) continue;
+    check_lengths(a, b, c, d);  // 0 when the sums are exact, else decided by the oracle
+    const int k = static_cast<int>(rng() % 5) - 2;
+    check_lengths(a, Point{nudge(b.x, k), b.y}, c, d);
+    // Random lengths of nearly equal size across scales.
+    const Point e{random_wide(rng), random_wide(rng)};
+    const Point f{nudge(e.x, static_cast<int>(rng() % 5) - 2), random_wide(rng)};
+    check_lengths(e, f, Point{f.x, e.y}, Point{e.x, f.y});
+    check_lengths(e, f, Point{0.0, 0.0}, Point{nudge(e.x - f.x, 1), e.y - f.y});
+  }
+  // Exact ties with no rounding anywhere.
+  EXPECT_EQ(check_lengths(Point{0, 0}, Point{3, 4}, Point{1, 1}, Point{6, 1}), 0);
+  EXPECT_EQ(check_lengths(Point{0, 0}, Point{0x1p-160, 0}, Point{0, 0}, Point{0, -0x1p-160}), 0);
+  EXPECT_EQ(g_failures, 0);
+}
+
+TEST(InDiametralCircle, ThalesAndRandom) {
+  Rng rng(6);
+  for (int iter = 0; iter < 20000; ++iter) {
+    const int shift = static_cast<int>(rng() % 300) - 150;
+    const double s = std::ldexp(1.0, shift);
+    // (7, 24) lies on the circle with diameter (-25, 0)–(25, 0); rotate by 90° too.
+    const bool rot = rng() & 1U;
+    auto make = [&](double x, double y) {
+      return rot ? Point{-y * s, x * s} : Point{x * s, y * s};
+    };
+    const Point a = make(-25, 0), b = make(25, 0);
+    const int sx = rng() & 1U ? 1 : -1, sy = rng() & 1U ? 1 : -1;
+    const Point p = make(7 * sx, 24 * sy);
+    EXPECT_EQ(check_diametral(a, b, p), 0);
+    EXPECT_EQ(check_diametral(a, b, a), 0);
+    check_diametral(a, b, Point{nudge(p.x, static_cast<int>(rng() % 5) - 2),
+                                nudge(p.y, static_cast<int>(rng() % 5) - 2)});
+    const Point q{random_wide(rng), random_wide(rng)};
+    const Point r{random_wide(rng), random_wide(rng)};
+    const Point m{random_wide(rng), random_wide(rng)};
+    check_diametral(q, r, m);
+    check_diametral(q, r, Point{nudge(q.x, 1), nudge(r.y, -1)});
+  }
+  EXPECT_EQ(g_failures, 0);
+}
+
+// ---- constructions ----------------------------------------------------------------------------
+
+double rel_err(double got, double want) {
+  return std::fabs(got - want) / std::max(std::fabs(want), std::numeric_limits<double>::min());
+}
+
+TEST(Constructions, CircumcenterEquidistant) {
+  Rng rng(11);
+  for (int iter = 0; iter < 20000; ++iter) {
+    const int e = static_cast<int>(rng() % 280) - 140;
+    const double s = std::ldexp(1.0, e);
+    const Point o{uniform(rng, -8, 8) * s, uniform(rng, -8, 8) * s};
+    const Point a{o.x + uniform(rng, -1, 1) * s, o.y + uniform(rng, -1, 1) * s};
+    const Point b{o.x + uniform(rng, -1, 1) * s, o.y + uniform(rng, -1, 1) * s};
+    const Point c{o.x + uniform(rng, -1, 1) * s, o.y + uniform(rng, -1, 1) * s};
+    // Keep reasonably shaped triangles: area against the longest edge squared.
+    const double l2 = std::max({squared_distance(a, b), squared_distance(b, c), squared_distance(c, a)});
+    if (std::fabs(signed_area(a, b, c)) < 0.05 * l2) continue;
+    const Point cc = circumcenter(a, b, c);
+    const double ra = distance(cc, a), rb = distance(cc, b), rc = distance(cc, c);
+    EXPECT_LT(rel_err(rb, ra), 1e-12) << show(a) << show(b) << show(c);
+    EXPECT_LT(rel_err(rc, ra), 1e-12) << show(a) << show(b) << show(c);
+    // Against the exact circumcenter (GMP), relative to the radius.
+    const QPoint qa(a), qb(b), qc(c);
+    const mpq_class bx = qb.x - qa.x, by = qb.y - qa.y, cx = qc.x - qa.x, cy = qc.y - qa.y;
+    const mpq_class den = 2 * (bx * cy - by * cx);
+    const mpq_class bl = bx * bx + by * by, cl = cx * cx + cy * cy;
+    const mpq_class ux = qa.x + (cy * bl - by * cl) / den, uy = qa.y + (bx * cl - cx * bl) / den;
+    EXPECT_LT(std::hypot(cc.x - ux.get_d(), cc.y - uy.get_d()) / ra, 1e-13);
+  }
+}
+
+TEST(Constructions, CircumcenterSkinnyIsOnCorrectSide) {
+  // Nearly collinear triangles: the robust denominator keeps the circumcenter on the correct side
+  // of ab (same side as c for an acute angle at c ... here: opposite to c when the angle at c is
+  // obtuse), i.e. the sign of orient(a, b, cc) is -orient(a, b, c) for an obtuse angle at c.
+  Rng rng(12);
+  for (int iter = 0; iter < 5000; ++iter) {
+    const Point a{uniform(rng, 0, 1), uniform(rng, 0, 1)};
+    const Point b{uniform(rng, 2, 3), uniform(rng, 2, 3)};
+    const double t = uniform(rng, 0.2, 0.8);
+    Point c{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
+    c.y = nudge(c.y, static_cast<int>(rng() % 64) + 1);
+    const int o = orient2d(a, b, c);
+    if (o == 0) continue;
+    const Point cc = circumcenter(a, b, c);
+    ASSERT_TRUE(std::isfinite(cc.x) && std::isfinite(cc.y));
+    EXPECT_EQ(orient2d(a, b, cc), -o) << show(a) << show(b) << show(c);
+  }
+}
+
+TEST(Constructions, OffCenterApexAngle) {
+  Rng rng(13);
+  for (int iter = 0; iter < 5000; ++iter) {
+    const int e = static_cast<int>(rng() % 280) - 140;
+    const double s = std::ldexp(1.0, e);
+    const double alpha = uniform(rng, 10.0, 40.0) * std::numbers::pi / 180.0;
+    // Skinny triangle pqr with shortest edge pq: r far from pq, so the circumcenter is farther
+    // from m than the off-center.
+    const Point p{uniform(rng, -1, 1) * s, uniform(rng, -1, 1) * s};
+    const double th = uniform(rng, 0, 2 * std::numbers::pi);
+    const double len = uniform(rng, 0.1, 1.0) * s;
+    const Point q{p.x + len * std::cos(th), p.y + len * std::sin(th)};
+    const double h = len * uniform(rng, 8.0, 40.0);
+    const double shift = uniform(rng, -0.3, 0.3);
+    const Point r{0.5 * (p.x + q.x) - h * std::sin(th) + shift * (q.x - p.x),
+                  0.5 * (p.y + q.y) + h * std::cos(th) + shift * (q.y - p.y)};
+    const Point cc = circumcenter(p, q, r);
+    const Point o = off_center(p, q, cc, alpha, 1.0);
+    ASSERT_NE(o, cc);
+    // Apex angle at o is alpha; o is on the bisector, on the side of cc, at the right distance.
+    const double vpx = p.x - o.x, vpy = p.y - o.y, vqx = q.x - o.x, vqy = q.y - o.y;
+    const double angle = std::atan2(std::fabs(vpx * vqy - vpy * vqx), vpx * vqx + vpy * vqy);
+    EXPECT_NEAR(angle, alpha, 1e-10 * alpha);
+    EXPECT_LT(rel_err(distance(o, p), distance(o, q)), 1e-12);
+    EXPECT_EQ(orient2d(p, q, o), orient2d(p, q, cc));
+    const Point m = midpoint(p, q);
+    EXPECT_LT(rel_err(distance(m, o), 0.5 * distance(p, q) / std::tan(alpha / 2)), 1e-12);
+    // factor scales the distance.
+    const Point o2 = off_center(p, q, cc, alpha, 0.95);
+    EXPECT_LT(rel_err(distance(m, o2), 0.95 * 0.5 * distance(p, q) / std::tan(alpha / 2)), 1e-12);
+  }
+}
+
+TEST(Constructions, OffCenterFallsBackToCircumcenter) {
+  // Equilateral-ish triangle: |mc| = |pq|/(2√3) < (|pq|/2)·cot(15°), so the circumcenter is used.
+  const Point p{0, 0}, q{1, 0}, r{0.5, 0.8};
+  const Point cc = circumcenter(p, q, r);
+  EXPECT_EQ(off_center(p, q, cc, 30.0 * std::numbers::pi / 180.0, 1.0), cc);
+  // Borderline: alpha such that the off-center distance equals |mc| exactly → circumcenter.
+  const Point r2{0.5, 10.0};
+  const Point cc2 = circumcenter(p, q, r2);
+  const double mc = distance(midpoint(p, q), cc2);
+  EXPECT_EQ(off_center(p, q, cc2, 2.0 * std::atan(0.5 / mc) * (1.0 - 1e-9), 1.0), cc2);
+  EXPECT_NE(off_center(p, q, cc2, 2.0 * std::atan(0.5 / mc) * (1.0 + 1e-9), 1.0), cc2);
+}
+
+TEST(Constructions, SegmentIntersection) {
+  Rng rng(14);
+  int tested = 0;
+  for (int iter = 0; iter < 20000; ++iter) {
+    const int e = static_cast<int>(rng() % 280) - 140;
+    const double s = std::ldexp(1.0, e);
+    const Point a{uniform(rng, -1, 1) * s, uniform(rng, -1, 1) * s};
+    const Point b{uniform(rng, -1, 1) * s, uniform(rng, -1, 1) * s};
+    const Point c{uniform(rng, -1, 1) * s, uniform(rng, -1, 1) * s};
+    const Point d{uniform(rng, -1, 1) * s, uniform(rng, -1, 1) * s};
+    if (orient2d(a, b, c) * orient2d(a, b, d) >= 0 || orient2d(c, d, a) * orient2d(c, d, b) >= 0)
+      continue;
+    ++tested;
+    const Point x = segment_intersection(a, b, c, d);
+    const QPoint qa(a), qb(b), qc(c), qd(d);
+    const mpq_class oa = (qc.x - qa.x) * (qd.y - qa.y) - (qc.y - qa.y) * (qd.x - qa.x);
+    const mpq_class ob = (qc.x - qb.x) * (qd.y - qb.y) - (qc.y - qb.y) * (qd.x - qb.x);
+    const mpq_class t = oa / (oa - ob);
+    const mpq_class ex = qa.x + t * (qb.x - qa.x), ey = qa.y + t * (qb.y - qa.y);
+    const double scale = std::max(distance(a, b), distance(c, d));
+    EXPECT_LT(std::hypot(x.x - ex.get_d(), x.y - ey.get_d()) / scale, 1e-14);
+    EXPECT_EQ(segment_intersection(c, d, a, b), x);
+    EXPECT_GE(x.x, std::max(std::min(a.x, b.x), std::min(c.x, d.x)));
+    EXPECT_LE(x.x, std::min(std::max(a.x, b.x), std::max(c.x, d.x)));
+  }
+  EXPECT_GT(tested, 1000);
+}
+
+TEST(Constructions, BasicsAndSignedArea) {
+  EXPECT_EQ(distance(Point{0, 0}, Point{3, 4}), 5.0);
+  EXPECT_EQ(squared_distance(Point{1, 1}, Point{4, 5}), 25.0);
+  EXPECT_EQ(midpoint(Point{0, 0}, Point{2, -4}), (Point{1, -2}));
+  EXPECT_EQ(midpoint(Point{0x1p-166, 0}, Point{0, 0}), (Point{0, 0}));  // snapped to 0
+  EXPECT_EQ(signed_area(Point{0, 0}, Point{1, 0}, Point{0, 1}), 0.5);
+  EXPECT_EQ(signed_area(Point{0, 0}, Point{0, 1}, Point{1, 0}), -0.5);
+  // Nearly collinear: the rounded area carries the exact sign and is accurate.
+  Rng rng(15);
+  for (int iter = 0; iter < 5000; ++iter) {
+    const Point a{random_wide(rng), random_wide(rng)};
+    const Point b{random_wide(rng), random_wide(rng)};
+    const Point c{nudge(a.x, static_cast<int>(rng() % 3) - 1), b.y};
+    const double area = signed_area(a, b, c);
+    const QPoint qa(a), qb(b), qc(c);
+    const mpq_class exact = ((qa.x - qc.x) * (qb.y - qc.y) - (qa.y - qc.y) * (qb.x - qc.x)) / 2;
+    EXPECT_EQ((area > 0) - (area < 0), sgn(exact));
+    if (exact != 0) EXPECT_LT(rel_err(area, exact.get_d()), 1e-15);
+  }
+}
+
+TEST(Predicates, CaseCounts) {
+  // Not a check: records how many oracle-verified cases ran (each with its permutations).
+  std::printf("oracle cases: orient2d %lld, incircle %lld, squared lengths %lld, diametral %lld\n",
+              static_cast<long long>(g_orient_cases), static_cast<long long>(g_incircle_cases),
+              static_cast<long long>(g_length_cases), static_cast<long long>(g_diametral_cases));
+  EXPECT_EQ(g_failures, 0);
+}
+
+}  // namespace
+}  // namespace mwst
