@@ -11,12 +11,15 @@
 #include <gmpxx.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <numbers>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "mwst/geometry.hpp"
@@ -26,21 +29,41 @@ namespace {
 
 // ---- oracle -----------------------------------------------------------------------------------
 
+// The oracle works on rationals. Since every double is a dyadic rational and the determinants are
+// homogeneous, all coordinates of one case are first scaled by the same power of two (exactly) so
+// that they become integers: the signs are unchanged and GMP's canonicalization stays cheap.
 struct QPoint {
   mpq_class x, y;
-  explicit QPoint(const Point& p) : x(p.x), y(p.y) {}
+  explicit QPoint(const Point& p, int shift = 0) : x(std::ldexp(p.x, shift)), y(std::ldexp(p.y, shift)) {}
 };
+
+template <typename... P>
+int integer_shift(const P&... p) {
+  int lowest = 0;
+  bool any = false;
+  auto visit = [&](double v) {
+    if (v == 0.0) return;
+    const int e = std::ilogb(v) - 52;  // v is a multiple of 2^e
+    lowest = any ? std::min(lowest, e) : e;
+    any = true;
+  };
+  (visit(p.x), ...);
+  (visit(p.y), ...);
+  return -lowest;
+}
 
 int sign(const mpq_class& v) { return sgn(v); }
 
 int oracle_orient(const Point& pa, const Point& pb, const Point& pc) {
-  const QPoint a(pa), b(pb), c(pc);
+  const int k = integer_shift(pa, pb, pc);
+  const QPoint a(pa, k), b(pb, k), c(pc, k);
   const mpq_class det = (a.x - c.x) * (b.y - c.y) - (a.y - c.y) * (b.x - c.x);
   return sign(det);
 }
 
 int oracle_incircle(const Point& pa, const Point& pb, const Point& pc, const Point& pd) {
-  const QPoint a(pa), b(pb), c(pc), d(pd);
+  const int k = integer_shift(pa, pb, pc, pd);
+  const QPoint a(pa, k), b(pb, k), c(pc, k), d(pd, k);
   const mpq_class adx = a.x - d.x, ady = a.y - d.y;
   const mpq_class bdx = b.x - d.x, bdy = b.y - d.y;
   const mpq_class cdx = c.x - d.x, cdy = c.y - d.y;
@@ -53,13 +76,15 @@ int oracle_incircle(const Point& pa, const Point& pb, const Point& pc, const Poi
 }
 
 int oracle_compare_lengths(const Point& pa, const Point& pb, const Point& pc, const Point& pd) {
-  const QPoint a(pa), b(pb), c(pc), d(pd);
+  const int k = integer_shift(pa, pb, pc, pd);
+  const QPoint a(pa, k), b(pb, k), c(pc, k), d(pd, k);
   const mpq_class abx = a.x - b.x, aby = a.y - b.y, cdx = c.x - d.x, cdy = c.y - d.y;
   return sign(abx * abx + aby * aby - cdx * cdx - cdy * cdy);
 }
 
 int oracle_diametral(const Point& pa, const Point& pb, const Point& pp) {
-  const QPoint a(pa), b(pb), p(pp);
+  const int k = integer_shift(pa, pb, pp);
+  const QPoint a(pa, k), b(pb, k), p(pp, k);
   return -sign((p.x - a.x) * (p.x - b.x) + (p.y - a.y) * (p.y - b.y));
 }
 
@@ -70,14 +95,27 @@ std::int64_t g_orient_cases = 0, g_incircle_cases = 0, g_length_cases = 0, g_dia
 std::int64_t g_failures = 0;
 constexpr std::int64_t kMaxReported = 20;  // keep the log readable if something is badly wrong
 
+// Reports the first kMaxReported mismatches in full; every mismatch is counted, and each test
+// checks its count through a FailureScope.
 #define MWST_CHECK_SIGN(got, want, what)                                                     \
   do {                                                                                        \
-    if ((got) != (want)) {                                                                    \
-      if (++g_failures <= kMaxReported) ADD_FAILURE() << what << ": got " << (got)            \
-                                                      << ", want " << (want);                 \
-      else ADD_FAILURE_AT(__FILE__, __LINE__) << "(further failure)";                         \
-    }                                                                                         \
+    const int got_ = (got), want_ = (want);                                                   \
+    if (got_ != want_ && ++g_failures <= kMaxReported)                                        \
+      ADD_FAILURE() << what << ": got " << got_ << ", want " << want_;                        \
   } while (false)
+
+struct FailureScope {
+  std::int64_t start = g_failures;
+  FailureScope() = default;
+  FailureScope(const FailureScope&) = delete;
+  FailureScope& operator=(const FailureScope&) = delete;
+  ~FailureScope() { EXPECT_EQ(g_failures - start, 0) << "sign mismatches in this test"; }
+};
+
+template <typename... P>
+bool all_in_range(const P&... p) {
+  return (in_supported_range(p) && ...);
+}
 
 std::string show(const Point& p) {
   char buf[96];
@@ -178,6 +216,7 @@ void expect_in_range(const Point& p) {
 // Shewchuk's figure: p = (0.5 + i·u, 0.5 + j·u), u = ulp(0.5) = 2^-53, against (12,12), (24,24),
 // at three scales (exact power-of-two scaling) and with the line through the other end.
 TEST(Orient2d, ShewchukGrid) {
+  const FailureScope scope;
   constexpr double u = 0x1p-53;
   int positives = 0, negatives = 0, zeros = 0;
   for (const double scale : {1.0, 0x1p160, 0x1p-160}) {
@@ -201,11 +240,11 @@ TEST(Orient2d, ShewchukGrid) {
       check_orient(p, Point{-12.0, -12.0}, Point{0x1p-60, 0x1p-60});
     }
   }
-  EXPECT_EQ(g_failures, 0);
 }
 
 // Points on y = x perturbed by a few ulps, at every scale and across scales.
 TEST(Orient2d, NearLineYEqualsX) {
+  const FailureScope scope;
   Rng rng(12345);
   for (int iter = 0; iter < 12000; ++iter) {
     const double scale = kScales[iter % 3];
@@ -217,16 +256,20 @@ TEST(Orient2d, NearLineYEqualsX) {
     const Point a{x1, x1}, b{x2, x2}, c{nudge(x3, k), nudge(x3, l)};
     if (!in_supported_range(a) || !in_supported_range(b) || !in_supported_range(c)) continue;
     const int s = check_orient(a, b, c);
-    if (k == l) EXPECT_EQ(s, 0);
+    if (k == l) {
+      EXPECT_EQ(s, 0);
+    }
     // Mixed: one point far away on the same line (huge against tiny).
     const double far = (rng() & 1U ? 1.0 : -1.0) * 0x1p160 * uniform(rng, 0.5, 1.0);
-    check_orient(Point{far, far}, Point{nudge(x1 / scale * 0x1p-150, k), x1 / scale * 0x1p-150}, b);
+    const double tiny = x1 / scale * 0x1p-150;
+    const Point t{nudge(tiny, k), tiny};
+    if (all_in_range(t)) check_orient(Point{far, far}, t, b);
   }
-  EXPECT_EQ(g_failures, 0);
 }
 
 // c on the line through a and b rounded, with random exponents: near-collinear in general position.
 TEST(Orient2d, RoundedCollinearRandomExponents) {
+  const FailureScope scope;
   Rng rng(777);
   for (int iter = 0; iter < 30000; ++iter) {
     const int e = static_cast<int>(rng() % 300) - 150;
@@ -241,11 +284,11 @@ TEST(Orient2d, RoundedCollinearRandomExponents) {
     if (!in_supported_range(c) || !in_supported_range(a) || !in_supported_range(b)) continue;
     check_orient(a, b, c);
   }
-  EXPECT_EQ(g_failures, 0);
 }
 
 // Fully random coordinates over the whole range (exact stage called directly as well).
 TEST(Orient2d, RandomWideExponents) {
+  const FailureScope scope;
   Rng rng(4242);
   for (int iter = 0; iter < 30000; ++iter) {
     const Point a{random_wide(rng), random_wide(rng)};
@@ -256,13 +299,13 @@ TEST(Orient2d, RandomWideExponents) {
     check_orient(a, a, c);
     check_orient(a, Point{a.x, b.y}, Point{a.x, c.y});
   }
-  EXPECT_EQ(g_failures, 0);
 }
 
 // ---- incircle ---------------------------------------------------------------------------------
 
 // Exactly cocircular sets (±a, ±b), (±b, ±a) and one-ulp perturbations of them.
 TEST(Incircle, SymmetricCocircular) {
+  const FailureScope scope;
   Rng rng(99);
   for (int iter = 0; iter < 8000; ++iter) {
     const double scale = kScales[iter % 3];
@@ -277,13 +320,13 @@ TEST(Incircle, SymmetricCocircular) {
     const Point d2{nudge(d.x, k), nudge(d.y, static_cast<int>(rng() % 5) - 2)};
     check_incircle(a, b, c, d2);
   }
-  EXPECT_EQ(g_failures, 0);
 }
 
 // Shewchuk-style grid for incircle: d = (0.5 + i·u, 0.5 + j·u) against the circle through
 // (-0.5, 0.5), (-0.5, -0.5), (0.5, -0.5), which passes through (0.5, 0.5). The differences have
 // tails for odd i, j, so the general expansion path is exercised.
 TEST(Incircle, Grid) {
+  const FailureScope scope;
   constexpr double u = 0x1p-53;
   int zeros = 0;
   for (const double scale : {1.0, 0x1p150, 0x1p-150}) {
@@ -297,12 +340,12 @@ TEST(Incircle, Grid) {
     }
   }
   EXPECT_EQ(zeros, 3);
-  EXPECT_EQ(g_failures, 0);
 }
 
 // Lattice circles: integer points on x² + y² = 5^4 · 13² (many representations), scaled by 2^k
 // and translated by a dyadic offset that keeps them exact; then perturbed.
 TEST(Incircle, LatticeCircles) {
+  const FailureScope scope;
   std::vector<Point> base;
   const long long r2 = 625LL * 169LL;  // 105625
   for (long long x = -325; x <= 325; ++x) {
@@ -329,11 +372,11 @@ TEST(Incircle, LatticeCircles) {
     const Point d2{nudge(d.x, static_cast<int>(rng() % 3) - 1), nudge(d.y, 1)};
     if (in_supported_range(d2)) check_incircle(a, b, c, d2);
   }
-  EXPECT_EQ(g_failures, 0);
 }
 
 // d on the circumcircle of a random triangle, rounded: near-cocircular, random exponents, mixed.
 TEST(Incircle, NearCocircularRandom) {
+  const FailureScope scope;
   Rng rng(31337);
   for (int iter = 0; iter < 25000; ++iter) {
     const int e = static_cast<int>(rng() % 300) - 150;
@@ -352,13 +395,13 @@ TEST(Incircle, NearCocircularRandom) {
       const Point tiny{random_coordinate(rng, -166, -140), random_coordinate(rng, -166, -140)};
       check_incircle(Point{0x1p160, 0.0}, Point{0.0, 0x1p160}, Point{-0x1p160, 0.0}, tiny);
       check_incircle(Point{tiny.x, 0.0}, Point{0.0, tiny.y}, Point{-tiny.x, 0.0},
-                     Point{nudge(tiny.x, 1) * 0.0, -tiny.y});
+                     Point{0.0, -tiny.y});
     }
   }
-  EXPECT_EQ(g_failures, 0);
 }
 
 TEST(Incircle, RandomWideExponents) {
+  const FailureScope scope;
   Rng rng(8080);
   for (int iter = 0; iter < 20000; ++iter) {
     const Point a{random_wide(rng), random_wide(rng)};
@@ -370,44 +413,50 @@ TEST(Incircle, RandomWideExponents) {
     EXPECT_EQ(check_incircle(a, a, c, d), oracle_incircle(a, a, c, d));
     EXPECT_EQ(check_incircle(Point{a.x, b.y}, Point{a.x, c.y}, Point{a.x, d.y}, Point{a.x, a.y}), 0);
   }
-  EXPECT_EQ(g_failures, 0);
 }
 
 // ---- squared lengths and diametral circles ----------------------------------------------------
 
 TEST(CompareSquaredLengths, TiesAndNearTies) {
+  const FailureScope scope;
   Rng rng(5);
   // Pythagorean pairs: (3,4) vs (5,0), (0,5), (4,3); (5,12) vs (13,0); (20,21) vs (29,0).
   const std::array<std::array<Point, 2>, 3> pairs = {
       {{Point{3, 4}, Point{5, 0}}, {Point{5, 12}, Point{0, 13}}, {Point{20, 21}, Point{-29, 0}}}};
   for (int iter = 0; iter < 20000; ++iter) {
-    const int shift = static_cast<int>(rng() % 300) - 150;
+    const int shift = static_cast<int>(rng() % 290) - 150;
     const auto& pr = pairs[rng() % pairs.size()];
-    const double ox = random_coordinate(rng, shift, shift + 12);
-    const double oy = random_coordinate(rng, shift, shift + 12);
     const double s = std::ldexp(1.0, shift);
-    // Endpoints chosen so the differences are exact multiples of s (offsets share the exponent).
+    // Integer multiples of s below 2^20·s: every sum below is exact, so the tie is exact.
+    const double ox = static_cast<double>(rng() % (1U << 20)) * s;
+    const double oy = static_cast<double>(rng() % (1U << 20)) * s;
     const Point a{ox, oy};
     const Point b{ox + pr[0].x * s, oy + pr[0].y * s};
     const Point c{oy, ox};
     const Point d{oy + pr[1].x * s, ox + pr[1].y * s};
-    if (!in_supported_range(b) || !in_supported_range(d)) continue;
-    check_lengths(a, b, c, d);  // 0 when the sums are exact, else decided by the oracle
+    EXPECT_EQ(check_lengths(a, b, c, d), 0);
     const int k = static_cast<int>(rng() % 5) - 2;
-    check_lengths(a, Point{nudge(b.x, k), b.y}, c, d);
+    const Point b2{nudge(b.x, k), b.y};
+    if (all_in_range(b2)) check_lengths(a, b2, c, d);
+    // Offsets at a much larger exponent: the differences round, the oracle decides.
+    const double big = random_coordinate(rng, std::min(shift + 30, 165), 165);
+    const Point a3{a.x + big, a.y}, b3{b.x + big, b.y};
+    if (all_in_range(a3, b3)) check_lengths(a3, b3, c, d);
     // Random lengths of nearly equal size across scales.
     const Point e{random_wide(rng), random_wide(rng)};
     const Point f{nudge(e.x, static_cast<int>(rng() % 5) - 2), random_wide(rng)};
+    const Point g{0.0, 0.0}, h{nudge(e.x - f.x, 1), e.y - f.y};
+    if (!all_in_range(e, f, h)) continue;
     check_lengths(e, f, Point{f.x, e.y}, Point{e.x, f.y});
-    check_lengths(e, f, Point{0.0, 0.0}, Point{nudge(e.x - f.x, 1), e.y - f.y});
+    check_lengths(e, f, g, h);
   }
   // Exact ties with no rounding anywhere.
   EXPECT_EQ(check_lengths(Point{0, 0}, Point{3, 4}, Point{1, 1}, Point{6, 1}), 0);
   EXPECT_EQ(check_lengths(Point{0, 0}, Point{0x1p-160, 0}, Point{0, 0}, Point{0, -0x1p-160}), 0);
-  EXPECT_EQ(g_failures, 0);
 }
 
 TEST(InDiametralCircle, ThalesAndRandom) {
+  const FailureScope scope;
   Rng rng(6);
   for (int iter = 0; iter < 20000; ++iter) {
     const int shift = static_cast<int>(rng() % 300) - 150;
@@ -428,9 +477,9 @@ TEST(InDiametralCircle, ThalesAndRandom) {
     const Point r{random_wide(rng), random_wide(rng)};
     const Point m{random_wide(rng), random_wide(rng)};
     check_diametral(q, r, m);
-    check_diametral(q, r, Point{nudge(q.x, 1), nudge(r.y, -1)});
+    const Point near{nudge(q.x, 1), nudge(r.y, -1)};
+    if (all_in_range(near)) check_diametral(q, r, near);
   }
-  EXPECT_EQ(g_failures, 0);
 }
 
 // ---- constructions ----------------------------------------------------------------------------
@@ -549,8 +598,11 @@ TEST(Constructions, SegmentIntersection) {
     const mpq_class ob = (qc.x - qb.x) * (qd.y - qb.y) - (qc.y - qb.y) * (qd.x - qb.x);
     const mpq_class t = oa / (oa - ob);
     const mpq_class ex = qa.x + t * (qb.x - qa.x), ey = qa.y + t * (qb.y - qa.y);
-    const double scale = std::max(distance(a, b), distance(c, d));
-    EXPECT_LT(std::hypot(x.x - ex.get_d(), x.y - ey.get_d()) / scale, 1e-14);
+    // A few ulps of the coordinates' magnitude, plus a few ulps of the segment lengths.
+    const double scale = std::max({distance(a, b), distance(c, d), std::fabs(a.x), std::fabs(a.y),
+                                   std::fabs(b.x), std::fabs(b.y), std::fabs(c.x), std::fabs(c.y),
+                                   std::fabs(d.x), std::fabs(d.y)});
+    EXPECT_LT(std::hypot(x.x - ex.get_d(), x.y - ey.get_d()) / scale, 8 * detail::kEpsilon);
     EXPECT_EQ(segment_intersection(c, d, a, b), x);
     EXPECT_GE(x.x, std::max(std::min(a.x, b.x), std::min(c.x, d.x)));
     EXPECT_LE(x.x, std::min(std::max(a.x, b.x), std::max(c.x, d.x)));
@@ -571,11 +623,14 @@ TEST(Constructions, BasicsAndSignedArea) {
     const Point a{random_wide(rng), random_wide(rng)};
     const Point b{random_wide(rng), random_wide(rng)};
     const Point c{nudge(a.x, static_cast<int>(rng() % 3) - 1), b.y};
+    if (!all_in_range(c)) continue;
     const double area = signed_area(a, b, c);
     const QPoint qa(a), qb(b), qc(c);
     const mpq_class exact = ((qa.x - qc.x) * (qb.y - qc.y) - (qa.y - qc.y) * (qb.x - qc.x)) / 2;
     EXPECT_EQ((area > 0) - (area < 0), sgn(exact));
-    if (exact != 0) EXPECT_LT(rel_err(area, exact.get_d()), 1e-15);
+    if (exact != 0) {
+      EXPECT_LT(rel_err(area, exact.get_d()), 1e-15);
+    }
   }
 }
 
@@ -584,7 +639,6 @@ TEST(Predicates, CaseCounts) {
   std::printf("oracle cases: orient2d %lld, incircle %lld, squared lengths %lld, diametral %lld\n",
               static_cast<long long>(g_orient_cases), static_cast<long long>(g_incircle_cases),
               static_cast<long long>(g_length_cases), static_cast<long long>(g_diametral_cases));
-  EXPECT_EQ(g_failures, 0);
 }
 
 }  // namespace

@@ -202,6 +202,41 @@ inline int scale_expansion(const double* e, int n, double b, double* h) {
   return hn;
 }
 
+// Renormalizes e in place (Compress, Shewchuk §2.8): a top-down pass folds the components into
+// as few full-precision words as possible, a bottom-up pass restores increasing order. The value is
+// unchanged (every step is a Two-Sum); the result is nonadjacent, so its length is bounded by the
+// bit span of the value, and its largest component approximates the value to within about one ulp.
+// Keeps the expansions short before they are multiplied.
+template <int N>
+inline void compress(Expansion<N>& e) {
+  if (e.n < 2) return;
+  double g[N];
+  int bottom = e.n;  // g[bottom..e.n) holds the first pass's output, largest first at the bottom
+  double q = e.c[e.n - 1];
+  for (int i = e.n - 2; i >= 0; --i) {
+    double sum = 0.0, err = 0.0;
+    two_sum(q, e.c[i], sum, err);
+    if (err != 0.0) {
+      g[--bottom] = sum;
+      q = err;
+    } else {
+      q = sum;
+    }
+  }
+  g[--bottom] = q;
+  // g[bottom] is the smallest word, g[e.n - 1] the largest. Second pass: bottom-up.
+  int hn = 0;
+  q = g[bottom];
+  for (int i = bottom + 1; i < e.n; ++i) {
+    double sum = 0.0, err = 0.0;
+    two_sum(g[i], q, sum, err);
+    if (err != 0.0) e.c[hn++] = err;
+    q = sum;
+  }
+  if (q != 0.0) e.c[hn++] = q;
+  e.n = hn;
+}
+
 template <int N, int M>
 inline Expansion<N + M> operator+(const Expansion<N>& e, const Expansion<M>& f) {
   Expansion<N + M> h;
@@ -254,8 +289,8 @@ inline Expansion<2 * N * M> operator*(const Expansion<N>& e, const Expansion<M>&
   return result;
 }
 
-// Exact orient2d determinant (a.x-c.x)(b.y-c.y) - (a.y-c.y)(b.x-c.x), up to 32 components.
-inline Expansion<32> orient2d_expansion(const Point& a, const Point& b, const Point& c) {
+// Exact orient2d determinant (a.x-c.x)(b.y-c.y) - (a.y-c.y)(b.x-c.x), up to 16 components.
+inline Expansion<16> orient2d_expansion(const Point& a, const Point& b, const Point& c) {
   const Expansion<2> acx = difference(a.x, c.x), bcx = difference(b.x, c.x);
   const Expansion<2> acy = difference(a.y, c.y), bcy = difference(b.y, c.y);
   return acx * bcy - acy * bcx;
@@ -281,12 +316,19 @@ int incircle_exact(const Point& a, const Point& b, const Point& c, const Point& 
   const Expansion<2> bdx = difference(b.x, d.x), bdy = difference(b.y, d.y);
   const Expansion<2> cdx = difference(c.x, d.x), cdy = difference(c.y, d.y);
 
-  const Expansion<16> bc = bdx * cdy - cdx * bdy;
-  const Expansion<16> ca = cdx * ady - adx * cdy;
-  const Expansion<16> ab = adx * bdy - bdx * ady;
-  const Expansion<16> alift = adx * adx + ady * ady;
-  const Expansion<16> blift = bdx * bdx + bdy * bdy;
-  const Expansion<16> clift = cdx * cdx + cdy * cdy;
+  Expansion<16> bc = bdx * cdy - cdx * bdy;
+  Expansion<16> ca = cdx * ady - adx * cdy;
+  Expansion<16> ab = adx * bdy - bdx * ady;
+  Expansion<16> alift = adx * adx + ady * ady;
+  Expansion<16> blift = bdx * bdx + bdy * bdy;
+  Expansion<16> clift = cdx * cdx + cdy * cdy;
+  // Renormalize the factors before the expensive products.
+  compress(bc);
+  compress(ca);
+  compress(ab);
+  compress(alift);
+  compress(blift);
+  compress(clift);
 
   const Expansion<512> aterm = alift * bc;
   const Expansion<512> bterm = blift * ca;

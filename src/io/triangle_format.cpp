@@ -12,6 +12,7 @@
 // Writing: each file is built in one std::string (numbers via std::to_chars, shortest round-trip)
 // and written with write_file_atomic (temporary name, rename).
 #include <fcntl.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -19,9 +20,11 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <new>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -36,17 +39,39 @@ namespace {
 
 // ---- files -------------------------------------------------------------------------------------
 
-// A file's bytes, read whole. (Uninitialised storage: no memset of a large buffer before reading.)
+// A file's bytes, read whole, in malloc'ed storage (uninitialised: no memset before reading).
+struct FreeDeleter {
+  void operator()(char* p) const { std::free(p); }
+};
 struct FileBytes {
-  std::unique_ptr<char[]> data;
+  std::unique_ptr<char, FreeDeleter> data;
   std::size_t size = 0;
   std::string_view view() const { return {data.get(), size}; }
 };
 
 std::string errno_message(int err) { return std::error_code(err, std::generic_category()).message(); }
 
-// Reads the whole file. If `missing` is given and the file does not exist, sets *missing and
-// returns an empty buffer instead of throwing.
+// Storage for `bytes` bytes. Large buffers are aligned to 2 MiB and advised to use transparent
+// huge pages: reading a big file into fresh memory otherwise spends as long in page faults as the
+// parser spends on the numbers.
+char* allocate_buffer(std::size_t bytes) {
+  constexpr std::size_t kHuge = std::size_t{2} << 20;
+  void* p = nullptr;
+  if (bytes >= 2 * kHuge) {
+    const std::size_t rounded = (bytes + kHuge - 1) / kHuge * kHuge;
+    p = std::aligned_alloc(kHuge, rounded);
+#ifdef MADV_HUGEPAGE
+    if (p != nullptr) ::madvise(p, rounded, MADV_HUGEPAGE);  // advice only: failure is harmless
+#endif
+  }
+  if (p == nullptr) p = std::malloc(bytes > 0 ? bytes : 1);
+  if (p == nullptr) throw std::bad_alloc();
+  return static_cast<char*>(p);
+}
+
+// Reads the whole file with one read(2) (more only if it is not a regular file or grows). If
+// `missing` is given and the file does not exist, sets *missing and returns an empty buffer
+// instead of throwing.
 FileBytes read_whole_file(const std::string& path, bool* missing = nullptr) {
   int fd;
   do {
@@ -69,14 +94,17 @@ FileBytes read_whole_file(const std::string& path, bool* missing = nullptr) {
   if (S_ISDIR(st.st_mode)) throw InputError(path, 0, "cannot read: is a directory");
 
   FileBytes out;
-  std::size_t capacity = st.st_size > 0 ? static_cast<std::size_t>(st.st_size) : std::size_t{4096};
-  out.data = std::make_unique_for_overwrite<char[]>(capacity);
+  // One byte more than the size, so that a regular file is read whole by the first read and
+  // confirmed complete by the second (which returns 0) without growing the buffer.
+  std::size_t capacity = (st.st_size > 0 ? static_cast<std::size_t>(st.st_size) : std::size_t{4095}) + 1;
+  out.data.reset(allocate_buffer(capacity));
   for (;;) {
     if (out.size == capacity) {  // the file grew, or is not a regular file: enlarge
       const std::size_t bigger = capacity * 2;
-      auto grown = std::make_unique_for_overwrite<char[]>(bigger);
-      std::memcpy(grown.get(), out.data.get(), out.size);
-      out.data = std::move(grown);
+      void* grown = std::realloc(out.data.get(), bigger);
+      if (grown == nullptr) throw std::bad_alloc();
+      out.data.release();
+      out.data.reset(static_cast<char*>(grown));
       capacity = bigger;
     }
     const ssize_t got = ::read(fd, out.data.get() + out.size, capacity - out.size);
@@ -152,20 +180,19 @@ class Scanner {
       : next_(text.data()), end_(text.data() + text.size()), name_(name) {}
 
   // Advances to the next line that holds data (skipping blank and comment-only lines). Returns
-  // false at the end of the file.
+  // false at the end of the file. A '#' ends a line's content wherever it appears; it is found
+  // lazily (fields stop at it), so a line costs one memchr.
   bool next_line() {
     while (next_ < end_) {
       const char* start = next_;
-      const auto* nl = static_cast<const char*>(std::memchr(start, '\n', end_ - start));
+      const auto* nl = static_cast<const char*>(std::memchr(start, '\n', static_cast<std::size_t>(end_ - start)));
       const char* line_end = nl != nullptr ? nl : end_;
       next_ = nl != nullptr ? nl + 1 : end_;
       ++line_;
-      const auto* hash = static_cast<const char*>(std::memchr(start, '#', line_end - start));
-      const char* content_end = hash != nullptr ? hash : line_end;
-      while (start < content_end && is_blank(*start)) ++start;
-      if (start < content_end) {
+      while (start < line_end && is_blank(*start)) ++start;
+      if (start < line_end && *start != '#') {
         cur_ = start;
-        cur_end_ = content_end;
+        cur_end_ = line_end;
         return true;
       }
     }
@@ -176,33 +203,32 @@ class Scanner {
   std::size_t line() const { return line_ == 0 ? 1 : line_; }
   // Bytes not yet scanned (an upper bound for what the rest of the file can hold).
   std::size_t remaining() const { return static_cast<std::size_t>(end_ - next_); }
-  const std::string& name() const { return name_; }
 
   // True if the current line has another field (skips the blanks before it).
   bool has_field() {
     while (cur_ < cur_end_ && is_blank(*cur_)) ++cur_;
-    return cur_ < cur_end_;
+    return cur_ < cur_end_ && *cur_ != '#';
   }
 
   [[noreturn]] void fail(const std::string& message) const { throw InputError(name_, line(), message); }
 
   // ---- fields (each skips leading blanks; a missing required field is an error) ----
 
-  // An integer field.
+  // An integer field. Fast path: up to 18 plain decimal digits.
   std::int64_t integer(const Item& item, const char* field) {
-    require(item, field);
-    std::int64_t v = 0;
+    if (!has_field()) missing(item, field);
     const char* p = cur_;
-    if (*p == '+' && p + 1 < cur_end_ && p[1] != '-' && p[1] != '+') ++p;
-    const auto r = std::from_chars(p, cur_end_, v);
-    if (r.ec == std::errc::result_out_of_range && delimited(r.ptr)) {
-      fail(item.text() + ": " + field + " " + quote(token()) + " is out of range");
+    const char* const start = p;
+    std::uint64_t v = 0;
+    while (p < cur_end_ && p - start < 18 && static_cast<unsigned>(*p - '0') < 10u) {
+      v = v * 10 + static_cast<unsigned>(*p - '0');
+      ++p;
     }
-    if (r.ec != std::errc() || !delimited(r.ptr)) {
-      fail(item.text() + ": expected an integer for the " + field + ", found " + quote(token()));
+    if (p > start && delimited(p)) {
+      cur_ = p;
+      return static_cast<std::int64_t>(v);
     }
-    cur_ = r.ptr;
-    return v;
+    return integer_slow(item, field);
   }
 
   // An optional integer field: `fallback` if the line has no more fields.
@@ -231,60 +257,85 @@ class Scanner {
     return static_cast<std::int32_t>(v);
   }
 
-  // Any double (attributes, area constraints): must be a well-formed number.
+  // Any finite double (attributes, area constraints).
   double real(const Item& item, const char* field) {
-    require(item, field);
+    if (!has_field()) missing(item, field);
     double v = 0.0;
     const Status s = parse_double(v);
-    if (s == Status::kMalformed) {
-      fail(item.text() + ": expected a number for the " + field + ", found " + quote(token()));
-    }
+    if (s == Status::kMalformed) not_a_number(item, field);
     if (s == Status::kOutOfRange || !std::isfinite(v)) {
       fail(item.text() + ": " + field + " " + quote(token()) + " is not a finite double");
     }
     return v;
   }
 
-  // A coordinate: finite and in the supported range (see geometry.hpp).
+  // A coordinate: finite and in the supported range (see geometry.hpp). Fast path: a plain
+  // decimal that from_chars takes whole and that lies in the range.
   double coordinate(const Item& item, const char* field) {
-    require(item, field);
+    if (!has_field()) missing(item, field);
     double v = 0.0;
-    const Status s = parse_double(v);
-    if (s == Status::kMalformed) {
-      fail(item.text() + ": expected a number for the " + field + ", found " + quote(token()));
+    const auto r = std::from_chars(cur_, cur_end_, v);
+    if (r.ec == std::errc() && delimited(r.ptr) && v != 0.0 && in_supported_range(v)) {
+      cur_ = r.ptr;
+      return v;
     }
-    if (s == Status::kOutOfRange) {
-      fail(item.text() + ": " + field + " " + quote(token()) + " is outside the supported range (" +
-           coordinate_range_text() + ")");
-    }
-    if (!std::isfinite(v)) fail(item.text() + ": non-finite coordinate " + quote(token()));
-    if (!in_supported_range(v)) {
-      fail(item.text() + ": " + field + " " + quote(token()) + " is outside the supported range (" +
-           coordinate_range_text() + ")");
-    }
-    cur_ = after_;
-    return v;
+    return coordinate_slow(item, field);
   }
 
  private:
   enum class Status { kOk, kMalformed, kOutOfRange };
 
-  bool delimited(const char* p) const { return p == cur_end_ || is_blank(*p); }
+  bool delimited(const char* p) const { return p == cur_end_ || is_blank(*p) || *p == '#'; }
 
-  // The current token (up to the next blank), for messages.
+  // The current token (up to the next blank or '#'), for messages.
   std::string_view token() const {
     const char* e = cur_;
-    while (e < cur_end_ && !is_blank(*e)) ++e;
+    while (e < cur_end_ && !is_blank(*e) && *e != '#') ++e;
     return {cur_, static_cast<std::size_t>(e - cur_)};
   }
 
-  void require(const Item& item, const char* field) {
-    if (!has_field()) fail(item.text() + ": missing " + field);
+  [[noreturn, gnu::cold, gnu::noinline]] void missing(const Item& item, const char* field) const {
+    fail(item.text() + ": missing " + field);
+  }
+  [[noreturn, gnu::cold, gnu::noinline]] void not_a_number(const Item& item, const char* field) const {
+    fail(item.text() + ": expected a number for the " + field + ", found " + quote(token()));
+  }
+  [[noreturn, gnu::cold, gnu::noinline]] void out_of_range(const Item& item, const char* field) const {
+    fail(item.text() + ": " + field + " " + quote(token()) + " is outside the supported range (" +
+         coordinate_range_text() + ")");
   }
 
-  // Parses the double at cur_ (decimal as strtod, without the locale; also C99 hexadecimal
-  // "0x1.8p3"; a leading '+' is allowed). On success leaves the end in after_ and, for real(),
-  // advances cur_. A non-zero number that underflows to zero is out of range.
+  // Integers with a sign, many digits, or errors.
+  [[gnu::noinline]] std::int64_t integer_slow(const Item& item, const char* field) {
+    std::int64_t v = 0;
+    const char* p = cur_;
+    if (*p == '+' && p + 1 < cur_end_ && p[1] != '-' && p[1] != '+') ++p;
+    const auto r = std::from_chars(p, cur_end_, v);
+    if (r.ec == std::errc::result_out_of_range && delimited(r.ptr)) {
+      fail(item.text() + ": " + field + " " + quote(token()) + " is out of range");
+    }
+    if (r.ec != std::errc() || !delimited(r.ptr)) {
+      fail(item.text() + ": expected an integer for the " + field + ", found " + quote(token()));
+    }
+    cur_ = r.ptr;
+    return v;
+  }
+
+  // Zero, a sign '+', hexadecimal, or errors.
+  [[gnu::noinline]] double coordinate_slow(const Item& item, const char* field) {
+    double v = 0.0;
+    const Status s = parse_double(v);
+    if (s == Status::kMalformed) not_a_number(item, field);
+    if (s == Status::kOutOfRange) out_of_range(item, field);
+    if (!std::isfinite(v)) fail(item.text() + ": non-finite coordinate " + quote(token()));
+    if (!in_supported_range(v)) out_of_range(item, field);
+    cur_ = after_;
+    return v;
+  }
+
+  // Parses the double at cur_: decimal as strtod (without the locale) or C99 hexadecimal
+  // ("0x1.8p3"), with an optional sign. Leaves the end in after_. A number with a non-zero digit
+  // that underflows to zero is out of range.
   Status parse_double(double& v) {
     const char* p = cur_;
     bool negative = false;
@@ -302,7 +353,6 @@ class Scanner {
     after_ = r.ptr;
     if (r.ec == std::errc::result_out_of_range) return Status::kOutOfRange;
     if (v == 0.0) {
-      // Only zero digits may spell zero (guards against a silent underflow to 0).
       for (const char* q = digits; q < r.ptr; ++q) {
         const char c = *q;
         if (c == 'e' || c == 'E' || (hex && (c == 'p' || c == 'P'))) break;
@@ -314,12 +364,12 @@ class Scanner {
     return Status::kOk;
   }
 
-  const char* next_;     // start of the next unscanned line
+  const char* next_;               // start of the next unscanned line
   const char* end_;
   const char* cur_ = nullptr;      // position in the current line
-  const char* cur_end_ = nullptr;  // end of the current line's content (before '#' or '\n')
+  const char* cur_end_ = nullptr;  // end of the current line (its '\n' or the end of the text)
   const char* after_ = nullptr;
-  std::size_t line_ = 0;  // number of the current line (1-based)
+  std::size_t line_ = 0;           // number of the current line (1-based)
   const std::string& name_;
 };
 

@@ -1,0 +1,412 @@
+// Constrained Delaunay triangulation: segment insertion by cavity retriangulation.
+//
+// A segment ab that is not already an edge crosses a run of triangles. We remove them and
+// retriangulate the two pseudo-polygons on either side of ab, choosing for each base edge the
+// chain vertex whose circle through the base contains no other chain vertex (Anglada 1997;
+// Shewchuk and Brown 2015, "Fast segment insertion and incremental construction of constrained
+// Delaunay triangulations"). The result is again constrained Delaunay.
+//
+// Degenerate graphs are resolved on the way (constrained_delaunay): duplicate points merge, zero
+// length segments drop, a vertex lying inside a segment splits it, collinear overlaps merge, and
+// crossing segments are split at their (rounded) intersection point, or refused with --strict.
+#include <algorithm>
+#include <chrono>
+#include <unordered_map>
+
+#include "mwst/delaunay.hpp"
+#include "mwst/error.hpp"
+
+namespace mwst {
+
+namespace {
+
+inline std::uint64_t edge_key(VertexId u, VertexId v) {
+  return (static_cast<std::uint64_t>(u) << 32) | v;
+}
+inline std::uint64_t undirected_key(VertexId u, VertexId v) {
+  return u < v ? edge_key(u, v) : edge_key(v, u);
+}
+
+// True if q lies strictly between a and b on their (common) line — callers know the three points
+// are collinear, so comparing coordinates along the dominant axis is exact.
+bool strictly_between(const Point& a, const Point& b, const Point& q) {
+  if (a.x != b.x) return (a.x < q.x && q.x < b.x) || (b.x < q.x && q.x < a.x);
+  return (a.y < q.y && q.y < b.y) || (b.y < q.y && q.y < a.y);
+}
+
+// Finds an edge with org a whose triangle the direction a→b enters, rotating around a.
+// Returns the handle h = a→v1 with apex v2 such that b is strictly left of a→v1 and strictly
+// right of a→v2 (the ray crosses the open triangle), or, if a vertex v lies on the ray from a
+// towards b, the handle a→v (with *collinear set).
+Handle find_wedge(const Mesh& m, Handle start, const Point& pb, bool* collinear) {
+  const VertexId a = m.org(start);
+  const Point& pa = m.points[a];
+  Handle h = start;
+  // Bounded by the degree of a; a full turn without success means a corrupt mesh.
+  for (std::size_t turn = 0; turn < m.triangles.size() + 8; ++turn) {
+    const VertexId v1 = m.dest(h), v2 = m.apex(h);
+    if (v1 != kInfinite) {
+      const Point& p1 = m.points[v1];
+      const int o1 = orient2d(pa, p1, pb);
+      if (o1 == 0 && (p1.x - pa.x) * (pb.x - pa.x) + (p1.y - pa.y) * (pb.y - pa.y) > 0.0) {
+        *collinear = true;
+        return h;
+      }
+      if (o1 > 0 && v2 != kInfinite && orient2d(pa, m.points[v2], pb) < 0) {
+        *collinear = false;
+        return h;
+      }
+    }
+    h = m.onext(h);
+    if (h == start) break;
+  }
+  throw InternalError("insert_segment: no triangle around the first endpoint faces the second");
+}
+
+// Retriangulates the pseudo-polygon with base edge a→b and the chain (left of a→b, listed from
+// a's end to b's end) by the Delaunay-vertex rule; appends triangles (a, b, c) counter-clockwise.
+void retriangulate(const Mesh& m, VertexId a, VertexId b, const std::vector<VertexId>& chain,
+                   std::vector<std::array<VertexId, 3>>& out) {
+  struct Task {
+    VertexId a, b;
+    std::size_t lo, hi;  // chain[lo, hi) between a and b
+  };
+  std::vector<Task> tasks{{a, b, 0, chain.size()}};
+  while (!tasks.empty()) {
+    const Task t = tasks.back();
+    tasks.pop_back();
+    if (t.lo == t.hi) continue;
+    std::size_t best = t.lo;
+    const Point& pa = m.points[t.a];
+    const Point& pbb = m.points[t.b];
+    for (std::size_t i = t.lo + 1; i < t.hi; ++i) {
+      if (incircle(pa, pbb, m.points[chain[best]], m.points[chain[i]]) > 0) best = i;
+    }
+    const VertexId c = chain[best];
+    out.push_back({t.a, t.b, c});
+    tasks.push_back({t.a, c, t.lo, best});
+    tasks.push_back({c, t.b, best + 1, t.hi});
+  }
+}
+
+}  // namespace
+
+namespace detail {
+
+// What insert_segment_step found on the way from a towards b.
+struct SegmentStep {
+  enum class Kind { kDone, kVertex, kCrossing } kind = Kind::kDone;
+  VertexId vertex = kNone;  // kVertex: a vertex on the open segment where this piece ended
+  Handle crossed = kNone;   // kCrossing: a subsegment edge crossing ab
+  Handle hint = kNone;      // an edge whose org is the vertex where this piece ended
+};
+
+// Inserts the part of segment a→b up to the first vertex on it (or b) as a constrained edge, or
+// reports the first subsegment it crosses without changing the mesh. `start` must have org a.
+SegmentStep insert_segment_step(Mesh& m, Handle start, VertexId b, std::int32_t marker) {
+  const VertexId a = m.org(start);
+  const Point pa = m.points[a], pb = m.points[b];
+  bool collinear = false;
+  const Handle first = find_wedge(m, start, pb, &collinear);
+  SegmentStep step;
+  if (collinear) {
+    const VertexId v = m.dest(first);
+    if (!m.is_segment(first)) m.set_segment(first, marker);  // an overlap keeps the first marker
+    step.kind = v == b ? SegmentStep::Kind::kDone : SegmentStep::Kind::kVertex;
+    step.vertex = v;
+    step.hint = m.sym(first);
+    return step;
+  }
+  // Walk across the triangles the open segment crosses, recording the cavity.
+  std::vector<TriangleId> cavity;
+  std::vector<VertexId> upper{a}, lower{a};       // left and right chains from a
+  std::vector<std::pair<std::uint64_t, Handle>> outer;  // chain edge (inside orientation) → outer handle
+  // First triangle (a, v1, v2): v1 right of ab (lower), v2 left (upper).
+  Handle h = first;
+  {
+    cavity.push_back(h >> 2);
+    const VertexId v1 = m.dest(h), v2 = m.apex(h);
+    lower.push_back(v1);
+    upper.push_back(v2);
+    outer.emplace_back(edge_key(a, v1), m.sym(h));
+    outer.emplace_back(edge_key(v2, a), m.sym(Mesh::lprev(h)));
+    h = Mesh::lnext(h);  // v1→v2, the crossed edge
+  }
+  VertexId end = kNone;
+  for (;;) {
+    if (m.is_segment(h)) {
+      step.kind = SegmentStep::Kind::kCrossing;
+      step.crossed = h;
+      return step;  // nothing changed yet
+    }
+    const Handle s = m.sym(h);  // v2→v1 in the next triangle
+    const VertexId w = m.apex(s);
+    if (w == kInfinite) throw InternalError("insert_segment: the segment leaves the convex hull");
+    cavity.push_back(s >> 2);
+    const VertexId vr = m.dest(s), vl = m.org(s);  // right (lower) and left (upper) ends
+    if (w == b) {
+      outer.emplace_back(edge_key(vr, b), m.sym(Mesh::lnext(s)));
+      outer.emplace_back(edge_key(b, vl), m.sym(Mesh::lprev(s)));
+      lower.push_back(b);
+      upper.push_back(b);
+      end = b;
+      break;
+    }
+    const int o = orient2d(pa, pb, m.points[w]);
+    if (o == 0) {
+      // w lies on the open segment: this piece ends at w.
+      outer.emplace_back(edge_key(vr, w), m.sym(Mesh::lnext(s)));
+      outer.emplace_back(edge_key(w, vl), m.sym(Mesh::lprev(s)));
+      lower.push_back(w);
+      upper.push_back(w);
+      end = w;
+      break;
+    }
+    if (o > 0) {
+      // w is on the upper side: edge w→vl is an upper chain edge; cross vr→w next.
+      outer.emplace_back(edge_key(w, vl), m.sym(Mesh::lprev(s)));
+      upper.push_back(w);
+      h = Mesh::lnext(s);  // vr→w
+    } else {
+      outer.emplace_back(edge_key(vr, w), m.sym(Mesh::lnext(s)));
+      lower.push_back(w);
+      h = Mesh::lprev(s);  // w→vl
+    }
+  }
+  // Retriangulate: upper polygon on base a→end (chain left of it), lower on base end→a.
+  std::vector<std::array<VertexId, 3>> tris;
+  tris.reserve(cavity.size());
+  const std::vector<VertexId> upper_chain(upper.begin() + 1, upper.end() - 1);
+  std::vector<VertexId> lower_chain(lower.begin() + 1, lower.end() - 1);
+  std::reverse(lower_chain.begin(), lower_chain.end());
+  retriangulate(m, a, end, upper_chain, tris);
+  retriangulate(m, end, a, lower_chain, tris);
+  if (tris.size() != cavity.size()) throw InternalError("insert_segment: cavity count mismatch");
+  // Read the outer edges' segment marks before the slots are rewritten.
+  struct Outer {
+    Handle handle;
+    bool segment;
+    std::int32_t marker;
+  };
+  std::unordered_map<std::uint64_t, Outer> outer_map;
+  outer_map.reserve(outer.size() * 2);
+  for (const auto& [key, oh] : outer) outer_map.emplace(key, Outer{oh, m.is_segment(oh), m.marker(oh)});
+  // Reuse the cavity's slots.
+  std::unordered_map<std::uint64_t, Handle> inner;
+  inner.reserve(tris.size() * 4);
+  Handle result_hint = kNone;
+  for (std::size_t i = 0; i < tris.size(); ++i) {
+    const TriangleId t = cavity[i];
+    m.triangles[t].v = tris[i];
+    m.flags[t] = static_cast<std::uint8_t>(m.flags[t] & kOutside);
+  }
+  for (std::size_t i = 0; i < tris.size(); ++i) {
+    const TriangleId t = cavity[i];
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle he = make_handle(t, e);
+      const VertexId u = m.org(he), v = m.dest(he);
+      const auto it = outer_map.find(edge_key(u, v));
+      if (it != outer_map.end()) {
+        m.triangles[t].n[e] = it->second.handle;
+        m.triangles[it->second.handle >> 2].n[it->second.handle & 3] = he;
+        if (it->second.segment) m.set_segment(he, it->second.marker);
+        continue;
+      }
+      const auto twin = inner.find(edge_key(v, u));
+      if (twin != inner.end()) {
+        m.triangles[t].n[e] = twin->second;
+        m.triangles[twin->second >> 2].n[twin->second & 3] = he;
+        inner.erase(twin);
+      } else {
+        inner.emplace(edge_key(u, v), he);
+      }
+      if (u == end && v == a) result_hint = he;  // end→a: org is the piece's end
+    }
+  }
+  if (!inner.empty()) throw InternalError("insert_segment: unmatched cavity edge");
+  m.set_segment(result_hint, marker);
+  step.kind = end == b ? SegmentStep::Kind::kDone : SegmentStep::Kind::kVertex;
+  step.vertex = end;
+  step.hint = result_hint;
+  return step;
+}
+
+}  // namespace detail
+
+void insert_segment(Mesh& m, VertexId a, VertexId b, std::int32_t marker) {
+  Handle start = kNone;
+  VertexId from = a;
+  while (from != b) {
+    const Location loc = m.locate(m.points[from], start);
+    if (loc.kind != Location::Kind::kOnVertex || m.org(loc.handle) != from) {
+      throw InternalError("insert_segment: endpoint is not a vertex of the mesh");
+    }
+    const auto step = detail::insert_segment_step(m, loc.handle, b, marker);
+    if (step.kind == detail::SegmentStep::Kind::kCrossing) {
+      throw InternalError("insert_segment: the segment crosses a subsegment");
+    }
+    from = step.vertex;
+    start = step.hint;
+  }
+}
+
+namespace {
+
+// Inserts the segments of a graph into its Delaunay triangulation, resolving degeneracies.
+class SegmentInserter {
+ public:
+  SegmentInserter(Mesh& mesh, const Pslg& pslg, const ConstrainOptions& options,
+                  ConstrainStats& stats)
+      : m_(mesh), pslg_(pslg), options_(options), stats_(stats) {}
+
+  void insert(VertexId a, VertexId b, std::int32_t marker, std::uint32_t id) {
+    pending_.push_back({a, b, marker, id});
+    while (!pending_.empty()) {
+      const Piece p = pending_.back();
+      pending_.pop_back();
+      insert_piece(p);
+    }
+  }
+
+ private:
+  struct Piece {
+    VertexId a, b;
+    std::int32_t marker;
+    std::uint32_t id;  // index of the input segment it belongs to
+  };
+
+  std::string describe(std::uint32_t id) const {
+    std::string s = "segment " + std::to_string(id + static_cast<std::uint32_t>(pslg_.first_index));
+    if (id < pslg_.segment_lines.size()) s += " (line " + std::to_string(pslg_.segment_lines[id]) + ")";
+    return s;
+  }
+
+  void insert_piece(Piece p) {
+    VertexId from = p.a;
+    while (from != p.b) {
+      const Location loc = m_.locate(m_.points[from], hint_);
+      if (loc.kind != Location::Kind::kOnVertex || m_.org(loc.handle) != from) {
+        throw InternalError("segment endpoint is not a vertex of the mesh");
+      }
+      const Handle start = loc.handle;
+      // Mark overlaps: the part of the segment that is already a subsegment.
+      const auto step = detail::insert_segment_step(m_, start, p.b, p.marker);
+      if (step.kind == detail::SegmentStep::Kind::kCrossing) {
+        resolve_crossing(p, from, step.crossed);
+        return;  // the remaining pieces were queued
+      }
+      const std::uint64_t key = undirected_key(from, step.vertex);
+      const auto [it, inserted] = segment_of_edge_.emplace(key, p.id);
+      if (!inserted && it->second != p.id) ++stats_.overlaps;
+      if (step.vertex != p.b && m_.vertex_kind[step.vertex] != VertexKind::kSteinerOnSegment) {
+        ++stats_.split_by_vertex;
+      }
+      from = step.vertex;
+      hint_ = step.hint;
+    }
+  }
+
+  void resolve_crossing(const Piece& p, VertexId from, Handle crossed) {
+    const VertexId c = m_.org(crossed), d = m_.dest(crossed);
+    const auto other = segment_of_edge_.find(undirected_key(c, d));
+    const std::uint32_t other_id = other != segment_of_edge_.end() ? other->second : p.id;
+    if (options_.strict) {
+      throw InputError(pslg_.source, p.id < pslg_.segment_lines.size() ? pslg_.segment_lines[p.id] : 0,
+                       describe(p.id) + " crosses " + describe(other_id));
+    }
+    if (++stats_.crossings > kMaxCrossings + 4 * pslg_.segments.size()) {
+      throw InputError(pslg_.source, 0, "too many segment crossings to resolve");
+    }
+    const std::int32_t other_marker = m_.marker(crossed);
+    const Point x = segment_intersection(m_.points[from], m_.points[p.b], m_.points[c], m_.points[d]);
+    // Unmark cd, insert the crossing point as a Steiner vertex, then re-insert the four pieces.
+    m_.clear_segment(crossed);
+    segment_of_edge_.erase(undirected_key(c, d));
+    VertexId v = m_.add_vertex(x, VertexKind::kSteinerOnSegment, 0);
+    const VertexId got = m_.insert_vertex(v, crossed, &hint_);
+    if (got != v) {
+      // The rounded point coincides with an existing vertex: use it, drop the new one.
+      m_.points.pop_back();
+      m_.vertex_kind.pop_back();
+      m_.vertex_marker.pop_back();
+      v = got;
+      --stats_.crossings;
+    }
+    auto queue = [&](VertexId u, VertexId w, std::int32_t marker, std::uint32_t id) {
+      if (u != w) pending_.push_back({u, w, marker, id});
+    };
+    queue(v, p.b, p.marker, p.id);
+    queue(from, v, p.marker, p.id);
+    queue(v, d, other_marker, other_id);
+    queue(c, v, other_marker, other_id);
+  }
+
+  static constexpr std::size_t kMaxCrossings = 1u << 20;
+  Mesh& m_;
+  const Pslg& pslg_;
+  const ConstrainOptions& options_;
+  ConstrainStats& stats_;
+  std::vector<Piece> pending_;
+  std::unordered_map<std::uint64_t, std::uint32_t> segment_of_edge_;
+  Handle hint_ = kNone;
+};
+
+}  // namespace
+
+Mesh constrained_delaunay(const Pslg& pslg, const ConstrainOptions& options, ConstrainStats* stats_out) {
+  using Clock = std::chrono::steady_clock;
+  ConstrainStats stats;
+  const auto t0 = Clock::now();
+  Mesh m;
+  try {
+    m = delaunay(pslg.points);
+  } catch (const InputError& e) {
+    throw InputError(pslg.source, e.line(), e.what());
+  }
+  if (!pslg.point_markers.empty() && pslg.point_markers.size() == pslg.points.size()) {
+    m.vertex_marker = pslg.point_markers;
+  }
+  stats.duplicates = m.duplicates.size();
+  const auto t1 = Clock::now();
+  // Where each duplicate went.
+  std::vector<VertexId> representative;
+  if (!m.duplicates.empty()) {
+    representative.resize(pslg.points.size());
+    for (VertexId v = 0; v < representative.size(); ++v) representative[v] = v;
+    for (const auto& [dup, kept] : m.duplicates) representative[dup] = kept;
+  }
+  auto rep = [&](std::uint32_t v) { return representative.empty() ? v : representative[v]; };
+  SegmentInserter inserter(m, pslg, options, stats);
+  bool any_segment = false;
+  for (std::uint32_t i = 0; i < pslg.segments.size(); ++i) {
+    const Segment& s = pslg.segments[i];
+    if (s.a >= pslg.points.size() || s.b >= pslg.points.size()) {
+      throw InputError(pslg.source, i < pslg.segment_lines.size() ? pslg.segment_lines[i] : 0,
+                       "segment names a vertex that does not exist");
+    }
+    const VertexId a = rep(s.a), b = rep(s.b);
+    if (a == b) {
+      ++stats.zero_length;
+      continue;
+    }
+    any_segment = true;
+    inserter.insert(a, b, s.marker, i);
+  }
+  const auto t2 = Clock::now();
+  if (any_segment || !pslg.holes.empty()) {
+    carve(m, any_segment ? pslg.holes : std::vector<Point>{}, options.convex_hull || !any_segment,
+          &stats.warnings);
+    if (!any_segment && !pslg.holes.empty()) {
+      stats.warnings.push_back("the input has no segments, so its domain is the convex hull; " +
+                               std::to_string(pslg.holes.size()) + " hole seed(s) ignored");
+    }
+  }
+  const auto t3 = Clock::now();
+  stats.seconds_delaunay = std::chrono::duration<double>(t1 - t0).count();
+  stats.seconds_segments = std::chrono::duration<double>(t2 - t1).count();
+  stats.seconds_carve = std::chrono::duration<double>(t3 - t2).count();
+  if (stats_out) *stats_out = std::move(stats);
+  return m;
+}
+
+}  // namespace mwst
