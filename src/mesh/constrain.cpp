@@ -27,13 +27,6 @@ inline std::uint64_t undirected_key(VertexId u, VertexId v) {
   return u < v ? edge_key(u, v) : edge_key(v, u);
 }
 
-// True if q lies strictly between a and b on their (common) line — callers know the three points
-// are collinear, so comparing coordinates along the dominant axis is exact.
-bool strictly_between(const Point& a, const Point& b, const Point& q) {
-  if (a.x != b.x) return (a.x < q.x && q.x < b.x) || (b.x < q.x && q.x < a.x);
-  return (a.y < q.y && q.y < b.y) || (b.y < q.y && q.y < a.y);
-}
-
 // Finds an edge with org a whose triangle the direction a→b enters, rotating around a.
 // Returns the handle h = a→v1 with apex v2 such that b is strictly left of a→v1 and strictly
 // right of a→v2 (the ray crosses the open triangle), or, if a vertex v lies on the ray from a

@@ -12,6 +12,8 @@
 #include <cstring>
 #include <limits>
 #include <numeric>
+#include <thread>
+#include <unordered_map>
 
 #include "mwst/delaunay.hpp"
 #include "mwst/error.hpp"
@@ -124,12 +126,41 @@ void hilbert_sort(const Point* pts, std::uint32_t* idx, std::size_t count,
   }
 }
 
-// Returns the input indices in adaptive Hilbert-curve order.
-std::vector<std::uint32_t> hilbert_order(const std::vector<Point>& points) {
+// Returns the input indices in adaptive Hilbert-curve order. The curve's first half covers exactly
+// the points whose grid column is in the left half of the bounding box (the curve visits the
+// lower-left, upper-left, upper-right, lower-right quadrants in turn), so the order also yields a
+// split into two x-separated halves for free; *left_count receives its size.
+std::vector<std::uint32_t> hilbert_order(const std::vector<Point>& points, std::size_t* left_count) {
   std::vector<std::uint32_t> order(points.size());
   std::iota(order.begin(), order.end(), 0u);
   std::vector<std::uint64_t> words, buffer;
   hilbert_sort(points.data(), order.data(), order.size(), words, buffer, 0);
+  // The left half: grid column below the middle, i.e. x below the bounding box's middle as the
+  // sort computed it (same arithmetic, so the prefix is exact).
+  double xmin = points[0].x, xmax = xmin, ymin = points[0].y, ymax = ymin;
+  for (const Point& p : points) {
+    xmin = std::min(xmin, p.x);
+    xmax = std::max(xmax, p.x);
+    ymin = std::min(ymin, p.y);
+    ymax = std::max(ymax, p.y);
+  }
+  const double extent = std::max(xmax * 0.5 - xmin * 0.5, ymax * 0.5 - ymin * 0.5);
+  std::size_t left = 0;
+  if (extent > 0.0) {
+    const double cells = 65535.0;
+    const double scale = cells / extent * 0.5;
+    auto column = [&](const Point& p) {
+      return static_cast<std::uint32_t>(std::min(cells, std::max(0.0, (p.x * 0.5 - xmin * 0.5) * scale)));
+    };
+    while (left < order.size() && column(points[order[left]]) < 32768u) ++left;
+    for (std::size_t i = left; i < order.size(); ++i) {
+      if (column(points[order[i]]) < 32768u) {  // not a prefix: no split (never expected)
+        left = 0;
+        break;
+      }
+    }
+  }
+  *left_count = left;
   return order;
 }
 
@@ -156,6 +187,232 @@ void make_first_triangle(Mesh& m, VertexId a, VertexId b, VertexId c) {
 
 }  // namespace
 
+namespace {
+
+enum class Degeneracy { kValid, kCoincident, kTwoDistinct, kCollinear };
+
+// Builds the Delaunay triangulation of m.points (in insertion order) into m, with ghosts.
+// kept[v] receives the vertex v was merged into (v itself unless v duplicates an earlier point).
+Degeneracy build_incremental(Mesh& m, std::vector<VertexId>& kept) {
+  const std::size_t n = m.points.size();
+  kept.assign(n, kNone);
+  m.triangles.reserve(2 * n);
+  m.flags.reserve(2 * n);
+  // The first triangle: the first point, the next distinct one, the next not collinear with them.
+  std::size_t second = 1;
+  while (second < n && m.points[second] == m.points[0]) ++second;
+  if (second >= n) return Degeneracy::kCoincident;
+  std::size_t third = second + 1;
+  while (third < n && orient2d(m.points[0], m.points[second], m.points[third]) == 0) ++third;
+  if (third >= n) {
+    for (std::size_t i = second + 1; i < n; ++i) {
+      if (!(m.points[i] == m.points[0]) && !(m.points[i] == m.points[second])) {
+        return Degeneracy::kCollinear;
+      }
+    }
+    return Degeneracy::kTwoDistinct;
+  }
+  const auto s = static_cast<VertexId>(second), r = static_cast<VertexId>(third);
+  if (orient2d(m.points[0], m.points[s], m.points[r]) > 0) {
+    make_first_triangle(m, 0, s, r);
+  } else {
+    make_first_triangle(m, 0, r, s);
+  }
+  kept[0] = 0;
+  kept[s] = s;
+  kept[r] = r;
+  Handle hint = make_handle(0, 0);
+  for (VertexId v = 1; v < n; ++v) {
+    if (v == s || v == r) continue;
+    kept[v] = m.insert_vertex(v, hint, &hint);
+  }
+  return Degeneracy::kValid;
+}
+
+// Lawson's flip algorithm from a stack of suspect edges: flips every edge that is not locally
+// Delaunay (ghosts included) and re-examines the four edges around each flip. Terminates on any
+// triangulation (each flip lifts the triangulation on the paraboloid; Lawson 1977).
+void restore_delaunay(Mesh& m, std::vector<Handle>& stack) {
+  while (!stack.empty()) {
+    const Handle h = stack.back();
+    stack.pop_back();
+    if (!m.is_locally_non_delaunay(h)) continue;
+    const Handle diag = m.flip(h);  // d→c in (c, a, d); the other triangle is (d, b, c)
+    const Handle other = m.sym(diag);
+    stack.push_back(Mesh::lnext(diag));
+    stack.push_back(Mesh::lprev(diag));
+    stack.push_back(Mesh::lnext(other));
+    stack.push_back(Mesh::lprev(other));
+  }
+}
+
+// Merges the Delaunay triangulation `right` into `left`, where every point of right lies strictly
+// right (larger x) of every point of left. Right's vertex ids are offset by left's vertex count.
+// The two hulls are joined by a ladder of triangles between their facing chains, built upwards
+// from the lower common tangent (as in Guibas and Stolfi's divide-and-conquer merge, but choosing
+// only among hull neighbours); Lawson flips then restore the Delaunay property near the seam.
+void merge_halves(Mesh& left, Mesh&& right) {
+  const auto nl = static_cast<VertexId>(left.points.size());
+  const auto tl = static_cast<TriangleId>(left.triangles.size());
+  left.points.insert(left.points.end(), right.points.begin(), right.points.end());
+  left.triangles.reserve(left.triangles.size() + right.triangles.size() + 2);
+  for (const Triangle& t : right.triangles) {
+    Triangle c = t;
+    for (VertexId& v : c.v) {
+      if (v != kInfinite) v += nl;
+    }
+    for (Handle& h : c.n) h += 4 * tl;
+    left.triangles.push_back(c);
+  }
+  left.flags.insert(left.flags.end(), right.flags.begin(), right.flags.end());
+  right = Mesh();
+  Mesh& m = left;
+  const auto& P = m.points;
+
+  // Hull navigation from the ghosts: ghost (a, b, ∞) is the hull edge b→a (counter-clockwise).
+  std::unordered_map<VertexId, TriangleId> ghost_from, ghost_to;  // keyed by b, resp. a
+  auto finite_pair = [&](TriangleId g, VertexId& a, VertexId& b) {
+    const Triangle& G = m.triangles[g];
+    unsigned k = 0;
+    while (G.v[k] != kInfinite) ++k;
+    a = G.v[next3(k)];
+    b = G.v[prev3(k)];
+  };
+  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+    if (!m.is_ghost(t)) continue;
+    VertexId a, b;
+    finite_pair(t, a, b);
+    ghost_from.emplace(b, t);
+    ghost_to.emplace(a, t);
+  }
+  auto ccw = [&](VertexId v) {
+    VertexId a, b;
+    finite_pair(ghost_from.at(v), a, b);
+    return a;
+  };
+  auto cw = [&](VertexId v) {
+    VertexId a, b;
+    finite_pair(ghost_to.at(v), a, b);
+    return b;
+  };
+  auto lex_less = [&](VertexId u, VertexId v) {
+    return P[u].x < P[v].x || (P[u].x == P[v].x && P[u].y < P[v].y);
+  };
+  auto strictly_between = [&](VertexId a, VertexId b, VertexId q) {  // q collinear with a, b
+    const Point &pa = P[a], &pb = P[b], &pq = P[q];
+    if (pa.x != pb.x) return (pa.x < pq.x && pq.x < pb.x) || (pb.x < pq.x && pq.x < pa.x);
+    return (pa.y < pq.y && pq.y < pb.y) || (pb.y < pq.y && pq.y < pa.y);
+  };
+  VertexId l = kNone, r = kNone;
+  for (const auto& [v, g] : ghost_from) {
+    (void)g;
+    if (v < nl) {
+      if (l == kNone || lex_less(l, v)) l = v;
+    } else if (r == kNone || lex_less(v, r)) {
+      r = v;
+    }
+  }
+  // Lower common tangent: every point on or left of l→r.
+  for (bool moved = true; moved;) {
+    moved = false;
+    while (orient2d(P[l], P[r], P[cw(l)]) < 0) {
+      l = cw(l);
+      moved = true;
+    }
+    while (orient2d(P[l], P[r], P[ccw(r)]) < 0) {
+      r = ccw(r);
+      moved = true;
+    }
+  }
+  // No vertex may lie on the open bridge: slide along collinear hull edges towards each other.
+  for (bool moved = true; moved;) {
+    moved = false;
+    const VertexId lc = ccw(l), rc = cw(r);
+    if (orient2d(P[l], P[r], P[lc]) == 0 && strictly_between(l, r, lc)) {
+      l = lc;
+      moved = true;
+    } else if (orient2d(P[l], P[r], P[rc]) == 0 && strictly_between(l, r, rc)) {
+      r = rc;
+      moved = true;
+    }
+  }
+  const VertexId l0 = l, r0 = r;
+  const TriangleId below_l0 = ghost_to.at(l0);    // (l0, p, ∞): hull edge p→l0, stays
+  const TriangleId after_r0 = ghost_from.at(r0);  // (q, r0, ∞): hull edge r0→q, stays
+  auto corner_of = [&](TriangleId t, VertexId v) {
+    unsigned k = 0;
+    while (m.triangles[t].v[k] != v) ++k;
+    return k;
+  };
+  auto link = [&](Handle x, Handle y) {
+    m.triangles[x >> 2].n[x & 3] = y;
+    m.triangles[y >> 2].n[y & 3] = x;
+  };
+  // The bottom ghost B = (r0, l0, ∞) for the new hull edge l0→r0.
+  const TriangleId bottom = m.new_triangle();
+  m.triangles[bottom].v = {r0, l0, kInfinite};
+  link(make_handle(bottom, 0), make_handle(below_l0, corner_of(below_l0, cw(l0))));   // l0→∞
+  link(make_handle(bottom, 1), make_handle(after_r0, corner_of(after_r0, ccw(r0))));  // ∞→r0
+  Handle pending = make_handle(bottom, 2);  // r0→l0: the twin of the next triangle's base l→r
+  std::vector<Handle> suspects;
+  const std::size_t limit = m.triangles.size();
+  for (std::size_t step = 0;; ++step) {
+    if (step > limit) throw InternalError("merge_halves: ladder does not terminate");
+    const VertexId lc = ccw(l), rc = cw(r);
+    const bool l_valid = orient2d(P[l], P[r], P[lc]) > 0;
+    const bool r_valid = orient2d(P[l], P[r], P[rc]) > 0;
+    if (!l_valid && !r_valid) break;  // (l, r) is the upper common tangent
+    // A candidate is blocked if its triangle would overlap the other hull.
+    bool l_ok = l_valid, r_ok = r_valid;
+    if (l_valid && r_valid) {
+      const int o_l = orient2d(P[r], P[lc], P[rc]);  // rc inside the corner at r of (l, r, lc)?
+      if (o_l > 0 || (o_l == 0 && strictly_between(r, lc, rc))) l_ok = false;
+      const int o_r = orient2d(P[rc], P[l], P[lc]);  // lc inside the corner at l of (l, r, rc)?
+      if (o_r > 0 || (o_r == 0 && strictly_between(l, rc, lc))) r_ok = false;
+      if (l_ok && r_ok) {
+        // Both possible: take the Delaunay choice (rc not inside the circle of (l, r, lc)).
+        if (incircle(P[l], P[r], P[lc], P[rc]) > 0) l_ok = false;
+      }
+      if (!l_ok && !r_ok) throw InternalError("merge_halves: no valid ladder step");
+    }
+    if (l_ok) {
+      // Consume L's hull edge l→lc: its ghost (lc, l, ∞) becomes the triangle (l, r, lc).
+      const TriangleId g = ghost_from.at(l);
+      const Handle hull_twin = m.triangles[g].n[corner_of(g, kInfinite)];  // l→lc in L
+      m.triangles[g].v = {l, r, lc};
+      link(make_handle(g, 1), hull_twin);     // lc→l
+      link(make_handle(g, 2), pending);       // l→r
+      pending = make_handle(g, 0);            // r→lc, twin of the next base lc→r
+      suspects.push_back(make_handle(g, 1));
+      suspects.push_back(make_handle(g, 2));
+      l = lc;
+    } else {
+      // Consume R's hull edge rc→r: its ghost (r, rc, ∞) becomes the triangle (l, r, rc).
+      const TriangleId g = ghost_to.at(r);
+      const Handle hull_twin = m.triangles[g].n[corner_of(g, kInfinite)];  // rc→r in R
+      m.triangles[g].v = {l, r, rc};
+      link(make_handle(g, 0), hull_twin);     // r→rc
+      link(make_handle(g, 2), pending);       // l→r
+      pending = make_handle(g, 1);            // rc→l, twin of the next base l→rc
+      suspects.push_back(make_handle(g, 0));
+      suspects.push_back(make_handle(g, 2));
+      r = rc;
+    }
+  }
+  // The top ghost U = (l, r, ∞) for the new hull edge r→l.
+  const TriangleId top = m.new_triangle();
+  m.triangles[top].v = {l, r, kInfinite};
+  const TriangleId after_l = ghost_from.at(l);  // (u, l, ∞): hull edge l→u, stays
+  const TriangleId below_r = ghost_to.at(r);    // (r, s, ∞): hull edge s→r, stays
+  link(make_handle(top, 0), make_handle(below_r, corner_of(below_r, cw(r))));  // r→∞
+  link(make_handle(top, 1), make_handle(after_l, corner_of(after_l, ccw(l))));  // ∞→l
+  link(make_handle(top, 2), pending);  // l→r
+  suspects.push_back(pending);
+  restore_delaunay(m, suspects);
+}
+
+}  // namespace
+
 Mesh delaunay(std::vector<Point> points, DelaunayStats* stats) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
@@ -173,46 +430,52 @@ Mesh delaunay(std::vector<Point> points, DelaunayStats* stats) {
   }
   if (n < 3) throw InputError("", 0, "fewer than three points (" + std::to_string(n) + ")");
 
-  const std::vector<std::uint32_t> order = hilbert_order(points);
+  std::size_t left_count = 0;
+  const std::vector<std::uint32_t> order = hilbert_order(points, &left_count);
   const auto t1 = Clock::now();
 
-  // Work on a copy in curve order (vertex id i here = order[i] in the input).
+  // Work on copies in curve order (vertex id i here = order[i] in the input). Large inputs are
+  // split into the two x-separated halves of the curve, triangulated on two threads and merged;
+  // the split depends only on the input (never on the machine), so output is deterministic.
+  constexpr std::size_t kParallelThreshold = 1u << 15;
   Mesh m;
-  m.points.resize(n);
-  for (std::size_t i = 0; i < n; ++i) m.points[i] = points[order[i]];
-  m.triangles.reserve(2 * n);
-  m.flags.reserve(2 * n);
-
-  // The first triangle: the first point, the next distinct one, the next not collinear with them.
-  std::size_t second = 1;
-  while (second < n && m.points[second] == m.points[0]) ++second;
-  if (second == n) throw InputError("", 0, "fewer than three distinct points (all points coincide)");
-  std::size_t third = second + 1;
-  while (third < n && orient2d(m.points[0], m.points[second], m.points[third]) == 0) ++third;
-  if (third == n) {
-    // Distinguish "two distinct points" from "collinear".
-    std::size_t distinct = 2;
-    for (std::size_t i = second + 1; i < n && distinct < 3; ++i) {
-      if (!(m.points[i] == m.points[0]) && !(m.points[i] == m.points[second])) distinct = 3;
+  std::vector<VertexId> kept;
+  bool done = false;
+  if (n >= kParallelThreshold && left_count >= n / 8 && n - left_count >= n / 8) {
+    Mesh right;
+    std::vector<VertexId> kept_right;
+    m.points.resize(left_count);
+    right.points.resize(n - left_count);
+    Degeneracy dl = Degeneracy::kValid, dr = Degeneracy::kValid;
+    std::thread worker([&] {
+      for (std::size_t i = left_count; i < n; ++i) right.points[i - left_count] = points[order[i]];
+      dr = build_incremental(right, kept_right);
+    });
+    for (std::size_t i = 0; i < left_count; ++i) m.points[i] = points[order[i]];
+    dl = build_incremental(m, kept);
+    worker.join();
+    if (dl == Degeneracy::kValid && dr == Degeneracy::kValid) {
+      merge_halves(m, std::move(right));
+      kept.reserve(n);
+      for (const VertexId v : kept_right) kept.push_back(v + static_cast<VertexId>(left_count));
+      done = true;
+    } else {
+      m = Mesh();  // a degenerate half: fall back to one sequential construction
     }
-    throw InputError("", 0, distinct < 3 ? "fewer than three distinct points"
-                                         : "all points are collinear");
   }
-  const auto s = static_cast<VertexId>(second), r = static_cast<VertexId>(third);
-  if (orient2d(m.points[0], m.points[s], m.points[r]) > 0) {
-    make_first_triangle(m, 0, s, r);
-  } else {
-    make_first_triangle(m, 0, r, s);
-  }
-
-  std::vector<VertexId> kept(n, kNone);  // for duplicates: the curve-order id they merge into
-  kept[0] = 0;
-  kept[s] = s;
-  kept[r] = r;
-  Handle hint = make_handle(0, 0);
-  for (VertexId v = 1; v < n; ++v) {
-    if (v == s || v == r) continue;
-    kept[v] = m.insert_vertex(v, hint, &hint);
+  if (!done) {
+    m.points.resize(n);
+    for (std::size_t i = 0; i < n; ++i) m.points[i] = points[order[i]];
+    switch (build_incremental(m, kept)) {
+      case Degeneracy::kValid:
+        break;
+      case Degeneracy::kCoincident:
+        throw InputError("", 0, "fewer than three distinct points (all points coincide)");
+      case Degeneracy::kTwoDistinct:
+        throw InputError("", 0, "fewer than three distinct points");
+      case Degeneracy::kCollinear:
+        throw InputError("", 0, "all points are collinear");
+    }
   }
   const auto t2 = Clock::now();
 

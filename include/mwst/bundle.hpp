@@ -1,0 +1,96 @@
+// mwst/bundle.hpp — the exact bundle number of a triangulation.
+//
+// Boyacı, Erten, Üngör, "Triangulations Loosing Bundles and Weight": k triangles form a k-bundle if
+// their interiors all meet one open disk that contains no vertex of the triangulation. The bundle
+// number of a triangulation T is the largest such k. It is defined for any triangulation (Delaunay
+// or not) of any domain, convex or not, with holes.
+//
+// Which disks. Every vertex-empty open disk lies in one that has two vertices p, q on its boundary
+// (grow it until it touches a vertex, then grow it away from that vertex until it touches another);
+// pq is then an edge of DT(V), the Delaunay triangulation of ALL vertices V (never the constrained
+// one: disks pass through holes and concavities). The vertex-empty disks through p and q form the
+// pencil D_s: centre m + s·h (m the midpoint of pq, h = (q−p)⊥/2), s in [s_lo, s_hi], the ends
+// being the circumdisks of the two Delaunay triangles on pq (a hull side is unbounded). So the
+// maximum is over the pencils of the Delaunay edges; circumdisks alone give only a lower bound
+// (ALGORITHMS.md has a 7-point example where they give 5 and the answer is 6).
+//
+// Vertices. V is the set of vertices of the counted triangles (for a Mesh: the vertices of its
+// in-domain triangles; a point used only by carved-away triangles, or not used at all, is not a
+// vertex of the triangulation and may lie inside the disk). The disk may extend anywhere else:
+// outside the convex hull, through holes and concavities.
+//
+// Exactness. Every combinatorial decision is exact (orient2d, and exact expansion arithmetic for
+// the order of thresholds that are rational in the coordinates: pencil circles through a vertex,
+// i.e. s_lo and s_hi, and pencil circles tangent at p or q to a triangle edge incident to p or q —
+// the ties that grids and collinear edges produce). One kind of threshold is irrational: the pencil
+// circle tangent to a triangle edge at an interior point of the edge (a root of a quadratic). It is
+// computed in floating point and ordered against the other thresholds by its rounded value, so an
+// exact tie between such a tangency and another threshold (a circle through p and q tangent to an
+// edge and at the same time through a vertex or tangent to another edge — a coincidence that lattice
+// symmetry does not produce, since lattice tangencies occur at vertices, which are decided exactly)
+// may be decided either way. The witness disk is rounded to double.
+//
+// Cost: DT(V), then one flood per Delaunay triangle over the triangles of T meeting its circumdisk,
+// then per Delaunay edge a sort of the thresholds of those triangles: O(n log n) in practice.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "mwst/geometry.hpp"
+#include "mwst/mesh.hpp"
+
+namespace mwst {
+
+struct BundleOptions {
+  // Fill BundleResult::per_triangle: for every triangle, the largest bundle it belongs to (the
+  // largest number of triangles met by one vertex-empty open disk that meets it). What bundle
+  // removal (BRH) asks of a skinny triangle.
+  bool per_triangle = false;
+};
+
+struct BundleResult {
+  std::uint32_t bundle_number = 0;  // 0 only for an empty triangulation
+  // A witness: an open disk (centre and radius rounded to double) containing no vertex and meeting
+  // the interiors of bundle_number triangles, and those triangles (ascending; Mesh version: triangle
+  // slots; triangle-list version: indices into the list). Radius 0 if there is no triangle.
+  Point disk_center;
+  double disk_radius = 0.0;
+  std::vector<std::uint32_t> triangles;
+  // The largest number of triangles met by a circumdisk of a triangle of DT(V): the lower bound a
+  // circumdisk-only check gives (≤ bundle_number).
+  std::uint32_t circumdisk_bound = 0;
+  // If BundleOptions::per_triangle: indexed like `triangles` above (Mesh: by slot, 0 for slots that
+  // are not in the domain; list: by index).
+  std::vector<std::uint32_t> per_triangle;
+  // Work done: pencils swept (Delaunay edges of V), (pencil, triangle) pairs classified, threshold
+  // comparisons that needed exact arithmetic.
+  std::size_t pencils = 0;
+  std::size_t candidate_pairs = 0;
+  std::size_t exact_comparisons = 0;
+};
+
+// The bundle number of the in-domain triangles of `mesh` (Mesh::in_domain). The mesh must be valid
+// (validate()): its carved-away and ghost triangles are used to walk across holes and concavities.
+BundleResult bundle_number(const Mesh& mesh, const BundleOptions& options = {});
+
+// The bundle number of a triangulation given as a triangle list (what `mwst bundle` reads from
+// PREFIX.node/.ele): triangles are vertex index triples, either orientation. Throws InputError if an
+// index is out of range, a triangle is degenerate (collinear corners) or repeated, two used points
+// coincide, or the triangles overlap (crossing edges, or a vertex inside another triangle or on
+// another triangle's edge). Points not used by any triangle are ignored.
+BundleResult bundle_number(const std::vector<Point>& points,
+                           const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                           const BundleOptions& options = {});
+
+// The cheap variant for bundle removal: for every triangle slot of `mesh`, the largest number of
+// in-domain triangles met by a circumdisk of a triangle of DT(V) that meets it (0 for slots not in
+// the domain). A lower bound of BundleResult::per_triangle (circumdisks are the ends of the
+// pencils); no pencil sweep, so several times faster. A triangle edge that touches a circumdisk
+// only tangentially at an interior point of the edge is decided in floating point (vertices on the
+// circle are decided exactly).
+std::vector<std::uint32_t> circumdisk_bundle_per_triangle(const Mesh& mesh);
+
+}  // namespace mwst

@@ -1,0 +1,105 @@
+// mwst/pipeline.hpp — one call that runs a method on an input and measures the result.
+//
+// triangulate() is what `mwst triangulate` and the experiments run: the constrained Delaunay
+// triangulation of the input (carved to its domain), then the chosen method — DT, Delaunay
+// refinement (DR), bundle removal (BRH), quadtree refinement (QTR) or our optimiser (OPT), the
+// methods compared in Boyacı, Erten, Üngör, "Triangulations Loosing Bundles and Weight" — then the
+// optional weight-reducing flips (EFH) and the exact bundle number, and finally the metrics of
+// include/mwst/metrics.hpp. The Report holds what the JSON report prints.
+#pragma once
+
+#include <cstddef>
+#include <limits>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "mwst/mesh.hpp"
+#include "mwst/pslg.hpp"
+#include "mwst/refine.hpp"
+
+namespace mwst {
+
+enum class Method {
+  kDt,   // (constrained) Delaunay triangulation, no Steiner points
+  kDr,   // Delaunay refinement to the minimum angle
+  kBrh,  // bundle removal heuristic (the paper's BRH)
+  kQtr,  // quadtree refinement (Bern–Eppstein–Gilbert)
+  kOpt,  // our weight optimiser (past the paper)
+};
+
+// "dt", "dr", "brh", "qtr", "opt".
+std::string_view method_name(Method method);
+// The inverse of method_name; std::nullopt for an unknown name.
+std::optional<Method> parse_method(std::string_view name);
+
+// "offcenter" / "circumcenter" and back.
+std::string_view steiner_rule_name(SteinerRule rule);
+std::optional<SteinerRule> parse_steiner_rule(std::string_view name);
+
+struct TriangulateOptions {
+  Method method = Method::kDt;
+  double min_angle_deg = 20.0;                 // DR / BRH angle bound α; 0 = none
+  SteinerRule steiner = SteinerRule::kOffCenter;
+  std::size_t bundle_k = 0;                    // BRH: 0 = default_bundle_k(min_angle_deg)
+  bool flip = false;                           // weight-reducing flips (EFH) after the method
+  double max_area = -1.0;                      // ≤ 0: no area bound
+  std::size_t max_steiner = std::numeric_limits<std::size_t>::max();
+  bool convex_hull = false;                    // keep the whole convex hull (Triangle's -c)
+  bool strict = false;                         // refuse crossing segments instead of splitting
+  bool bundle = false;                         // compute the exact bundle number of the result
+  double time_budget_seconds = -1.0;           // ≤ 0: none
+};
+
+// The paper's lemma: a triangulation with minimum angle α is (4π/α + 3)-bundle-free, so the default
+// bundle size for BRH is ⌈4π/α⌉ + 3 (α = 30° gives 27). Computed as ⌈720/deg⌉ + 3 so that whole
+// divisors of 720 are exact. Throws std::invalid_argument if min_angle_deg ≤ 0.
+std::size_t default_bundle_k(double min_angle_deg);
+
+// Checks the options for values no method can use (negative angles, an angle of 60° or more,
+// NaN, ...). Throws std::invalid_argument naming the option as the command line spells it.
+void check_options(const TriangulateOptions& options);
+
+struct Report {
+  std::string input;   // Pslg::source
+  std::string method;  // method_name()
+  TriangulateOptions options;
+
+  std::size_t vertices = 0;   // vertices used by domain triangles
+  std::size_t triangles = 0;  // domain triangles
+  std::size_t steiner = 0;    // used vertices that are not input points
+  double weight_total = 0.0;
+  double weight_boundary = 0.0;  // input segments, or the convex hull of a point set
+  double weight_interior = 0.0;
+  double min_angle = 0.0;        // degrees, over domain triangles
+  double max_angle = 0.0;
+  // Wall-clock seconds of each phase, in the order the phases ran.
+  std::vector<std::pair<std::string, double>> seconds;
+  std::string stop_reason;       // refinement methods only (see RefineStats::stop_reason)
+  std::size_t duplicates = 0;    // duplicate input points merged
+  std::size_t crossings = 0;     // crossing points inserted where segments cross
+  std::vector<std::string> warnings;  // printed as "mwst: warning: ..." by the command line
+  // Method-specific results (bundle size used, bundle number, flips done, ...). to_json merges its
+  // keys into the top level of the report; they must not collide with the keys above.
+  nlohmann::json extra = nlohmann::json::object();
+
+  double total_seconds() const;
+};
+
+// Runs options.method on the input. If `out` is not null the final mesh is moved there.
+// Throws InputError for input the mesher refuses (naming pslg.source and, where known, the line),
+// std::invalid_argument for unusable options or a method that is not implemented yet, and
+// InternalError for broken invariants.
+Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* out = nullptr);
+
+// The JSON report: input, method, parameters, vertices, triangles, steiner, weight_total,
+// weight_boundary, weight_interior, min_angle, max_angle, seconds (an object phase → seconds,
+// plus "total"), stop_reason (refinement methods), duplicates, crossings, warnings, and the keys
+// of Report::extra.
+nlohmann::json to_json(const Report& report);
+
+}  // namespace mwst

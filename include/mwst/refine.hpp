@@ -1,0 +1,79 @@
+// mwst/refine.hpp — Delaunay refinement (DR) and the engine bundle removal (BRH) reuses.
+//
+// Ruppert's algorithm with Chew's diametral lenses and Shewchuk's practical rules (Triangle 1.6),
+// Üngör's off-centers, concentric-shell segment splitting and the Miller–Pav–Walkington rule for
+// small input angles. The engine is general: a bucketed queue of bad triangles, a pluggable "is
+// this triangle bad" test and a pluggable Steiner-point rule (the defaults are direct code paths).
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <string>
+
+#include "mwst/mesh.hpp"
+
+namespace mwst {
+
+enum class SteinerRule { kOffCenter, kCircumcenter };
+
+// Which vertices encroach a subsegment: those in its diametral circle (Ruppert), or only those in
+// its diametral lens, the intersection of the two disks through both endpoints whose arcs meet the
+// subsegment at the angle bound (Chew; Triangle's default). Lenses are smaller, so fewer segment
+// splits happen and the mesh is lighter; see src/algorithms/refine.cpp for the measurements.
+enum class Encroachment { kDiametralLens, kDiametralCircle };
+
+// The order in which bad triangles are split. Shortest edge first (Triangle's order; buckets of
+// the squared shortest edge) or worst quality first (buckets of sin² of the smallest angle).
+enum class RefineOrder { kShortestEdgeFirst, kWorstQualityFirst };
+
+// Off-center distance factor: the off-center is placed at kOffCenterFactor · (|pq|/2)·cot(α/2)
+// from the midpoint of the shortest edge pq. 1.0 makes the new triangle on pq meet the bound
+// exactly; Triangle 1.6 uses 0.95. Chosen by measurement (bench/README.md, refine.cpp header).
+inline constexpr double kOffCenterFactor = 0.95;
+
+// Decides whether a triangle is "bad" (to be split). The default (empty) is the angle test:
+// smallest angle below RefineOptions::min_angle_deg, or area above max_area.
+using BadTriangleTest = std::function<bool(const Mesh&, TriangleId)>;
+
+// Chooses the Steiner point of a bad triangle. The default (empty) is RefineOptions::rule.
+using SteinerPointRule = std::function<Point(const Mesh&, TriangleId)>;
+
+struct RefineOptions {
+  double min_angle_deg = 20.0;   // 0 = no angle bound
+  double max_area = -1.0;        // ≤ 0: no area bound
+  std::size_t max_steiner = static_cast<std::size_t>(-1);
+  double time_budget_seconds = -1.0;  // ≤ 0: none
+  SteinerRule rule = SteinerRule::kOffCenter;
+  double offcenter_factor = kOffCenterFactor;
+  Encroachment encroachment = Encroachment::kDiametralLens;
+  RefineOrder order = RefineOrder::kShortestEdgeFirst;
+  BadTriangleTest is_bad;        // empty: the angle/area test
+  SteinerPointRule steiner_point;  // empty: circumcenter or off-center per `rule`
+};
+
+struct RefineStats {
+  std::size_t steiner_inserted = 0;   // free Steiner points
+  std::size_t segment_splits = 0;     // Steiner points on segments
+  std::size_t left_small_angle = 0;   // bad triangles left because they cannot be improved
+                                      // (near small input angles, Miller–Pav–Walkington)
+  std::size_t hull_edges_marked = 0;  // hull edges of a convex-hull domain made subsegments
+  std::size_t rejected = 0;           // Steiner points not inserted (they encroached a subsegment
+                                      // or lay beyond one); the subsegment was split instead
+  std::size_t skipped_mpw = 0;        // times a skinny triangle was left by the MPW rule
+  std::size_t precision_skips = 0;    // points not insertable at double precision (duplicate
+                                      // vertex, or no valid rounded split point)
+  std::string stop_reason;            // "bound reached" | "steiner budget" | "time budget" |
+                                      // "N triangles left near small input angles"
+  double seconds = 0.0;               // total
+  double seconds_segments = 0.0;      // first phase: splitting the initially encroached subsegments
+  double seconds_triangles = 0.0;     // second phase: splitting bad triangles
+};
+
+// Refines a carved constrained Delaunay mesh in place (Ruppert / Shewchuk / Üngör). The mesh stays
+// constrained Delaunay; every free Steiner point lies inside the domain; triangles outside the
+// domain (kOutside) are only touched where a boundary subsegment is split. With min_angle_deg ≤ 0,
+// no max_area and no custom test the mesh is returned unchanged. Hull edges of the domain that are
+// not subsegments (a point set, or Triangle's -c) are first marked as subsegments with marker 1.
+RefineStats refine(Mesh& mesh, const RefineOptions& options);
+
+}  // namespace mwst

@@ -1,0 +1,457 @@
+// check_triangulation() (mwst/check.hpp): validates plain triangles read back from files against
+// the input graph they claim to triangulate — the independent check behind `mwst check`, in the
+// spirit of Triangle's checkmesh/checkdelaunay, but trusting nothing of the mesh's own structure.
+//
+// Topology: every directed edge occurs once (two triangles with the same orientation on an edge
+// overlap), an edge with both orientations is interior, one with one orientation is on the mesh
+// boundary, and the angles of the triangles around a vertex add up to 360° inside the mesh (at most
+// 360° on its boundary), so no fan wraps twice. Geometry: orientation and incircle are exact
+// (geometry.hpp); the domain comes from our constrained Delaunay triangulation of the input, whose
+// boundary edges and segments must reappear in the mesh as chains of edges, possibly subdivided
+// by (rounded) Steiner points; the mesh boundary must be exactly those chains, and the areas agree.
+#include "mwst/check.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "mwst/delaunay.hpp"
+#include "mwst/mesh.hpp"
+
+namespace mwst {
+
+namespace {
+
+inline std::uint64_t edge_key(std::uint32_t u, std::uint32_t v) {
+  return (static_cast<std::uint64_t>(u) << 32) | v;
+}
+inline std::uint64_t undirected_key(std::uint32_t u, std::uint32_t v) {
+  return u < v ? edge_key(u, v) : edge_key(v, u);
+}
+
+// Exact coordinates as a hash key (+0.0 and -0.0 are the same point).
+struct PointKey {
+  std::uint64_t x, y;
+  explicit PointKey(const Point& p)
+      : x(std::bit_cast<std::uint64_t>(p.x + 0.0)), y(std::bit_cast<std::uint64_t>(p.y + 0.0)) {}
+  friend bool operator==(const PointKey&, const PointKey&) = default;
+};
+struct PointKeyHash {
+  std::size_t operator()(const PointKey& k) const {
+    std::uint64_t h = k.x * 0x9E3779B97F4A7C15ull ^ (k.y + 0x632BE59BD9B4E019ull + (k.x << 6) + (k.x >> 2));
+    h ^= h >> 31;
+    h *= 0xBF58476D1CE4E5B9ull;
+    h ^= h >> 29;
+    return static_cast<std::size_t>(h);
+  }
+};
+
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+std::string point_text(const Point& p) { return "(" + number(p.x) + ", " + number(p.y) + ")"; }
+
+// Angle (degrees) at p between the rays to q and r; atan2 of cross and dot is accurate for tiny
+// and near-straight angles alike.
+double angle_deg(const Point& p, const Point& q, const Point& r) {
+  const double ux = q.x - p.x, uy = q.y - p.y, vx = r.x - p.x, vy = r.y - p.y;
+  return std::atan2(std::fabs(ux * vy - uy * vx), ux * vx + uy * vy) * (180.0 / std::numbers::pi);
+}
+
+// Kinds of mesh edges that lie on a chain of the reference domain.
+constexpr std::uint8_t kOnDomainBoundary = 1;  // on a boundary edge of the domain
+constexpr std::uint8_t kOnSegment = 2;         // on an input segment (or a piece of one)
+
+// Tolerances for rounding, documented in check.hpp.
+constexpr double kOnLineTolerance = 1e-12;  // times the coordinate magnitude of the segment
+constexpr double kAreaTolerance = 1e-8;     // relative difference of mesh and domain area
+constexpr double kTurnTolerance = 1e-6;     // degrees around a vertex
+constexpr double kAngleTolerance = 1e-9;    // degrees, for --min-angle
+
+class Checker {
+ public:
+  Checker(const Pslg& input, const std::vector<Point>& points,
+          const std::vector<std::array<std::uint32_t, 3>>& triangles,
+          const std::vector<Segment>& subsegments, const CheckOptions& options)
+      : input_(input), p_(points), tri_(triangles), subsegments_(subsegments), options_(options) {}
+
+  CheckResult run() {
+    check_triangles();
+    build_edges();
+    index_vertices();
+    choose_domain();
+    check_domain_vertices();
+    walk_domain_chains();
+    check_mesh_boundary();
+    check_subsegments();
+    check_turning();
+    if (options_.delaunay) check_delaunay();
+    if (options_.min_angle_deg > 0.0) check_min_angle();
+    return std::move(result_);
+  }
+
+ private:
+  void violation(std::string message) {
+    ++result_.violations;
+    if (result_.messages.size() < options_.max_messages) result_.messages.push_back(std::move(message));
+  }
+  static std::string tri_name(std::size_t t) { return "triangle " + std::to_string(t + 1); }
+  std::string vertex_name(std::uint32_t v) const {
+    return "vertex " + std::to_string(v + 1) + " " + point_text(p_[v]);
+  }
+  std::string edge_name(std::uint32_t u, std::uint32_t v) const {
+    return "edge " + std::to_string(u + 1) + "-" + std::to_string(v + 1) + " " + point_text(p_[u]) +
+           "-" + point_text(p_[v]);
+  }
+
+  // Orientation of every triangle (exact); triangles naming missing or repeated vertices are
+  // reported and left out of everything else.
+  void check_triangles() {
+    const std::size_t n = p_.size();
+    valid_.assign(tri_.size(), 0);
+    for (std::size_t t = 0; t < tri_.size(); ++t) {
+      const auto& T = tri_[t];
+      if (T[0] >= n || T[1] >= n || T[2] >= n) {
+        violation(tri_name(t) + " names a vertex that does not exist");
+        continue;
+      }
+      if (T[0] == T[1] || T[1] == T[2] || T[2] == T[0]) {
+        violation(tri_name(t) + " repeats a vertex");
+        continue;
+      }
+      valid_[t] = 1;
+      const int o = orient2d(p_[T[0]], p_[T[1]], p_[T[2]]);
+      if (o < 0) violation(tri_name(t) + " is clockwise");
+      if (o == 0) violation(tri_name(t) + " is degenerate (its corners are collinear)");
+      result_.area += signed_area(p_[T[0]], p_[T[1]], p_[T[2]]);
+    }
+  }
+
+  // Directed edges → the triangle holding them and its apex; undirected adjacency lists.
+  void build_edges() {
+    apex_.reserve(3 * tri_.size());
+    const std::size_t n = p_.size();
+    used_.assign(n, 0);
+    std::vector<std::uint32_t> degree(n + 1, 0);
+    for (std::size_t t = 0; t < tri_.size(); ++t) {
+      if (!valid_[t]) continue;
+      const auto& T = tri_[t];
+      for (unsigned k = 0; k < 3; ++k) {
+        const std::uint32_t u = T[k], v = T[(k + 1) % 3], w = T[(k + 2) % 3];
+        used_[u] = 1;
+        const auto [it, inserted] = apex_.try_emplace(edge_key(u, v), Apex{w, static_cast<std::uint32_t>(t)});
+        if (!inserted) {
+          violation(edge_name(u, v) + " is in " + tri_name(it->second.triangle) + " and " + tri_name(t) +
+                    " with the same orientation (they overlap)");
+          continue;
+        }
+        ++degree[u];
+        ++degree[v];
+      }
+    }
+    // Compressed adjacency (with repeats: an interior edge appears from both sides).
+    adj_start_.assign(n + 1, 0);
+    for (std::size_t v = 0; v < n; ++v) adj_start_[v + 1] = adj_start_[v] + degree[v];
+    adj_.resize(adj_start_[n]);
+    std::vector<std::uint32_t> fill(adj_start_.begin(), adj_start_.end() - 1);
+    for (const auto& [key, apex] : apex_) {
+      const auto u = static_cast<std::uint32_t>(key >> 32), v = static_cast<std::uint32_t>(key);
+      adj_[fill[u]++] = v;
+      adj_[fill[v]++] = u;
+    }
+  }
+
+  // Used mesh vertices by their exact coordinates; two at the same point is a violation.
+  void index_vertices() {
+    by_point_.reserve(p_.size());
+    for (std::uint32_t v = 0; v < p_.size(); ++v) {
+      if (!used_[v]) continue;
+      const auto [it, inserted] = by_point_.try_emplace(PointKey(p_[v]), v);
+      if (!inserted) {
+        violation("vertices " + std::to_string(it->second + 1) + " and " + std::to_string(v + 1) +
+                  " are at the same point " + point_text(p_[v]));
+      }
+    }
+  }
+
+  static double domain_area(const Mesh& m) {
+    double area = 0.0;
+    for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+      if (!m.in_domain(t)) continue;
+      const auto& v = m.triangles[t].v;
+      area += signed_area(m.points[v[0]], m.points[v[1]], m.points[v[2]]);
+    }
+    return area;
+  }
+  static bool areas_agree(double a, double b) {
+    return std::fabs(a - b) <= kAreaTolerance * std::max(std::fabs(a), std::fabs(b));
+  }
+
+  // The reference domain: carved by the segments, or the convex hull minus the holes when the
+  // mesh covers that instead (the two differ only where the segments leave concavities).
+  void choose_domain() {
+    ConstrainOptions carved;
+    reference_ = constrained_delaunay(input_, carved);
+    result_.domain_area = domain_area(reference_);
+    if (!areas_agree(result_.area, result_.domain_area) && !input_.segments.empty()) {
+      ConstrainOptions hull;
+      hull.convex_hull = true;
+      Mesh whole = constrained_delaunay(input_, hull);
+      const double whole_area = domain_area(whole);
+      if (areas_agree(result_.area, whole_area)) {
+        reference_ = std::move(whole);
+        result_.domain_area = whole_area;
+        result_.convex_hull = true;
+      }
+    }
+    if (input_.segments.empty()) result_.convex_hull = true;
+    if (!areas_agree(result_.area, result_.domain_area)) {
+      violation("the triangles cover an area of " + number(result_.area) + ", the domain " +
+                number(result_.domain_area));
+    }
+  }
+
+  std::string reference_name(VertexId r) const {
+    const Point& q = reference_.points[r];
+    if (r < reference_.input_vertex_count) {
+      return "input vertex " + std::to_string(static_cast<long long>(r) + input_.first_index) + " " + point_text(q);
+    }
+    return "crossing point " + point_text(q);
+  }
+
+  // The mesh vertex at a reference vertex's exact position, or kNone.
+  std::uint32_t mesh_vertex_at(VertexId r) const {
+    const auto it = by_point_.find(PointKey(reference_.points[r]));
+    return it == by_point_.end() ? kNone : it->second;
+  }
+
+  // Every vertex of the domain (input points, crossing points) is a mesh vertex.
+  void check_domain_vertices() {
+    std::vector<char> in_domain(reference_.points.size(), 0);
+    for (TriangleId t = 0; t < reference_.triangles.size(); ++t) {
+      if (!reference_.in_domain(t)) continue;
+      for (const VertexId v : reference_.triangles[t].v) in_domain[v] = 1;
+    }
+    for (VertexId r = 0; r < in_domain.size(); ++r) {
+      if (in_domain[r] && mesh_vertex_at(r) == kNone) {
+        violation(reference_name(r) + " is not a vertex of the mesh");
+      }
+    }
+  }
+
+  // True if mesh vertex w lies on the line through a and b, exactly or within the rounding of
+  // constructed points.
+  bool near_line(const Point& a, const Point& b, const Point& w) const {
+    if (orient2d(a, b, w) == 0) return true;
+    const double scale = std::max({std::fabs(a.x), std::fabs(a.y), std::fabs(b.x), std::fabs(b.y)});
+    const double dx = b.x - a.x, dy = b.y - a.y;
+    const double cross = std::fabs(dx * (w.y - a.y) - dy * (w.x - a.x));
+    return cross <= kOnLineTolerance * scale * std::hypot(dx, dy);
+  }
+
+  // Follows mesh edges from u to v along the straight piece between them, marking each edge with
+  // `kind`. Returns false (after reporting) if the mesh has no such chain.
+  bool walk_chain(VertexId ru, VertexId rv, std::uint8_t kind) {
+    const std::uint32_t u = mesh_vertex_at(ru), v = mesh_vertex_at(rv);
+    if (u == kNone || v == kNone) return false;  // already reported as a missing vertex
+    const Point& a = p_[u];
+    const Point& b = p_[v];
+    const double dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
+    std::uint32_t cur = u;
+    double t_cur = 0.0;
+    while (cur != v) {
+      std::uint32_t next = kNone;
+      double t_next = 1.0;
+      for (std::uint32_t i = adj_start_[cur]; i < adj_start_[cur + 1]; ++i) {
+        const std::uint32_t w = adj_[i];
+        if (w == v) {
+          next = v;
+          break;
+        }
+        const Point& q = p_[w];
+        const double t = ((q.x - a.x) * dx + (q.y - a.y) * dy) / len2;
+        if (t > t_cur && t < t_next && near_line(a, b, q)) {
+          next = w;
+          t_next = t;
+        }
+      }
+      if (next == kNone) {
+        const std::string what = (kind & kOnSegment) ? "segment" : "domain boundary edge";
+        violation("the " + what + " from " + reference_name(ru) + " to " + reference_name(rv) +
+                  " is not a chain of mesh edges (it stops at " + vertex_name(cur) + ")");
+        return false;
+      }
+      chain_[undirected_key(cur, next)] |= kind;
+      if (kind & kOnDomainBoundary) boundary_chain_.push_back({cur, next});
+      t_cur = next == v ? 1.0 : t_next;
+      cur = next;
+    }
+    return true;
+  }
+
+  // Each boundary edge and each segment edge of the reference domain, as a chain of mesh edges.
+  void walk_domain_chains() {
+    const Mesh& r = reference_;
+    for (TriangleId t = 0; t < r.triangles.size(); ++t) {
+      if (!r.in_domain(t)) continue;
+      for (unsigned e = 0; e < 3; ++e) {
+        const Handle h = make_handle(t, e);
+        const TriangleId other = triangle_of(r.sym(h));
+        const bool boundary = !r.in_domain(other);
+        const bool segment = r.is_segment(h);
+        if (!boundary && !segment) continue;
+        if (!boundary && other < t) continue;  // an interior segment edge, seen from both sides
+        std::uint8_t kind = 0;
+        if (boundary) kind |= kOnDomainBoundary;
+        if (segment) kind |= kOnSegment;
+        // The domain lies left of org → dest of a domain triangle's edge.
+        walk_chain(r.org(h), r.dest(h), kind);
+      }
+    }
+  }
+
+  // The mesh boundary is exactly the domain boundary, with the mesh on the domain side.
+  void check_mesh_boundary() {
+    std::unordered_set<std::uint64_t> expected;
+    expected.reserve(2 * boundary_chain_.size());
+    for (const auto& [u, v] : boundary_chain_) {
+      expected.insert(edge_key(u, v));
+      const bool forward = apex_.count(edge_key(u, v)) != 0;
+      const bool backward = apex_.count(edge_key(v, u)) != 0;
+      if (forward && backward) {
+        violation(edge_name(u, v) + " lies on the domain boundary but has triangles on both sides");
+      } else if (!forward) {
+        violation(edge_name(u, v) + " lies on the domain boundary but its triangle is outside the domain");
+      }
+    }
+    on_boundary_.assign(p_.size(), 0);
+    for (const auto& [key, apex] : apex_) {
+      const auto u = static_cast<std::uint32_t>(key >> 32), v = static_cast<std::uint32_t>(key);
+      if (apex_.count(edge_key(v, u)) != 0) continue;
+      on_boundary_[u] = on_boundary_[v] = 1;
+      if (expected.count(key) == 0 && expected.count(edge_key(v, u)) == 0) {
+        violation(edge_name(u, v) + " of " + tri_name(apex.triangle) +
+                  " is on the mesh boundary but not on the domain boundary (a gap in the mesh)");
+      }
+    }
+  }
+
+  // PREFIX.poly: its subsegments are mesh edges on input segments (or, for a convex hull domain,
+  // on the hull), and every mesh edge on an input segment is listed.
+  void check_subsegments() {
+    if (subsegments_.empty()) return;
+    std::unordered_set<std::uint64_t> listed;
+    listed.reserve(2 * subsegments_.size());
+    for (std::size_t i = 0; i < subsegments_.size(); ++i) {
+      const Segment& s = subsegments_[i];
+      const std::string name = "subsegment " + std::to_string(i + 1) + " of the mesh's .poly";
+      if (s.a >= p_.size() || s.b >= p_.size()) {
+        violation(name + " names a vertex that does not exist");
+        continue;
+      }
+      listed.insert(undirected_key(s.a, s.b));
+      if (apex_.count(edge_key(s.a, s.b)) == 0 && apex_.count(edge_key(s.b, s.a)) == 0) {
+        violation(name + " (" + edge_name(s.a, s.b) + ") is not a mesh edge");
+        continue;
+      }
+      if (chain_.count(undirected_key(s.a, s.b)) == 0) {
+        violation(name + " (" + edge_name(s.a, s.b) + ") lies on no input segment");
+      }
+    }
+    for (const auto& [key, kind] : chain_) {
+      if ((kind & kOnSegment) == 0 || listed.count(key) != 0) continue;
+      const auto u = static_cast<std::uint32_t>(key >> 32), v = static_cast<std::uint32_t>(key);
+      violation(edge_name(u, v) + " lies on an input segment but the mesh's .poly does not list it");
+    }
+  }
+
+  // The triangles around each vertex turn 360° inside the mesh and at most 360° on its boundary.
+  void check_turning() {
+    std::vector<double> turn(p_.size(), 0.0);
+    for (std::size_t t = 0; t < tri_.size(); ++t) {
+      if (!valid_[t]) continue;
+      const auto& T = tri_[t];
+      for (unsigned k = 0; k < 3; ++k) {
+        turn[T[k]] += angle_deg(p_[T[k]], p_[T[(k + 1) % 3]], p_[T[(k + 2) % 3]]);
+      }
+    }
+    for (std::uint32_t v = 0; v < p_.size(); ++v) {
+      if (!used_[v]) continue;
+      if (on_boundary_[v] ? turn[v] > 360.0 + kTurnTolerance : std::fabs(turn[v] - 360.0) > kTurnTolerance) {
+        violation("the triangles around " + vertex_name(v) + " turn " + number(turn[v]) +
+                  " degrees" + (on_boundary_[v] ? " (more than 360)" : " (not 360)"));
+      }
+    }
+  }
+
+  // Constrained Delaunay: across every interior edge not on an input segment (nor listed as a
+  // subsegment), the far apex is not strictly inside the circumcircle (exact incircle).
+  void check_delaunay() {
+    std::unordered_set<std::uint64_t> listed;
+    for (const Segment& s : subsegments_) listed.insert(undirected_key(s.a, s.b));
+    for (const auto& [key, apex] : apex_) {
+      const auto u = static_cast<std::uint32_t>(key >> 32), v = static_cast<std::uint32_t>(key);
+      if (u > v) continue;
+      const auto other = apex_.find(edge_key(v, u));
+      if (other == apex_.end()) continue;
+      if (chain_.count(undirected_key(u, v)) != 0 || listed.count(undirected_key(u, v)) != 0) continue;
+      if (incircle(p_[u], p_[v], p_[apex.apex], p_[other->second.apex]) > 0) {
+        violation(edge_name(u, v) + " is not Delaunay: " + vertex_name(other->second.apex) +
+                  " lies inside the circumcircle of " + tri_name(apex.triangle));
+      }
+    }
+  }
+
+  void check_min_angle() {
+    for (std::size_t t = 0; t < tri_.size(); ++t) {
+      if (!valid_[t]) continue;
+      const auto& T = tri_[t];
+      double smallest = 180.0;
+      for (unsigned k = 0; k < 3; ++k) {
+        smallest = std::min(smallest, angle_deg(p_[T[k]], p_[T[(k + 1) % 3]], p_[T[(k + 2) % 3]]));
+      }
+      if (smallest < options_.min_angle_deg - kAngleTolerance) {
+        violation(tri_name(t) + " has an angle of " + number(smallest) + " degrees, below " +
+                  number(options_.min_angle_deg));
+      }
+    }
+  }
+
+  struct Apex {
+    std::uint32_t apex;
+    std::uint32_t triangle;
+  };
+
+  const Pslg& input_;
+  const std::vector<Point>& p_;
+  const std::vector<std::array<std::uint32_t, 3>>& tri_;
+  const std::vector<Segment>& subsegments_;
+  const CheckOptions& options_;
+  CheckResult result_;
+
+  std::vector<char> valid_;
+  std::vector<char> used_;
+  std::vector<char> on_boundary_;
+  std::unordered_map<std::uint64_t, Apex> apex_;  // directed edge → apex and triangle
+  std::vector<std::uint32_t> adj_start_, adj_;
+  std::unordered_map<PointKey, std::uint32_t, PointKeyHash> by_point_;
+  Mesh reference_;
+  std::unordered_map<std::uint64_t, std::uint8_t> chain_;  // undirected mesh edge → kinds
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> boundary_chain_;  // directed, domain on the left
+};
+
+}  // namespace
+
+CheckResult check_triangulation(const Pslg& input, const std::vector<Point>& points,
+                                const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                                const std::vector<Segment>& subsegments, const CheckOptions& options) {
+  return Checker(input, points, triangles, subsegments, options).run();
+}
+
+}  // namespace mwst
