@@ -232,7 +232,7 @@ void Mesh::legalize(VertexId apex_vertex, std::vector<Handle>& stack, Handle* la
   while (!stack.empty()) {
     const Handle h = stack.back();
     stack.pop_back();
-    if (is_segment(h) || !is_locally_non_delaunay(h)) continue;
+    if ((!segment_marker.empty() && is_segment(h)) || !is_locally_non_delaunay(h)) continue;
     // h's apex is the new vertex c; the flip leaves triangles (c, a, d) and (d, b, c).
     const Handle diag = flip(h);  // d→c, edge e1 of t = (c, a, d) stored at corners (e, e1, e2)
     stack.push_back(make_handle(diag >> 2, prev3(diag & 3)));  // a→d, opposite c

@@ -1,0 +1,30 @@
+// mwst/flip.hpp — the paper's edge flip heuristic (EFH): greedy weight-reducing flips.
+#pragma once
+
+#include <cstddef>
+
+#include "mwst/mesh.hpp"
+
+namespace mwst {
+
+struct FlipStats {
+  std::size_t flips = 0;
+  double weight_before = 0.0;  // total weight of the domain triangles
+  double weight_after = 0.0;
+  double seconds = 0.0;
+};
+
+// True if edge h (between two domain triangles, not a subsegment) has a strictly convex
+// quadrilateral whose other diagonal is strictly shorter (exact comparison of squared lengths).
+bool is_weight_reducing_flip(const Mesh& mesh, Handle h);
+
+// Repeatedly flips the weight-reducing edge with the largest relative gain (|ac| / |bd|, the old
+// diagonal over the new) until none is left. Segments and vertices never change; the weight
+// strictly drops with every flip, so it terminates. The result is locally minimal: no single flip
+// lowers the weight. Afterwards the mesh is generally no longer Delaunay.
+FlipStats flip_to_local_minimum(Mesh& mesh);
+
+// Number of weight-reducing flips available (0 after flip_to_local_minimum).
+std::size_t count_weight_reducing_flips(const Mesh& mesh);
+
+}  // namespace mwst
