@@ -66,6 +66,7 @@ enum class VertexKind : std::uint8_t {
   kDuplicate = 1,         // an input point equal to an earlier one; not in any triangle
   kSteiner = 2,           // a free Steiner point in the interior
   kSteinerOnSegment = 3,  // a Steiner point splitting an input segment
+  kRemoved = 4,           // a Steiner point taken out again (not in any triangle; see compact)
 };
 
 // Where a point lies relative to the mesh (result of Mesh::locate).
@@ -171,12 +172,17 @@ class Mesh {
   // Adds a triangle slot (reusing a dead slot if any).
   TriangleId new_triangle();
   void kill_triangle(TriangleId t);
+  void clear_free_slots() { free_slots_.clear(); }
 
  private:
   std::vector<TriangleId> free_slots_;
   std::vector<Handle> flip_stack_;  // scratch for insert_vertex (no allocation per insertion)
   mutable std::uint32_t walk_rng_ = 0x9E3779B9u;  // deterministic stochastic-walk state
 };
+
+// Drops dead triangle slots and removed vertices (VertexKind::kRemoved), renumbering both.
+// Input vertices keep their ids (they come first and are never removed).
+void compact(Mesh& mesh);
 
 // ---- validation --------------------------------------------------------------------------------
 struct ValidateOptions {

@@ -335,3 +335,53 @@ VertexId Mesh::insert_vertex(VertexId v, Handle start, Handle* hint) {
 }
 
 }  // namespace mwst
+
+namespace mwst {
+
+void compact(Mesh& m) {
+  // New vertex ids: every vertex except removed Steiner points, in order.
+  std::vector<VertexId> new_vertex(m.points.size(), kNone);
+  VertexId nv = 0;
+  for (VertexId v = 0; v < m.points.size(); ++v) {
+    if (m.vertex_kind[v] == VertexKind::kRemoved) continue;
+    new_vertex[v] = nv;
+    m.points[nv] = m.points[v];
+    m.vertex_kind[nv] = m.vertex_kind[v];
+    m.vertex_marker[nv] = m.vertex_marker[v];
+    ++nv;
+  }
+  m.points.resize(nv);
+  m.vertex_kind.resize(nv);
+  m.vertex_marker.resize(nv);
+  for (auto& [dup, kept] : m.duplicates) {
+    dup = new_vertex[dup];
+    kept = new_vertex[kept];
+  }
+  // New triangle ids: live slots in order.
+  std::vector<TriangleId> new_triangle(m.triangles.size(), kNone);
+  TriangleId nt = 0;
+  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+    if (!(m.flags[t] & kDead)) new_triangle[t] = nt++;
+  }
+  const bool markers = !m.segment_marker.empty();
+  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+    const TriangleId u = new_triangle[t];
+    if (u == kNone) continue;
+    Triangle T = m.triangles[t];
+    for (VertexId& v : T.v) {
+      if (v != kInfinite) v = new_vertex[v];
+    }
+    for (Handle& h : T.n) h = make_handle(new_triangle[h >> 2], h & 3);
+    m.triangles[u] = T;
+    m.flags[u] = m.flags[t];
+    if (markers) {
+      for (unsigned e = 0; e < 3; ++e) m.segment_marker[3 * u + e] = m.segment_marker[3 * t + e];
+    }
+  }
+  m.triangles.resize(nt);
+  m.flags.resize(nt);
+  if (markers) m.segment_marker.resize(3 * static_cast<std::size_t>(nt));
+  m.clear_free_slots();
+}
+
+}  // namespace mwst

@@ -112,7 +112,8 @@ std::vector<std::string> validate(const Mesh& m, const ValidateOptions& options)
            std::to_string(faces));
   }
   for (VertexId v = 0; v < nv; ++v) {
-    if (!used[v] && v < m.vertex_kind.size() && m.vertex_kind[v] != VertexKind::kDuplicate) {
+    if (!used[v] && v < m.vertex_kind.size() && m.vertex_kind[v] != VertexKind::kDuplicate &&
+        m.vertex_kind[v] != VertexKind::kRemoved) {
       report("vertex " + std::to_string(v) + " is in no triangle");
     }
   }

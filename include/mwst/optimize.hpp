@@ -1,0 +1,44 @@
+// mwst/optimize.hpp — our weight optimiser, past the paper: a local search for the minimum weight
+// Steiner triangulation that moves, removes and inserts Steiner points and flips edges until no
+// move lowers the weight.
+#pragma once
+
+#include <cstddef>
+
+#include "mwst/mesh.hpp"
+
+namespace mwst {
+
+struct OptimizeOptions {
+  std::size_t max_rounds = 100;    // a round visits every Steiner vertex once, then flips
+  bool relocate = true;            // move Steiner vertices to the geometric median of neighbours
+  bool remove = true;              // remove Steiner vertices whose star re-triangulates lighter
+  bool insert = true;              // try Steiner points at the Fermat points of heavy triangles
+  double min_relative_gain = 1e-9; // stop when a round gains less than this fraction of weight
+};
+
+struct OptimizeStats {
+  std::size_t rounds = 0;
+  std::size_t relocations = 0;  // accepted moves
+  std::size_t removals = 0;
+  std::size_t insertions = 0;
+  std::size_t flips = 0;
+  double weight_before = 0.0;
+  double weight_after = 0.0;
+  double seconds = 0.0;
+};
+
+// Improves the weight of a carved mesh in place. Input vertices and segments never change (a
+// Steiner point on a segment only slides along its subsegment line or is removed, merging its two
+// subsegments); every move keeps the mesh valid and strictly lowers the total weight, so the
+// search terminates; results are deterministic. Removed vertices are dropped (mwst::compact).
+OptimizeStats optimize(Mesh& mesh, const OptimizeOptions& options = {});
+
+// Minimum weight triangulation of a simple polygon (vertices counter-clockwise) by dynamic
+// programming over its valid diagonals, O(d³) (Gilbert 1979; Klincsek 1980). Returns the total
+// length of the diagonals used, or +inf if the polygon cannot be triangulated (not simple), and
+// appends its triangles (indices into the polygon) to `triangles`.
+double polygon_mwt(const std::vector<Point>& polygon,
+                   std::vector<std::array<std::uint32_t, 3>>* triangles);
+
+}  // namespace mwst
