@@ -22,6 +22,7 @@ struct OptimizeStats {
   std::size_t relocations = 0;  // accepted moves
   std::size_t removals = 0;
   std::size_t insertions = 0;
+  std::size_t region_retriangulations = 0;  // small regions re-triangulated by their MWT
   std::size_t flips = 0;
   double weight_before = 0.0;
   double weight_after = 0.0;

@@ -260,13 +260,18 @@ class Optimizer {
       const std::size_t n = m_.points.size();
       for (VertexId v = m_.input_vertex_count; v < n; ++v) {
         const VertexKind kind = m_.vertex_kind[v];
-        if (kind == VertexKind::kSteiner) {
+        if (kind != VertexKind::kSteiner && kind != VertexKind::kSteinerOnSegment) continue;
+        // Decide by the mesh, not the label: a vertex with subsegment spokes lies on a segment
+        // (a free Steiner point can land exactly on one).
+        const int on_segment = segment_spokes(v);
+        if (on_segment < 0) continue;
+        if (on_segment == 0) {
           if (!(opt_.remove && try_remove(v)) && opt_.relocate) try_relocate(v);
-        } else if (kind == VertexKind::kSteinerOnSegment && opt_.relocate) {
+        } else if (opt_.relocate) {
           try_slide(v);
         }
       }
-      if (opt_.insert) try_insertions();
+      try_insertions();
       const double now = measure(m_).weight_total;
       const double gain = weight - now;
       weight = now;
@@ -309,6 +314,20 @@ class Optimizer {
         if (v != kInfinite) vertex_handle_[v] = h;
       }
     }
+  }
+
+  // Number of subsegments among v's spokes (−1 if v has no current handle).
+  int segment_spokes(VertexId v) {
+    const Handle h = handle_of(v);
+    if (h == kNone) return -1;
+    int count = 0;
+    Handle s = h;
+    std::size_t guard = 0;
+    do {
+      count += m_.is_segment(s) ? 1 : 0;
+      s = m_.onext(s);
+    } while (s != h && ++guard < 4096);
+    return count;
   }
 
   bool star_in_domain(const Region& r) const {
@@ -486,8 +505,10 @@ class Optimizer {
     return tris.size() + 2 == r.boundary.size();
   }
 
-  // Tries to replace the region by a star from a new Steiner vertex at its geometric median.
-  bool try_star_insertion(const std::vector<TriangleId>& tris) {
+  // Re-triangulates the region (no interior vertex) by whichever is lightest: its minimum weight
+  // triangulation (a many-edge flip), or a star from a new Steiner vertex at the geometric median
+  // of its corners. Returns true if the region changed.
+  bool try_region(const std::vector<TriangleId>& tris) {
     if (!region_from(tris, region_)) return false;
     polygon_.clear();
     Point centroid{0.0, 0.0};
@@ -496,20 +517,52 @@ class Optimizer {
       centroid.x += m_.points[u].x;
       centroid.y += m_.points[u].y;
     }
-    centroid.x /= static_cast<double>(polygon_.size());
-    centroid.y /= static_cast<double>(polygon_.size());
-    Point q = geometric_median(centroid, polygon_);
-    q = {snap_to_range(q.x), snap_to_range(q.y)};
-    if (!in_supported_range(q) || !in_kernel(q, polygon_)) return false;
-    const double spokes = spoke_sum(q, polygon_);
-    if (!(spokes < region_interior_weight_ * (1.0 - 1e-12))) return false;
-    const VertexId v = m_.add_vertex(q, VertexKind::kSteiner, 0);
-    vertex_handle_.push_back(kNone);
-    std::vector<std::array<VertexId, 3>> star;
-    const std::size_t d = region_.boundary.size();
-    for (std::size_t i = 0; i < d; ++i) star.push_back({v, region_.boundary[i], region_.boundary[(i + 1) % d]});
-    replace_region(m_, region_, star);  // vertex handles are rebuilt after the insertion pass
-    ++stats_.insertions;
+    const double current = region_interior_weight_ * (1.0 - 1e-12);
+    local_.clear();
+    const double mwt = polygon_mwt(polygon_, &local_);
+    double star_weight = std::numeric_limits<double>::infinity();
+    Point q{0.0, 0.0};
+    if (opt_.insert) {
+      centroid.x /= static_cast<double>(polygon_.size());
+      centroid.y /= static_cast<double>(polygon_.size());
+      q = geometric_median(centroid, polygon_);
+      q = {snap_to_range(q.x), snap_to_range(q.y)};
+      if (in_supported_range(q) && in_kernel(q, polygon_)) star_weight = spoke_sum(q, polygon_);
+    }
+    if (star_weight < current && star_weight < mwt) {
+      const VertexId v = m_.add_vertex(q, VertexKind::kSteiner, 0);
+      vertex_handle_.push_back(kNone);
+      std::vector<std::array<VertexId, 3>> star;
+      const std::size_t d = region_.boundary.size();
+      for (std::size_t i = 0; i < d; ++i) {
+        star.push_back({v, region_.boundary[i], region_.boundary[(i + 1) % d]});
+      }
+      replace_region(m_, region_, star);
+      ++stats_.insertions;
+      return true;
+    }
+    if (mwt < current) {
+      std::vector<std::array<VertexId, 3>> tris_new;
+      for (const auto& tri : local_) {
+        tris_new.push_back({region_.boundary[tri[0]], region_.boundary[tri[1]], region_.boundary[tri[2]]});
+      }
+      replace_region(m_, region_, tris_new);
+      ++stats_.region_retriangulations;
+      return true;
+    }
+    return false;
+  }
+
+  // Adds the in-domain neighbours of t across non-segment edges to `tris`; false if a neighbour
+  // across a non-segment edge is outside the domain.
+  bool add_neighbours(TriangleId t, std::vector<TriangleId>& tris) {
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle h = make_handle(t, e);
+      if (m_.is_segment(h)) continue;
+      const TriangleId u = m_.sym(h) >> 2;
+      if (!m_.in_domain(u)) return false;
+      if (std::find(tris.begin(), tris.end(), u) == tris.end()) tris.push_back(u);
+    }
     return true;
   }
 
@@ -518,20 +571,18 @@ class Optimizer {
     std::vector<TriangleId> tris;
     for (TriangleId t = 0; t < slots; ++t) {
       if (!m_.in_domain(t)) continue;
-      // Region 1: the triangle and its neighbours across non-segment edges.
+      // Region 1: the triangle and its neighbours (a hexagon at most).
       tris.assign(1, t);
-      bool ok = true;
-      for (unsigned e = 0; e < 3 && ok; ++e) {
+      if (add_neighbours(t, tris) && tris.size() >= 2 && try_region(tris)) continue;
+      // Region 2: the two triangles of each edge with all their neighbours (an octagon at most).
+      for (unsigned e = 0; e < 3; ++e) {
         const Handle h = make_handle(t, e);
         if (m_.is_segment(h)) continue;
         const TriangleId u = m_.sym(h) >> 2;
-        if (!m_.in_domain(u)) {
-          ok = false;
-        } else {
-          tris.push_back(u);
-        }
+        if (!m_.in_domain(u) || u < t) continue;
+        tris.assign({t, u});
+        if (add_neighbours(t, tris) && add_neighbours(u, tris) && try_region(tris)) break;
       }
-      if (ok && tris.size() >= 3 && try_star_insertion(tris)) continue;
     }
     rebuild_vertex_handles();
   }

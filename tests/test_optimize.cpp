@@ -1,0 +1,181 @@
+// Tests of the weight optimiser: the star-polygon MWT against exhaustive search, and the
+// optimiser's output on every data set and on random inputs — valid, conforming (checked by the
+// independent checker), never heavier than where it started, deterministic.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <limits>
+#include <random>
+
+#include "mwst/check.hpp"
+#include "mwst/delaunay.hpp"
+#include "mwst/io.hpp"
+#include "mwst/metrics.hpp"
+#include "mwst/optimize.hpp"
+#include "mwst/refine.hpp"
+
+namespace mwst {
+namespace {
+
+// Exhaustive minimum over all triangulations of a convex polygon (Catalan many; d ≤ 9).
+double brute_force_convex_mwt(const std::vector<Point>& P) {
+  std::function<double(std::size_t, std::size_t)> best = [&](std::size_t i, std::size_t j) -> double {
+    if (j <= i + 1) return 0.0;
+    double b = std::numeric_limits<double>::infinity();
+    for (std::size_t k = i + 1; k < j; ++k) {
+      const double left = best(i, k) + (k > i + 1 ? distance(P[i], P[k]) : 0.0);
+      const double right = best(k, j) + (j > k + 1 ? distance(P[k], P[j]) : 0.0);
+      b = std::min(b, left + right);
+    }
+    return b;
+  };
+  return best(0, P.size() - 1);
+}
+
+TEST(PolygonMwt, MatchesExhaustiveSearchOnConvexPolygons) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int trial = 0; trial < 200; ++trial) {
+    const std::size_t d = 3 + trial % 7;
+    // Random convex polygon: sorted random angles on an ellipse.
+    std::vector<double> angles(d);
+    for (auto& a : angles) a = 2 * M_PI * u(rng);
+    std::sort(angles.begin(), angles.end());
+    std::vector<Point> P;
+    const double rx = 0.5 + u(rng), ry = 0.5 + u(rng);
+    for (double a : angles) P.push_back({rx * std::cos(a), ry * std::sin(a)});
+    std::vector<std::array<std::uint32_t, 3>> tris;
+    const double w = polygon_mwt(P, &tris);
+    ASSERT_TRUE(std::isfinite(w));
+    EXPECT_NEAR(w, brute_force_convex_mwt(P), 1e-12);
+    EXPECT_EQ(tris.size(), d - 2);
+    double area = 0.0, poly_area = 0.0;
+    for (const auto& t : tris) {
+      EXPECT_GT(orient2d(P[t[0]], P[t[1]], P[t[2]]), 0);
+      area += signed_area(P[t[0]], P[t[1]], P[t[2]]);
+    }
+    for (std::size_t i = 0; i < d; ++i) poly_area += 0.5 * (P[i].x * P[(i + 1) % d].y - P[(i + 1) % d].x * P[i].y);
+    EXPECT_NEAR(area, poly_area, 1e-12);
+  }
+}
+
+TEST(PolygonMwt, NonConvexPolygonUsesOnlyInteriorDiagonals) {
+  // An arrow: the reflex vertex (2,1) must not be cut off by an outside diagonal.
+  const std::vector<Point> P{{0, 0}, {4, 0}, {4, 4}, {2, 1}, {0, 4}};
+  std::vector<std::array<std::uint32_t, 3>> tris;
+  const double w = polygon_mwt(P, &tris);
+  ASSERT_TRUE(std::isfinite(w));
+  ASSERT_EQ(tris.size(), 3u);
+  double area = 0.0;
+  for (const auto& t : tris) {
+    EXPECT_GT(orient2d(P[t[0]], P[t[1]], P[t[2]]), 0);
+    area += signed_area(P[t[0]], P[t[1]], P[t[2]]);
+  }
+  EXPECT_DOUBLE_EQ(area, 16.0 - 0.5 * 4 * 3);
+  // Diagonals must be (2,1)-(0,0) and (2,1)-(4,0): total 2·√5.
+  EXPECT_NEAR(w, 2 * std::sqrt(5.0), 1e-12);
+}
+
+TEST(PolygonMwt, RejectsASelfIntersectingPolygon) {
+  const std::vector<Point> bowtie{{0, 0}, {2, 2}, {2, 0}, {0, 2}};
+  EXPECT_FALSE(std::isfinite(polygon_mwt(bowtie, nullptr)));
+}
+
+// The mesh as the independent checker sees it.
+CheckResult check_mesh(const Pslg& g, const Mesh& m) {
+  std::vector<std::array<std::uint32_t, 3>> tris;
+  std::vector<Segment> subsegments;
+  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+    if (!m.in_domain(t)) continue;
+    tris.push_back(m.triangles[t].v);
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle h = make_handle(t, e);
+      const TriangleId other = m.sym(h) >> 2;
+      if (m.is_segment(h) && (!m.in_domain(other) || other > t)) {
+        subsegments.push_back({m.org(h), m.dest(h), m.marker(h)});
+      }
+    }
+  }
+  return check_triangulation(g, m.points, tris, subsegments);
+}
+
+class OptimizeDataSet : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(OptimizeDataSet, ValidConformingAndLighter) {
+  const Pslg g = io::read_input(GetParam());
+  Mesh m = constrained_delaunay(g);
+  RefineOptions r;
+  r.min_angle_deg = 15.0;
+  refine(m, r);
+  const Metrics start = measure(m);
+  const OptimizeStats stats = optimize(m);
+  const Metrics end = measure(m);
+  EXPECT_TRUE(validate(m).empty());
+  const CheckResult check = check_mesh(g, m);
+  EXPECT_TRUE(check.ok()) << (check.messages.empty() ? "" : check.messages.front());
+  EXPECT_LE(end.weight_total, start.weight_total);
+  EXPECT_DOUBLE_EQ(stats.weight_before, start.weight_total);
+  EXPECT_DOUBLE_EQ(stats.weight_after, end.weight_total);
+  EXPECT_NEAR(end.area, start.area, 1e-9 * start.area);
+  // Every input vertex survives with its coordinates.
+  for (VertexId v = 0; v < g.points.size(); ++v) EXPECT_EQ(m.points[v], g.points[v]);
+  // Deterministic: a second run from the same start gives the same mesh.
+  Mesh again = constrained_delaunay(g);
+  refine(again, r);
+  optimize(again);
+  ASSERT_EQ(again.points.size(), m.points.size());
+  EXPECT_EQ(again.points, m.points);
+  ASSERT_EQ(again.triangles.size(), m.triangles.size());
+  for (std::size_t t = 0; t < m.triangles.size(); ++t) EXPECT_EQ(again.triangles[t].v, m.triangles[t].v);
+}
+
+std::vector<std::string> data_sets() {
+  std::vector<std::string> files;
+  for (const auto& e : std::filesystem::directory_iterator(MWST_DATA_DIR)) {
+    if (e.path().extension() == ".poly") files.push_back(e.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+INSTANTIATE_TEST_SUITE_P(DataSets, OptimizeDataSet, ::testing::ValuesIn(data_sets()),
+                         [](const auto& param_info) {
+                           return std::filesystem::path(param_info.param).stem().string();
+                         });
+
+TEST(Optimize, RandomPolygonsWithHoles) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int trial = 0; trial < 10; ++trial) {
+    Pslg g;
+    g.is_poly = true;
+    const std::size_t n = 20 + 10 * static_cast<std::size_t>(trial);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double a = 2 * M_PI * static_cast<double>(i) / static_cast<double>(n);
+      const double r = 1.0 + 0.5 * u(rng);
+      g.points.push_back({r * std::cos(a), r * std::sin(a)});
+      g.segments.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>((i + 1) % n), 1});
+    }
+    // A square hole in the middle.
+    const auto base = static_cast<std::uint32_t>(g.points.size());
+    const double s = 0.2 + 0.3 * u(rng);
+    for (const Point p : {Point{-s, -s}, Point{s, -s}, Point{s, s}, Point{-s, s}}) g.points.push_back(p);
+    for (std::uint32_t i = 0; i < 4; ++i) g.segments.push_back({base + i, base + (i + 1) % 4, 2});
+    g.holes.push_back({0.0, 0.0});
+    Mesh m = constrained_delaunay(g);
+    RefineOptions r;
+    r.min_angle_deg = 5.0 + 3.0 * trial;
+    refine(m, r);
+    const double before = measure(m).weight_total;
+    optimize(m);
+    EXPECT_TRUE(validate(m).empty());
+    EXPECT_TRUE(check_mesh(g, m).ok());
+    EXPECT_LE(measure(m).weight_total, before);
+  }
+}
+
+}  // namespace
+}  // namespace mwst
