@@ -1,0 +1,40 @@
+// mwst/brh.hpp — the bundle removal heuristic (BRH) of Boyacı, Erten and Üngör.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+#include "mwst/mesh.hpp"
+#include "mwst/refine.hpp"
+
+namespace mwst {
+
+struct BrhOptions {
+  double min_angle_deg = 20.0;  // A: a triangle with an angle below A is skinny
+  std::size_t bundle_k = 0;     // K (≥ 3): a skinny triangle is split only inside a K-bundle
+  RefineOptions refine;         // Steiner rule, budgets, ... (its angle / is_bad are set by BRH)
+  std::size_t max_rounds = 1000;
+};
+
+struct BrhStats {
+  std::size_t rounds = 0;             // refinement rounds (each re-evaluates the bundles)
+  std::size_t exact_evaluations = 0;  // rounds that needed the exact pencil sweep
+  std::size_t steiner_inserted = 0;
+  std::size_t segment_splits = 0;
+  std::size_t skinny_left = 0;        // skinny triangles left: each in no K-bundle
+  std::size_t left_small_angle = 0;   // bad triangles the engine could not improve (MPW rule)
+  std::string stop_reason;
+  double seconds = 0.0;
+};
+
+// Refines the carved CDT like Delaunay refinement, but splits a skinny triangle only if it belongs
+// to a K-bundle: some vertex-empty open disk meeting its interior meets the interiors of at least K
+// triangles. Rounds: the cheap circumdisk count (a lower bound on each triangle's largest bundle)
+// marks triangles that are certainly in a K-bundle; when it marks none, the exact pencil sweep
+// decides (bundle.hpp); the marked skinny triangles are refined by the DR engine; repeat until the
+// exact sweep finds no skinny triangle in a K-bundle. Guarantees on a normal stop: every triangle
+// left with an angle below A is in no K-bundle; when K ≥ ⌈4π/A⌉ + 3 the mesh is K-bundle-free.
+BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options);
+
+}  // namespace mwst

@@ -1,0 +1,408 @@
+// triangulate() and to_json() (mwst/pipeline.hpp): runs one of the methods compared in Boyacı,
+// Erten, Üngör, "Triangulations Loosing Bundles and Weight" (DT, QTR, DR, BRH, BRH+EFH) or our own
+// optimiser on an input graph, times each phase and measures the result (weight split into
+// boundary and interior as the paper's Table 1 reports it, angle range).
+//
+// Adding a method: write its entry point in its own file, then add one case to the switch in
+// triangulate() that runs it between the `Phase` markers and fills the Report (stop_reason,
+// warnings, and anything method-specific in Report::extra).
+#include "mwst/pipeline.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "mwst/brh.hpp"
+#include "mwst/bundle.hpp"
+#include "mwst/flip.hpp"
+#include "mwst/optimize.hpp"
+#include "mwst/delaunay.hpp"
+#include "mwst/error.hpp"
+#include "mwst/metrics.hpp"
+#include "mwst/quadtree.hpp"
+#include "mwst/refine.hpp"
+
+namespace mwst {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+
+// Times one phase: the seconds from construction to finish() are appended to the report.
+class Phase {
+ public:
+  Phase(Report& report, std::string name) : report_(report), name_(std::move(name)), start_(Clock::now()) {}
+  void finish() {
+    report_.seconds.emplace_back(std::move(name_),
+                                 std::chrono::duration<double>(Clock::now() - start_).count());
+  }
+
+ private:
+  Report& report_;
+  std::string name_;
+  Clock::time_point start_;
+};
+
+std::string plural(std::size_t n, const char* one, const char* many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+// The carved constrained Delaunay triangulation every method except QTR starts from. Phases
+// "delaunay", "segments", "carve" (as constrained_delaunay measures them).
+Mesh constrained_delaunay_phase(const Pslg& pslg, const TriangulateOptions& options, Report& report) {
+  ConstrainOptions constrain;
+  constrain.strict = options.strict;
+  constrain.convex_hull = options.convex_hull;
+  ConstrainStats stats;
+  Mesh mesh = constrained_delaunay(pslg, constrain, &stats);
+  report.seconds.emplace_back("delaunay", stats.seconds_delaunay);
+  if (!pslg.segments.empty()) {
+    report.seconds.emplace_back("segments", stats.seconds_segments);
+    report.seconds.emplace_back("carve", stats.seconds_carve);
+  }
+  report.duplicates = stats.duplicates;
+  report.crossings = stats.crossings;
+  if (stats.duplicates > 0) {
+    report.warnings.push_back(plural(stats.duplicates, "duplicate point", "duplicate points") + " merged");
+  }
+  if (stats.zero_length > 0) {
+    report.warnings.push_back(plural(stats.zero_length, "segment", "segments") +
+                              " of zero length (both ends at the same point) dropped");
+  }
+  if (stats.crossings > 0) {
+    report.warnings.push_back("crossing segments split at " +
+                              plural(stats.crossings, "intersection point", "intersection points") +
+                              " (use --strict to refuse them)");
+  }
+  if (stats.overlaps > 0) {
+    report.warnings.push_back(plural(stats.overlaps, "overlapping collinear segment piece",
+                                     "overlapping collinear segment pieces") + " merged");
+  }
+  for (std::string& w : stats.warnings) report.warnings.push_back(std::move(w));
+  return mesh;
+}
+
+// Delaunay refinement (Ruppert / Chew / Shewchuk with Üngör's off-centers): phase "refine".
+void refine_phase(Mesh& mesh, const TriangulateOptions& options, Clock::time_point start, Report& report) {
+  RefineOptions refine_options;
+  refine_options.min_angle_deg = options.min_angle_deg;
+  refine_options.max_area = options.max_area;
+  refine_options.max_steiner = options.max_steiner;
+  refine_options.rule = options.steiner;
+  if (options.time_budget_seconds > 0.0) {
+    const double used = std::chrono::duration<double>(Clock::now() - start).count();
+    // Whatever is left of the budget, but never 0 (which would mean "no budget").
+    refine_options.time_budget_seconds = std::max(options.time_budget_seconds - used, 1e-9);
+  }
+  Phase phase(report, "refine");
+  const RefineStats stats = refine(mesh, refine_options);
+  phase.finish();
+  report.stop_reason = stats.stop_reason;
+  report.extra["refine"] = {{"steiner_inserted", stats.steiner_inserted},
+                            {"segment_splits", stats.segment_splits},
+                            {"left_small_angle", stats.left_small_angle}};
+}
+
+// Bundle removal (BRH): phase "brh".
+void brh_phase(Mesh& mesh, const TriangulateOptions& options, Clock::time_point start, Report& report) {
+  BrhOptions brh;
+  brh.min_angle_deg = options.min_angle_deg;
+  brh.bundle_k = options.bundle_k != 0 ? options.bundle_k : default_bundle_k(options.min_angle_deg);
+  brh.refine.max_area = options.max_area;
+  brh.refine.max_steiner = options.max_steiner;
+  brh.refine.rule = options.steiner;
+  if (options.time_budget_seconds > 0.0) {
+    const double used = std::chrono::duration<double>(Clock::now() - start).count();
+    brh.refine.time_budget_seconds = std::max(options.time_budget_seconds - used, 1e-9);
+  }
+  Phase phase(report, "brh");
+  const BrhStats stats = bundle_removal(mesh, brh);
+  phase.finish();
+  report.stop_reason = stats.stop_reason;
+  report.extra["brh"] = {{"bundle_k", brh.bundle_k},
+                         {"rounds", stats.rounds},
+                         {"exact_evaluations", stats.exact_evaluations},
+                         {"steiner_inserted", stats.steiner_inserted},
+                         {"segment_splits", stats.segment_splits},
+                         {"skinny_left", stats.skinny_left}};
+}
+
+// Weight-reducing flips (EFH) after any method: phase "flip".
+void flip_phase(Mesh& mesh, Report& report) {
+  Phase phase(report, "flip");
+  const FlipStats stats = flip_to_local_minimum(mesh);
+  phase.finish();
+  report.extra["flip"] = {{"flips", stats.flips},
+                          {"weight_before", stats.weight_before},
+                          {"weight_after", stats.weight_after}};
+}
+
+// Our optimiser (method opt): the local search of optimize.hpp from several starting meshes —
+// BRH at the given (A, K) followed by EFH, DR at 5°, 10°, 15° and 20°, and the CDT — keeping the
+// lightest result. Since every search only lowers the weight of its start, opt is never heavier
+// than BRH+EFH with the same parameters. Phase "optimize".
+Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::time_point start,
+                    Report& report) {
+  Mesh best = constrained_delaunay_phase(pslg, options, report);
+  const Mesh cdt = best;
+  Phase phase(report, "optimize");
+  struct Start {
+    std::string name;
+    Mesh mesh;
+  };
+  std::vector<Start> starts;
+  {
+    Mesh m = cdt;
+    Report scratch;
+    TriangulateOptions o = options;
+    if (!(o.min_angle_deg > 0.0)) o.min_angle_deg = 20.0;
+    brh_phase(m, o, start, scratch);
+    flip_to_local_minimum(m);
+    starts.push_back({"brh+efh", std::move(m)});
+  }
+  // Large inputs: the BRH start only (each start costs a refinement and a search).
+  if (pslg.points.size() <= 100000) {
+    for (const double angle : {5.0, 10.0, 15.0, 20.0}) {
+      Mesh m = cdt;
+      RefineOptions ro;
+      ro.min_angle_deg = angle;
+      ro.rule = options.steiner;
+      ro.max_steiner = options.max_steiner;
+      refine(m, ro);
+      starts.push_back({"dr" + std::to_string(static_cast<int>(angle)), std::move(m)});
+    }
+    starts.push_back({"dt", cdt});
+  }
+  double best_weight = std::numeric_limits<double>::infinity();
+  std::string best_name;
+  OptimizeStats best_stats;
+  nlohmann::json tried = nlohmann::json::object();
+  for (Start& s : starts) {
+    OptimizeStats os = optimize(s.mesh);
+    tried[s.name] = os.weight_after;
+    if (os.weight_after < best_weight) {
+      best_weight = os.weight_after;
+      best_name = s.name;
+      best_stats = os;
+      best = std::move(s.mesh);
+    }
+  }
+  phase.finish();
+  report.stop_reason = "local minimum";
+  report.extra["optimize"] = {{"start", best_name},
+                              {"starts", tried},
+                              {"rounds", best_stats.rounds},
+                              {"relocations", best_stats.relocations},
+                              {"removals", best_stats.removals},
+                              {"insertions", best_stats.insertions},
+                              {"region_retriangulations", best_stats.region_retriangulations},
+                              {"flips", best_stats.flips},
+                              {"weight_before", best_stats.weight_before},
+                              {"weight_after", best_stats.weight_after}};
+  return best;
+}
+
+}  // namespace
+
+std::string_view method_name(Method method) {
+  switch (method) {
+    case Method::kDt: return "dt";
+    case Method::kDr: return "dr";
+    case Method::kBrh: return "brh";
+    case Method::kQtr: return "qtr";
+    case Method::kOpt: return "opt";
+  }
+  throw InternalError("method_name: unknown method");
+}
+
+std::optional<Method> parse_method(std::string_view name) {
+  for (const Method m : {Method::kDt, Method::kDr, Method::kBrh, Method::kQtr, Method::kOpt}) {
+    if (method_name(m) == name) return m;
+  }
+  return std::nullopt;
+}
+
+std::string_view steiner_rule_name(SteinerRule rule) {
+  switch (rule) {
+    case SteinerRule::kOffCenter: return "offcenter";
+    case SteinerRule::kCircumcenter: return "circumcenter";
+  }
+  throw InternalError("steiner_rule_name: unknown rule");
+}
+
+std::optional<SteinerRule> parse_steiner_rule(std::string_view name) {
+  if (name == "offcenter") return SteinerRule::kOffCenter;
+  if (name == "circumcenter") return SteinerRule::kCircumcenter;
+  return std::nullopt;
+}
+
+std::size_t default_bundle_k(double min_angle_deg) {
+  if (!(min_angle_deg > 0.0)) {
+    throw std::invalid_argument("the default bundle size ceil(4*pi/alpha)+3 needs --min-angle > 0; "
+                                "give --bundle-k");
+  }
+  // 4π/α with α in radians is 720/deg with deg in degrees.
+  return static_cast<std::size_t>(std::ceil(720.0 / min_angle_deg)) + 3;
+}
+
+void check_options(const TriangulateOptions& o) {
+  if (!(o.min_angle_deg >= 0.0 && o.min_angle_deg < 60.0)) {
+    throw std::invalid_argument("--min-angle must be in [0, 60) degrees");
+  }
+  if (std::isnan(o.max_area) || std::isinf(o.max_area)) {
+    throw std::invalid_argument("--max-area must be a finite number");
+  }
+  if (std::isnan(o.time_budget_seconds)) throw std::invalid_argument("the time budget must be a number");
+  if (o.bundle_k == 1 || o.bundle_k == 2) {
+    // Every triangle with a vertex-empty disk inside it is a 1-bundle; two neighbours a 2-bundle.
+    throw std::invalid_argument("--bundle-k must be at least 3 (0 = the default from the angle)");
+  }
+}
+
+double Report::total_seconds() const {
+  double total = 0.0;
+  for (const auto& phase : seconds) total += phase.second;
+  return total;
+}
+
+Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* out) {
+  check_options(options);
+  const Clock::time_point start = Clock::now();
+  Report report;
+  report.input = pslg.source;
+  report.method = std::string(method_name(options.method));
+  report.options = options;
+
+  Mesh mesh;
+  switch (options.method) {
+    case Method::kDt:
+      mesh = constrained_delaunay_phase(pslg, options, report);
+      break;
+    case Method::kDr:
+      mesh = constrained_delaunay_phase(pslg, options, report);
+      refine_phase(mesh, options, start, report);
+      break;
+    case Method::kBrh:
+      mesh = constrained_delaunay_phase(pslg, options, report);
+      brh_phase(mesh, options, start, report);
+      break;
+    case Method::kQtr: {
+      // Quadtree refinement (include/mwst/quadtree.hpp); it cleans the input with the CDT itself.
+      QuadtreeOptions quadtree_options;
+      quadtree_options.convex_hull = options.convex_hull;
+      quadtree_options.strict = options.strict;
+      QuadtreeStats qs;
+      mesh = quadtree_refinement(pslg, quadtree_options, &qs);
+      report.seconds.emplace_back("input", qs.seconds_input);
+      report.seconds.emplace_back("quadtree", qs.seconds_tree);
+      report.seconds.emplace_back("mesh", qs.seconds_mesh);
+      report.seconds.emplace_back("carve", qs.seconds_carve);
+      report.duplicates = qs.input.duplicates;
+      report.crossings = qs.input.crossings;
+      if (qs.input.duplicates > 0) {
+        report.warnings.push_back(plural(qs.input.duplicates, "duplicate point", "duplicate points") + " merged");
+      }
+      if (qs.input.crossings > 0) {
+        report.warnings.push_back("crossing segments split at " +
+                                  plural(qs.input.crossings, "intersection point", "intersection points"));
+      }
+      for (std::string& w : qs.input.warnings) report.warnings.push_back(std::move(w));
+      for (std::string& w : qs.warnings) report.warnings.push_back(std::move(w));
+      report.extra["qtr"] = {{"leaves", qs.leaves},           {"depth", qs.depth},
+                             {"warped", qs.warped},           {"snapped", qs.snapped},
+                             {"crossing_points", qs.crossings}, {"centres", qs.centres},
+                             {"fallback", qs.fallback}};
+      break;
+    }
+    case Method::kOpt:
+      mesh = optimize_phase(pslg, options, start, report);
+      break;
+  }
+  if (options.flip) flip_phase(mesh, report);
+  if (options.bundle) {
+    // The exact bundle number of the result (mwst/bundle.hpp), with a witness disk.
+    Phase bundle_phase(report, "bundle");
+    const BundleResult bundle = bundle_number(mesh);
+    bundle_phase.finish();
+    report.extra["bundle_number"] = bundle.bundle_number;
+    report.extra["bundle_disk"] = {{"x", bundle.disk_center.x}, {"y", bundle.disk_center.y}, {"r", bundle.disk_radius}};
+    report.extra["bundle_circumdisk_bound"] = bundle.circumdisk_bound;
+  }
+
+  Phase measure_phase(report, "measure");
+  const Metrics metrics = measure(mesh);
+  measure_phase.finish();
+  report.vertices = metrics.vertices;
+  report.triangles = metrics.triangles;
+  report.steiner = metrics.steiner;
+  report.weight_total = metrics.weight_total;
+  report.weight_boundary = metrics.weight_boundary;
+  report.weight_interior = metrics.weight_interior;
+  report.min_angle = metrics.min_angle_deg;
+  report.max_angle = metrics.max_angle_deg;
+  if (metrics.triangles == 0) {
+    report.warnings.push_back("the domain is empty: the segments enclose no region outside the holes "
+                              "(--convex-hull keeps the whole hull)");
+  }
+  if (out) *out = std::move(mesh);
+  return report;
+}
+
+nlohmann::json to_json(const Report& r) {
+  const TriangulateOptions& o = r.options;
+  nlohmann::json parameters = {
+      {"min_angle", o.min_angle_deg},
+      {"steiner", std::string(steiner_rule_name(o.steiner))},
+      {"flip", o.flip},
+      {"convex_hull", o.convex_hull},
+      {"strict", o.strict},
+      {"bundle", o.bundle},
+  };
+  if (o.method == Method::kBrh) {
+    parameters["bundle_k"] = o.bundle_k != 0 ? o.bundle_k : default_bundle_k(o.min_angle_deg);
+  }
+  if (o.max_area > 0.0) parameters["max_area"] = o.max_area;
+  if (o.max_steiner != std::numeric_limits<std::size_t>::max()) parameters["max_steiner"] = o.max_steiner;
+  if (o.time_budget_seconds > 0.0) parameters["time_budget"] = o.time_budget_seconds;
+
+  nlohmann::json seconds = nlohmann::json::object();
+  for (const auto& [phase, s] : r.seconds) {
+    // A phase that ran twice (e.g. flips after two methods) adds up.
+    seconds[phase] = seconds.value(phase, 0.0) + s;
+  }
+  seconds["total"] = r.total_seconds();
+
+  nlohmann::json j = {
+      {"input", r.input},
+      {"method", r.method},
+      {"parameters", std::move(parameters)},
+      {"vertices", r.vertices},
+      {"triangles", r.triangles},
+      {"steiner", r.steiner},
+      {"weight_total", r.weight_total},
+      {"weight_boundary", r.weight_boundary},
+      {"weight_interior", r.weight_interior},
+      {"min_angle", r.min_angle},
+      {"max_angle", r.max_angle},
+      {"seconds", std::move(seconds)},
+      {"duplicates", r.duplicates},
+      {"crossings", r.crossings},
+      {"warnings", r.warnings},
+  };
+  if (!r.stop_reason.empty()) j["stop_reason"] = r.stop_reason;
+  if (!r.extra.is_null()) {
+    if (!r.extra.is_object()) throw InternalError("Report::extra must be a JSON object");
+    for (const auto& [key, value] : r.extra.items()) {
+      if (j.contains(key)) throw InternalError("Report::extra key '" + key + "' collides with a report key");
+      j[key] = value;
+    }
+  }
+  return j;
+}
+
+}  // namespace mwst

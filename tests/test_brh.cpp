@@ -1,0 +1,104 @@
+// Tests of the bundle removal heuristic (BRH): its guarantees on every data set — every triangle
+// left below the angle bound A is in no K-bundle (exact pencil sweep), and with K ≥ ⌈4π/A⌉ + 3 the
+// whole mesh is K-bundle-free — plus validity, conformity and a normal stop.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "mwst/brh.hpp"
+#include "mwst/bundle.hpp"
+#include "mwst/delaunay.hpp"
+#include "mwst/io.hpp"
+#include "mwst/metrics.hpp"
+#include "mwst/pipeline.hpp"
+
+namespace mwst {
+namespace {
+
+struct BrhCase {
+  double angle;
+  std::size_t k;  // 0: the default ⌈4π/A⌉ + 3
+};
+
+void check_brh(const std::string& file, BrhCase c) {
+  SCOPED_TRACE(file + " A=" + std::to_string(c.angle) + " K=" + std::to_string(c.k));
+  const Pslg g = io::read_input(file);
+  Mesh m = constrained_delaunay(g);
+  BrhOptions o;
+  o.min_angle_deg = c.angle;
+  o.bundle_k = c.k != 0 ? c.k : default_bundle_k(c.angle);
+  const BrhStats stats = bundle_removal(m, o);
+  EXPECT_EQ(stats.stop_reason, "bound reached");
+  EXPECT_TRUE(validate(m, {.delaunay = true}).empty());
+  BundleOptions bo;
+  bo.per_triangle = true;
+  const BundleResult exact = bundle_number(m, bo);
+  std::size_t skinny = 0;
+  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+    if (!m.in_domain(t)) continue;
+    double a[3];
+    triangle_angles_deg(m, t, a);
+    if (std::min({a[0], a[1], a[2]}) >= c.angle) continue;
+    ++skinny;
+    EXPECT_LT(exact.per_triangle[t], o.bundle_k) << "skinny triangle " << t << " is in a K-bundle";
+  }
+  EXPECT_EQ(skinny, stats.skinny_left);
+  if (o.bundle_k >= default_bundle_k(c.angle)) EXPECT_LT(exact.bundle_number, o.bundle_k);
+}
+
+std::vector<std::string> data_sets() {
+  std::vector<std::string> files;
+  for (const auto& e : std::filesystem::directory_iterator(MWST_DATA_DIR)) {
+    if (e.path().extension() == ".poly") files.push_back(e.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+class BrhDataSet : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(BrhDataSet, SkinnyTrianglesLeftAreInNoKBundle) {
+  for (const BrhCase c : {BrhCase{10.0, 8}, BrhCase{20.0, 15}, BrhCase{20.0, 0}, BrhCase{30.0, 12}}) {
+    check_brh(GetParam(), c);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(DataSets, BrhDataSet, ::testing::ValuesIn(data_sets()),
+                         [](const auto& param_info) {
+                           return std::filesystem::path(param_info.param).stem().string();
+                         });
+
+TEST(Brh, UsesNoMoreSteinerPointsThanDelaunayRefinementInTotal) {
+  // BRH splits only the skinny triangles of K-bundles; over all data sets it must come out with
+  // fewer Steiner points than DR at the same bound.
+  std::size_t brh_total = 0, dr_total = 0;
+  for (const std::string& file : data_sets()) {
+    const Pslg g = io::read_input(file);
+    TriangulateOptions o;
+    o.min_angle_deg = 20.0;
+    o.method = Method::kDr;
+    dr_total += triangulate(g, o).steiner;
+    o.method = Method::kBrh;
+    o.bundle_k = 15;
+    brh_total += triangulate(g, o).steiner;
+  }
+  EXPECT_LT(brh_total, dr_total);
+}
+
+TEST(Brh, LargeKLeavesTheDelaunayTriangulation) {
+  // With K above the bundle number of the CDT nothing is in a K-bundle: BRH changes nothing.
+  const Pslg g = io::read_input(std::string(MWST_DATA_DIR) + "/Africa.poly");
+  Mesh m = constrained_delaunay(g);
+  const std::uint32_t k0 = bundle_number(m).bundle_number;
+  BrhOptions o;
+  o.min_angle_deg = 20.0;
+  o.bundle_k = k0 + 1;
+  const std::size_t before = m.domain_triangle_count();
+  bundle_removal(m, o);
+  EXPECT_EQ(m.domain_triangle_count(), before);
+}
+
+}  // namespace
+}  // namespace mwst
