@@ -33,7 +33,8 @@ struct ConstrainStats {
   std::size_t zero_length = 0;       // segments dropped because both ends coincide
   std::size_t split_by_vertex = 0;   // segments split at a vertex lying inside them
   std::size_t crossings = 0;         // crossing points inserted (new Steiner vertices)
-  std::size_t overlaps = 0;          // collinear overlapping segments merged
+  std::size_t overlaps = 0;          // collinear overlapping segments merged (and repeated segments)
+  std::size_t snapped = 0;           // crossings within rounding of an existing vertex, resolved there
   std::vector<std::string> warnings; // e.g. hole seeds outside the domain or on a segment
   double seconds_delaunay = 0.0;
   double seconds_segments = 0.0;
@@ -52,6 +53,12 @@ Mesh constrained_delaunay(const Pslg& pslg, const ConstrainOptions& options = {}
 // retriangulated (constrained Delaunay). Vertices lying on the open segment split it; the caller
 // must have resolved crossings with other segments (InternalError otherwise).
 void insert_segment(Mesh& mesh, VertexId a, VertexId b, std::int32_t marker);
+
+// Lawson's flip algorithm from a stack of suspect edges: flips every edge that is not locally
+// Delaunay (ghost triangles included) and is not a subsegment, re-examining the four edges around
+// each flip, until none is left. On any triangulation it ends with the constrained Delaunay
+// triangulation of its vertices and subsegments (Lawson 1977; each flip lifts the surface).
+void restore_delaunay(Mesh& mesh, std::vector<Handle>& stack);
 
 // Marks triangles outside the domain with kOutside (see constrained_delaunay).
 void carve(Mesh& mesh, const std::vector<Point>& holes, bool convex_hull,

@@ -16,8 +16,8 @@
 
 namespace mwst {
 namespace detail {
-// Defined in predicates.cpp: the orient2d determinant of (a, b, c) computed exactly and rounded
-// (faithfully) to double. Its sign is exact; it is 0 only for collinear points.
+// Defined in predicates.cpp: the orient2d determinant of (a, b, c) computed exactly and rounded to
+// double (within a few ulps). Its sign is exact; it is 0 only for collinear points.
 double orient2d_value(const Point& a, const Point& b, const Point& c);
 }  // namespace detail
 

@@ -1,7 +1,7 @@
 // src/geometry/predicates.cpp — exact stages of the geometric predicates of mwst/geometry.hpp.
 //
 // Implements detail::orient2d_exact, detail::incircle_exact, compare_squared_lengths,
-// in_diametral_circle and the internal detail::orient2d_value (a faithful approximation of the
+// in_diametral_circle and the internal detail::orient2d_value (an accurate rounding of the
 // orient2d determinant, used by the constructions). Technique: floating-point expansion arithmetic
 // after J. R. Shewchuk, "Adaptive Precision Floating-Point Arithmetic and Fast Robust Geometric
 // Predicates", Discrete & Computational Geometry 18:305–363, 1997 (error-free transformations
@@ -16,10 +16,11 @@
 // transformations below are exact, so the expansions hold the exact value of the determinant, and
 // the sign of a nonoverlapping expansion is the sign of its largest component.
 //
-// The whole file must be compiled with -ffp-contract=off (a contracted a*b-c would break Two-Product
-// in its Dekker form and the filter bounds), and in round-to-nearest-even.
+// The whole file must be compiled with -ffp-contract=off (a contracted a*b-c would break the
+// Dekker form of Two-Product and the filter bounds), and in round-to-nearest-even.
 
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 
 #include "mwst/geometry.hpp"
@@ -27,7 +28,8 @@
 namespace mwst {
 namespace detail {
 // Internal (not in the public header): the orient2d determinant of (a, b, c), computed exactly and
-// rounded to double (faithfully: the error is below about one ulp). Used by constructions.cpp.
+// then rounded to double (within a few ulps; exact sign, 0 only if collinear). Used by
+// constructions.cpp, which repeats this declaration.
 double orient2d_value(const Point& a, const Point& b, const Point& c);
 }  // namespace detail
 
@@ -100,7 +102,6 @@ inline void two_product(double a, double b, double& x, double& y) {
 
 template <int N>
 struct Expansion {
-  static constexpr int kCapacity = N;
   double c[N];
   int n = 0;
   void push(double v) {
@@ -114,7 +115,7 @@ inline int sign_of(const Expansion<N>& e) {
   return e.c[e.n - 1] > 0.0 ? 1 : -1;
 }
 
-// Faithful approximation of the value: components summed from the smallest.
+// Approximation of the value (within a few ulps): components summed from the smallest.
 template <int N>
 inline double estimate(const Expansion<N>& e) {
   double s = 0.0;
@@ -164,19 +165,43 @@ inline int expansion_sum(const double* e, int n, const double* f, int m, double*
   }
   if (m == 1) return grow_expansion(e, n, f[0], h);
   if (n == 1) return grow_expansion(f, m, e[0], h);
+  // Merge by magnitude, written without data-dependent branches (the comparison outcomes are
+  // unpredictable, and mispredictions dominated the cost). Zero elimination by a conditional
+  // advance of the output index.
   int i = 0, j = 0, hn = 0;
-  // Next component in increasing magnitude order.
-  auto next = [&]() -> double {
-    if (i < n && (j >= m || std::fabs(e[i]) < std::fabs(f[j]))) return e[i++];
-    return f[j++];
-  };
-  double q = next();
-  while (i < n || j < m) {
-    const double g = next();
+  double q = 0.0;
+  if (std::fabs(e[0]) < std::fabs(f[0])) {
+    q = e[0];
+    i = 1;
+  } else {
+    q = f[0];
+    j = 1;
+  }
+  while (i < n && j < m) {
+    const double ei = e[i], fj = f[j];
+    const bool take_e = std::fabs(ei) < std::fabs(fj);
+    const double g = take_e ? ei : fj;
+    i += take_e ? 1 : 0;
+    j += take_e ? 0 : 1;
     double sum = 0.0, err = 0.0;
     two_sum(q, g, sum, err);
     q = sum;
-    if (err != 0.0) h[hn++] = err;
+    h[hn] = err;
+    hn += err != 0.0 ? 1 : 0;
+  }
+  for (; i < n; ++i) {
+    double sum = 0.0, err = 0.0;
+    two_sum(q, e[i], sum, err);
+    q = sum;
+    h[hn] = err;
+    hn += err != 0.0 ? 1 : 0;
+  }
+  for (; j < m; ++j) {
+    double sum = 0.0, err = 0.0;
+    two_sum(q, f[j], sum, err);
+    q = sum;
+    h[hn] = err;
+    hn += err != 0.0 ? 1 : 0;
   }
   if (q != 0.0) h[hn++] = q;
   return hn;
@@ -209,7 +234,7 @@ inline int scale_expansion(const double* e, int n, double b, double* h) {
 // Keeps the expansions short before they are multiplied.
 template <int N>
 inline void compress(Expansion<N>& e) {
-  if (e.n < 2) return;
+  if (e.n < 3) return;  // not worth it: short expansions stay short
   double g[N];
   int bottom = e.n;  // g[bottom..e.n) holds the first pass's output, largest first at the bottom
   double q = e.c[e.n - 1];
@@ -270,9 +295,11 @@ inline Expansion<2 * N * M> operator*(const Expansion<N>& e, const Expansion<M>&
     result.n = scale_expansion(f.c, f.n, e.c[0], result.c);
     return result;
   }
+  // Ping-pong between two buffers, starting so that the last sum lands in result.
   Expansion<2 * N * M> other;
-  Expansion<2 * N * M>* acc = &result;
-  Expansion<2 * N * M>* tmp = &other;
+  const bool odd_merges = (f.n - 1) % 2 != 0;
+  Expansion<2 * N * M>* acc = odd_merges ? &other : &result;
+  Expansion<2 * N * M>* tmp = odd_merges ? &result : &other;
   acc->n = scale_expansion(e.c, e.n, f.c[0], acc->c);
   double scaled[2 * N];
   for (int j = 1; j < f.n; ++j) {
@@ -282,11 +309,7 @@ inline Expansion<2 * N * M> operator*(const Expansion<N>& e, const Expansion<M>&
     acc = tmp;
     tmp = t;
   }
-  if (acc != &result) {
-    std::memcpy(result.c, acc->c, sizeof(double) * static_cast<std::size_t>(acc->n));
-    result.n = acc->n;
-  }
-  return result;
+  return result;  // acc == &result here
 }
 
 // Exact orient2d determinant (a.x-c.x)(b.y-c.y) - (a.y-c.y)(b.x-c.x), up to 16 components.

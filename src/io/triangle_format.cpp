@@ -2,15 +2,18 @@
 // .node, .poly and .ele (read_node, read_poly, read_input, parse_node, parse_poly, read_mesh) and
 // the mesh writer (write_mesh). write_file_atomic lives in atomic_file.cpp.
 //
-// Reading: the whole file is read into memory with one read(2) and scanned in place. A Scanner
-// walks the text line by line (memchr for '\n' and '#', so comments and blank lines cost almost
-// nothing) and hands out the fields of the current line; numbers are converted directly from the
-// text with std::from_chars (no iostreams, no copies). Every problem is an InputError naming the
-// file and line. Counts are checked against the size of the file before anything is allocated, so
-// a bogus header can never make us reserve gigabytes.
+// Reading: the whole file is read into memory with one read(2) (into a huge-page-advised buffer
+// when large) and scanned in place. A Scanner walks the text line by line (one memchr per line;
+// '#' ends a line's content wherever it appears) and hands out the fields of the current line;
+// numbers are converted directly from the text with std::from_chars (no iostreams, no copies), with
+// inline fast paths for plain integers and in-range decimals. Every problem is an InputError
+// naming the file and line. Header counts are checked against the size of the file, and storage is
+// reserved only for as many records as the rest of the file can hold, so a bogus header never
+// makes us allocate much. About 0.1 µs per point for a 1M-point .node.
 //
 // Writing: each file is built in one std::string (numbers via std::to_chars, shortest round-trip)
-// and written with write_file_atomic (temporary name, rename).
+// and written with write_file_atomic (temporary name, rename); if a later file of a mesh fails,
+// the earlier ones are removed again.
 #include <fcntl.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
@@ -236,16 +239,22 @@ class Scanner {
     return has_field() ? integer(item, field) : fallback;
   }
 
-  // A count in a section header: non-negative, and no larger than the rest of the file could hold
-  // (every record needs at least two bytes), so that a bogus header never allocates much.
-  std::size_t count(const char* what) {
-    const Item header{"header"};
-    const std::int64_t n = integer(header, what);
+  // A count in a section header: non-negative and not absurd: no larger than the rest of the file
+  // could hold if every record took two bytes.
+  std::size_t count(const char* what) { return check_count(integer(Item{"header"}, what), what); }
+  std::size_t check_count(std::int64_t n, const char* what) const {
     if (n < 0) fail(std::string("negative ") + what + " " + std::to_string(n));
     if (static_cast<std::uint64_t>(n) > remaining() / 2) {
       fail(std::string(what) + " " + std::to_string(n) + " is more than the rest of the file can hold");
     }
     return static_cast<std::size_t>(n);
+  }
+  // How many records of at least `min_record` bytes ("1 0 0\n" is 6) the rest of the file can
+  // really hold: what we reserve for a count of n, so that storage stays within a few times the
+  // file's size even when a header lies (a truncated file is then reported where it ends).
+  std::size_t reservable(std::size_t n, std::size_t min_record) const {
+    const std::size_t fit = (remaining() + 1) / min_record;  // +1: the last line may lack '\n'
+    return n < fit ? n : fit;
   }
 
   // A boundary marker (an int32).
@@ -266,6 +275,7 @@ class Scanner {
     if (s == Status::kOutOfRange || !std::isfinite(v)) {
       fail(item.text() + ": " + field + " " + quote(token()) + " is not a finite double");
     }
+    cur_ = after_;
     return v;
   }
 
@@ -334,7 +344,8 @@ class Scanner {
   }
 
   // Parses the double at cur_: decimal as strtod (without the locale) or C99 hexadecimal
-  // ("0x1.8p3"), with an optional sign. Leaves the end in after_. A number with a non-zero digit
+  // ("0x1.8p3"), with an optional sign. Leaves the end in after_ (cur_ stays at the token, for
+  // messages; the caller advances). A number with a non-zero digit
   // that underflows to zero is out of range.
   Status parse_double(double& v) {
     const char* p = cur_;
@@ -360,7 +371,6 @@ class Scanner {
       }
     }
     if (negative) v = -v;
-    cur_ = after_;
     return Status::kOk;
   }
 
@@ -393,12 +403,11 @@ std::string index_range_text(std::size_t count, int base) {
 std::uint32_t vertex_reference(Scanner& s, const Item& item, const char* field, std::size_t count,
                                int base) {
   const std::int64_t v = s.integer(item, field);
-  const std::int64_t i = v - base;
-  if (v < base || i >= static_cast<std::int64_t>(count)) {
+  if (v < base || v - base >= static_cast<std::int64_t>(count)) {  // (v - base cannot overflow)
     s.fail(item.text() + " names vertex " + std::to_string(v) + ", which does not exist (" +
            index_range_text(count, base) + ")");
   }
-  return static_cast<std::uint32_t>(i);
+  return static_cast<std::uint32_t>(v - base);
 }
 
 // The index at the start of a record: the first one decides the base (0 or 1), the rest must
@@ -422,9 +431,10 @@ std::int64_t record_index(Scanner& s, const char* kind, std::size_t ordinal, int
 // Returns the count from the header; with count 0 nothing more is read.
 std::size_t read_vertex_section(Scanner& s, Pslg& out) {
   const Item header{"header"};
-  const std::size_t n = s.count("vertex count");
+  const std::int64_t declared = s.integer(header, "vertex count");
   const std::int64_t dim = s.optional_integer(header, "dimension", 2);
   if (dim != 2) s.fail("dimension must be 2, found " + std::to_string(dim));
+  const std::size_t n = s.check_count(declared, "vertex count");
   const std::int64_t nattr = s.optional_integer(header, "attribute count", 0);
   if (nattr < 0) s.fail("negative attribute count " + std::to_string(nattr));
   const std::int64_t nmarkers = s.optional_integer(header, "marker count", 0);
@@ -432,8 +442,8 @@ std::size_t read_vertex_section(Scanner& s, Pslg& out) {
   if (n == 0) return 0;
   if (n >= kInfinite) s.fail("vertex count " + std::to_string(n) + " is too large");
 
-  out.points.reserve(n);
-  out.point_markers.reserve(n);
+  out.points.reserve(s.reservable(n, 6));
+  out.point_markers.reserve(s.reservable(n, 6));
   int base = -1;
   for (std::size_t i = 0; i < n; ++i) {
     if (!s.next_line()) truncated(s, n, i, "vertices");
@@ -507,8 +517,8 @@ Pslg parse_poly_text(std::string_view text, const std::string& name, const Pslg*
   {
     const std::size_t m = s.count("segment count");
     const bool markers = s.optional_integer(Item{"header"}, "marker flag", 0) != 0;
-    out.segments.reserve(m);
-    out.segment_lines.reserve(m);
+    out.segments.reserve(s.reservable(m, 6));
+    out.segment_lines.reserve(s.reservable(m, 6));
     for (std::size_t i = 0; i < m; ++i) {
       if (!s.next_line()) truncated(s, m, i, "segments");
       const std::int64_t index = s.integer(Item{"segment", static_cast<std::int64_t>(i) + base}, "index");
@@ -526,7 +536,7 @@ Pslg parse_poly_text(std::string_view text, const std::string& name, const Pslg*
   if (!s.next_line()) return out;
   {
     const std::size_t h = s.count("hole count");
-    out.holes.reserve(h);
+    out.holes.reserve(s.reservable(h, 6));
     for (std::size_t i = 0; i < h; ++i) {
       if (!s.next_line()) truncated(s, h, i, "holes");
       const std::int64_t index = s.integer(Item{"hole", static_cast<std::int64_t>(i) + base}, "index");
@@ -542,7 +552,7 @@ Pslg parse_poly_text(std::string_view text, const std::string& name, const Pslg*
   if (!s.next_line()) return out;
   {
     const std::size_t r = s.count("region count");
-    out.regions.reserve(r);
+    out.regions.reserve(s.reservable(r, 8));
     for (std::size_t i = 0; i < r; ++i) {
       if (!s.next_line()) truncated(s, r, i, "regions");
       const std::int64_t index = s.integer(Item{"region", static_cast<std::int64_t>(i) + base}, "index");
@@ -574,7 +584,7 @@ std::vector<std::array<std::uint32_t, 3>> parse_ele_text(std::string_view text, 
   const std::int64_t nattr = s.optional_integer(header, "attribute count", 0);
   if (nattr < 0) s.fail("negative attribute count " + std::to_string(nattr));
   std::vector<std::array<std::uint32_t, 3>> triangles;
-  triangles.reserve(t);
+  triangles.reserve(s.reservable(t, 8));
   int tri_base = -1;
   for (std::size_t i = 0; i < t; ++i) {
     if (!s.next_line()) truncated(s, t, i, "triangles");

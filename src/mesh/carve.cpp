@@ -12,7 +12,13 @@ namespace mwst {
 namespace {
 
 std::string point_text(const Point& p) {
-  return "(" + std::to_string(p.x) + ", " + std::to_string(p.y) + ")";
+  // Appended piece by piece: "(" + std::string&& trips GCC 12's -Wrestrict false positive (-Werror).
+  std::string s = "(";
+  s += std::to_string(p.x);
+  s += ", ";
+  s += std::to_string(p.y);
+  s += ')';
+  return s;
 }
 
 }  // namespace

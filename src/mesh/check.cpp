@@ -55,7 +55,15 @@ std::string number(double v) {
   std::snprintf(buf, sizeof buf, "%.17g", v);
   return buf;
 }
-std::string point_text(const Point& p) { return "(" + number(p.x) + ", " + number(p.y) + ")"; }
+std::string point_text(const Point& p) {
+  // Appended piece by piece: "(" + std::string + ... trips GCC 12's -Wrestrict false positive.
+  std::string s = "(";
+  s += number(p.x);
+  s += ", ";
+  s += number(p.y);
+  s += ')';
+  return s;
+}
 
 // Angle (degrees) at p between the rays to q and r; atan2 of cross and dot is accurate for tiny
 // and near-straight angles alike.

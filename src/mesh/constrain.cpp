@@ -11,6 +11,7 @@
 // crossing segments are split at their (rounded) intersection point, or refused with --strict.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <unordered_map>
 
 #include "mwst/delaunay.hpp"
@@ -69,10 +70,15 @@ void retriangulate(const Mesh& m, VertexId a, VertexId b, const std::vector<Vert
     const Task t = tasks.back();
     tasks.pop_back();
     if (t.lo == t.hi) continue;
+    // A chain may pass a vertex twice (see insert_segment_step); an entry equal to an end of the
+    // base is never a candidate.
     std::size_t best = t.lo;
+    while (best < t.hi && (chain[best] == t.a || chain[best] == t.b)) ++best;
+    if (best == t.hi) throw InternalError("insert_segment: degenerate cavity chain");
     const Point& pa = m.points[t.a];
     const Point& pbb = m.points[t.b];
-    for (std::size_t i = t.lo + 1; i < t.hi; ++i) {
+    for (std::size_t i = best + 1; i < t.hi; ++i) {
+      if (chain[i] == t.a || chain[i] == t.b) continue;
       if (incircle(pa, pbb, m.points[chain[best]], m.points[chain[i]]) > 0) best = i;
     }
     const VertexId c = chain[best];
@@ -184,6 +190,22 @@ SegmentStep insert_segment_step(Mesh& m, Handle start, VertexId b, std::int32_t 
   std::unordered_map<std::uint64_t, Outer> outer_map;
   outer_map.reserve(outer.size() * 2);
   for (const auto& [key, oh] : outer) outer_map.emplace(key, Outer{oh, m.is_segment(oh), m.marker(oh)});
+  // A vertex whose whole star is crossed (it lies on one side, but the segment passes around it)
+  // hangs into the cavity by an edge whose two triangles are both in the cavity: the chain walks
+  // that edge out and back, so it was recorded in both directions. It is inside the cavity, not on
+  // its border: its new triangles are linked to each other below (and keep its segment mark).
+  std::vector<std::pair<std::uint64_t, std::int32_t>> inner_segments;
+  for (const auto& entry : outer) {
+    const std::uint64_t reverse = (entry.first << 32) | (entry.first >> 32);
+    const auto it = outer_map.find(reverse);
+    if (it == outer_map.end()) continue;
+    if (it->second.segment) {
+      const auto u = static_cast<VertexId>(entry.first >> 32), v = static_cast<VertexId>(entry.first);
+      inner_segments.emplace_back(undirected_key(u, v), it->second.marker);
+    }
+    outer_map.erase(it);
+    outer_map.erase(entry.first);
+  }
   // Reuse the cavity's slots.
   std::unordered_map<std::uint64_t, Handle> inner;
   inner.reserve(tris.size() * 4);
@@ -217,6 +239,14 @@ SegmentStep insert_segment_step(Mesh& m, Handle start, VertexId b, std::int32_t 
     }
   }
   if (!inner.empty()) throw InternalError("insert_segment: unmatched cavity edge");
+  for (const auto& [key, mark] : inner_segments) {
+    for (const TriangleId t : cavity) {
+      for (unsigned e = 0; e < 3; ++e) {
+        const Handle he = make_handle(t, e);
+        if (undirected_key(m.org(he), m.dest(he)) == key) m.set_segment(he, mark);
+      }
+    }
+  }
   m.set_segment(result_hint, marker);
   step.kind = end == b ? SegmentStep::Kind::kDone : SegmentStep::Kind::kVertex;
   step.vertex = end;
@@ -312,22 +342,54 @@ class SegmentInserter {
     }
     const std::int32_t other_marker = m_.marker(crossed);
     const Point x = segment_intersection(m_.points[from], m_.points[p.b], m_.points[c], m_.points[d]);
-    // Unmark cd, insert the crossing point as a Steiner vertex, then re-insert the four pieces.
-    m_.clear_segment(crossed);
-    segment_of_edge_.erase(undirected_key(c, d));
-    VertexId v = m_.add_vertex(x, VertexKind::kSteinerOnSegment, 0);
-    const VertexId got = m_.insert_vertex(v, crossed, &hint_);
-    if (got != v) {
-      // The rounded point coincides with an existing vertex: use it, drop the new one.
-      m_.points.pop_back();
-      m_.vertex_kind.pop_back();
-      m_.vertex_marker.pop_back();
-      v = got;
-      --stats_.crossings;
-    }
     auto queue = [&](VertexId u, VertexId w, std::int32_t marker, std::uint32_t id) {
       if (u != w) pending_.push_back({u, w, marker, id});
     };
+    // A crossing point within a few hundred ulps of an endpoint of either piece is that endpoint.
+    // Otherwise nearly coincident chains (a segment given twice, overlapping near-collinear
+    // segments) make each rounded crossing point cross the other chain again, one ulp further on.
+    const Point& pf = m_.points[from];
+    const Point& pb = m_.points[p.b];
+    const double scale = std::max({std::fabs(x.x), std::fabs(x.y), distance(pf, pb),
+                                   distance(m_.points[c], m_.points[d])});
+    double nearest = 256.0 * 0x1p-52 * scale;
+    VertexId snap = kNone;
+    for (const VertexId w : {c, d, from, p.b}) {
+      const double dist = distance(x, m_.points[w]);
+      if (dist <= nearest) {
+        nearest = dist;
+        snap = w;
+      }
+    }
+    if (snap == c || snap == d) {
+      // The piece passes (within rounding) through an end of the crossed subsegment: split the
+      // piece there and leave the subsegment alone.
+      --stats_.crossings;
+      ++stats_.snapped;
+      queue(snap, p.b, p.marker, p.id);
+      queue(from, snap, p.marker, p.id);
+      return;
+    }
+    // Unmark cd; it is re-inserted in two pieces through the crossing vertex.
+    m_.clear_segment(crossed);
+    segment_of_edge_.erase(undirected_key(c, d));
+    VertexId v = snap;
+    if (snap != kNone) {
+      --stats_.crossings;
+      ++stats_.snapped;
+    } else {
+      v = m_.add_vertex(x, VertexKind::kSteinerOnSegment, 0);
+      const VertexId got = m_.insert_vertex(v, crossed, &hint_);
+      if (got != v) {
+        // The rounded point coincides with an existing vertex: use it, drop the new one.
+        m_.points.pop_back();
+        m_.vertex_kind.pop_back();
+        m_.vertex_marker.pop_back();
+        v = got;
+        --stats_.crossings;
+        ++stats_.snapped;
+      }
+    }
     queue(v, p.b, p.marker, p.id);
     queue(from, v, p.marker, p.id);
     queue(v, d, other_marker, other_id);
@@ -384,6 +446,17 @@ Mesh constrained_delaunay(const Pslg& pslg, const ConstrainOptions& options, Con
     }
     any_segment = true;
     inserter.insert(a, b, s.marker, i);
+  }
+  if (stats.crossings > 0 || stats.snapped > 0) {
+    // Un-marking a crossed subsegment and re-inserting it through a rounded crossing point can
+    // leave edges near it that only the old subsegment made legal: restore the constrained
+    // Delaunay property everywhere by Lawson flips (subsegments are never flipped).
+    std::vector<Handle> all;
+    for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+      if (m.is_dead(t)) continue;
+      for (unsigned e = 0; e < 3; ++e) all.push_back(make_handle(t, e));
+    }
+    restore_delaunay(m, all);
   }
   const auto t2 = Clock::now();
   if (any_segment || !pslg.holes.empty()) {

@@ -229,23 +229,6 @@ Degeneracy build_incremental(Mesh& m, std::vector<VertexId>& kept) {
   return Degeneracy::kValid;
 }
 
-// Lawson's flip algorithm from a stack of suspect edges: flips every edge that is not locally
-// Delaunay (ghosts included) and re-examines the four edges around each flip. Terminates on any
-// triangulation (each flip lifts the triangulation on the paraboloid; Lawson 1977).
-void restore_delaunay(Mesh& m, std::vector<Handle>& stack) {
-  while (!stack.empty()) {
-    const Handle h = stack.back();
-    stack.pop_back();
-    if (!m.is_locally_non_delaunay(h)) continue;
-    const Handle diag = m.flip(h);  // d→c in (c, a, d); the other triangle is (d, b, c)
-    const Handle other = m.sym(diag);
-    stack.push_back(Mesh::lnext(diag));
-    stack.push_back(Mesh::lprev(diag));
-    stack.push_back(Mesh::lnext(other));
-    stack.push_back(Mesh::lprev(other));
-  }
-}
-
 // Merges the Delaunay triangulation `right` into `left`, where every point of right lies strictly
 // right (larger x) of every point of left. Right's vertex ids are offset by left's vertex count.
 // The two hulls are joined by a ladder of triangles between their facing chains, built upwards
@@ -412,6 +395,20 @@ void merge_halves(Mesh& left, Mesh&& right) {
 }
 
 }  // namespace
+
+void restore_delaunay(Mesh& m, std::vector<Handle>& stack) {
+  while (!stack.empty()) {
+    const Handle h = stack.back();
+    stack.pop_back();
+    if (m.is_dead(h >> 2) || m.is_segment(h) || !m.is_locally_non_delaunay(h)) continue;
+    const Handle diag = m.flip(h);  // d→c in (c, a, d); the other triangle is (d, b, c)
+    const Handle other = m.sym(diag);
+    stack.push_back(Mesh::lnext(diag));
+    stack.push_back(Mesh::lprev(diag));
+    stack.push_back(Mesh::lnext(other));
+    stack.push_back(Mesh::lprev(other));
+  }
+}
 
 Mesh delaunay(std::vector<Point> points, DelaunayStats* stats) {
   using Clock = std::chrono::steady_clock;

@@ -1,0 +1,1283 @@
+// src/algorithms/bundle.cpp — the exact bundle number of a triangulation (mwst/bundle.hpp).
+//
+// Boyacı, Erten, Üngör, "Triangulations Loosing Bundles and Weight" define k-bundles (k triangles
+// whose interiors meet one vertex-empty open disk) and prove that a k-bundle-free triangulation
+// respecting the local feature size weighs O(1)·MWST. This file measures the largest bundle exactly,
+// following the method of ALGORITHMS.md ("Exact bundle number of a triangulation").
+//
+// Geometry of one pencil. Let pq be an edge of DT(V), V the vertices of the triangulation T. In
+// local coordinates p = (−1, 0), q = (1, 0) the disk D_s has centre (0, s) and radius √(1 + s²).
+// With f(x) = (|x|² − 1) / (2 x₂), a point x above the line (x₂ > 0) lies in D_s iff s > f(x), and
+// one below iff s < f(x): the upper part of D_s grows with s, the lower part shrinks. D_s contains
+// no vertex iff s_lo ≤ s ≤ s_hi, the values of f at the apices of the two Delaunay triangles on pq
+// (−∞ / +∞ on a hull side). D_s always contains the open chord pq. So a triangle t of T
+//   - meets every D_s if the closed t meets the open chord pq ("always");
+//   - otherwise meets D_s iff s > a_t (a_t = inf of f over t above the line) or s < b_t (b_t = sup
+//     of f over t below the line).
+// f has no critical point, so a_t is reached on t's boundary: at a vertex (but every vertex above
+// the line has f ≥ s_hi, so vertices never matter), in the limit at p or q along an edge of t
+// incident to p or q (the pencil circle tangent to that edge at p or q; along such an edge f is
+// linear, so nothing else of it matters), or at an interior point of an edge where a pencil circle
+// is tangent to it. That last case happens iff f decreases into the edge from each end that is a
+// vertex above the line (an end where the edge crosses the line outside the chord has f = +∞), i.e.
+// iff the edge direction at each such end u enters the circle through p, q and u — an exact
+// predicate of degree 4. f restricted to a line is convex on the part above the line when the line
+// crosses the line pq outside the chord (or is parallel to it) and concave when it crosses the
+// chord, so the tangency, when it exists, is the minimum.
+//
+// Thresholds are rational in the coordinates except the tangencies: s_lo, s_hi (circle through a
+// vertex x: s = (x−p)·(x−q) / orient(p, q, x)) and the tangents at p or q (s = (x−p)·(p−q) / orient
+// and (x−q)·(q−p) / orient). Their rounded values carry a rigorous error bound; when two of them are
+// too close to order by their values they are compared exactly (expansion arithmetic,
+// algorithms/expansion.hpp). Exact ties are common in meshes (grids, collinear edges: the tangent
+// at p along an edge above the line equals the tangent along the collinear edge below it, and then
+// no disk meets both triangles). Tangencies to edge interiors are ordered by their rounded values.
+//
+// Sweep. The events (a_t, b_t, s_lo, s_hi) are sorted and grouped into classes of equal value; the
+// count on the open interval between consecutive classes is (always) + #{a_t below} + #{b_t above}.
+// Only open intervals inside (s_lo, s_hi) are needed: the triangles met by the end disk D_{s_lo}
+// are also met by D_s for s slightly above s_lo (and likewise at s_hi), and when s_lo = s_hi
+// (cocircular vertices) the only disk is a circumdisk, which is the end of another pencil.
+//
+// Candidates. Every disk of the pencil lies in D_{s_lo} ∪ D_{s_hi}, the circumdisks of the two
+// Delaunay triangles on pq. For each Delaunay triangle we flood over the mesh — across holes and
+// concavities through its carved-away triangles, which is why a Mesh covering the convex hull is
+// used — collecting the triangles whose edges meet the circumdisk (a permissive floating-point
+// test: the incircle determinant is a concave quadratic along an edge; a superset is harmless).
+//
+// Work. A pencil's candidates are classified edge by edge, each edge once for both triangles on it.
+// Without per-triangle values, a pencil with no more candidates than the best count so far is
+// skipped. Vertices are renumbered along a Morton curve for locality; floods and pencils are split
+// over worker threads in contiguous ranges and merged deterministically (largest count, ties to the
+// first pencil, which no thread ever skips).
+#include "mwst/bundle.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <memory>
+#include <string>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "algorithms/expansion.hpp"
+#include "mwst/delaunay.hpp"
+#include "mwst/error.hpp"
+#include "mwst/pslg.hpp"
+
+namespace mwst {
+
+namespace {
+
+constexpr double kEps = detail::kEpsilon;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// ---- floating-point values with error bounds ------------------------------------------------
+
+struct Approx {
+  double value = 0.0;
+  double error = 0.0;  // |value − exact| ≤ error
+};
+
+// The incircle determinant of geometry.hpp (positive inside the circle through the
+// counter-clockwise a, b, c), rounded, with Shewchuk's first-stage error bound. As a function of d
+// it equals orient(a, b, c) · (r² − |d − centre|²).
+Approx incircle_approx(const Point& a, const Point& b, const Point& c, const Point& d) {
+  const double adx = a.x - d.x, ady = a.y - d.y;
+  const double bdx = b.x - d.x, bdy = b.y - d.y;
+  const double cdx = c.x - d.x, cdy = c.y - d.y;
+  const double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
+  const double alift = adx * adx + ady * ady;
+  const double cdxady = cdx * ady, adxcdy = adx * cdy;
+  const double blift = bdx * bdx + bdy * bdy;
+  const double adxbdy = adx * bdy, bdxady = bdx * ady;
+  const double clift = cdx * cdx + cdy * cdy;
+  const double det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady);
+  const double permanent = (std::fabs(bdxcdy) + std::fabs(cdxbdy)) * alift +
+                           (std::fabs(cdxady) + std::fabs(adxcdy)) * blift +
+                           (std::fabs(adxbdy) + std::fabs(bdxady)) * clift;
+  return {det, detail::kIncircleBound * permanent};
+}
+
+// The orient2d determinant of (a, b, c), rounded, with an error bound; recomputed exactly (and
+// rounded once) when the filter cannot vouch for its sign.
+Approx orient_approx(const Point& a, const Point& b, const Point& c) {
+  const double l = (a.x - c.x) * (b.y - c.y);
+  const double r = (a.y - c.y) * (b.x - c.x);
+  const double det = l - r;
+  const double bound = detail::kOrientBound * (std::fabs(l) + std::fabs(r));
+  if (std::fabs(det) > bound) return {det, bound};
+  using namespace exact;
+  const auto e = difference(a.x, c.x) * difference(b.y, c.y) - difference(a.y, c.y) * difference(b.x, c.x);
+  const double v = estimate(e);
+  return {v, 4.0 * kEps * std::fabs(v)};
+}
+
+// Does the segment from u towards w, at u, enter the open disk bounded by the circle through p, q
+// and u? +1 enters, −1 leaves, 0 tangent. `orient_pqu` = orient2d(p, q, u) ≠ 0. With p' = p − u,
+// q' = q − u, e = w − u, the centre of that circle is u + c' with
+// c' · 2 cross(p', q') = |p'|² (q'⊥) − |q'|² (p'⊥), so the sign of e · c' is the sign of
+// (|p'|² cross(e, q') − |q'|² cross(e, p')) · orient(p, q, u): the incircle determinant without its
+// |e|² term (its derivative at u). Filtered, then exact.
+int enters_circle(const Point& p, const Point& q, const Point& u, const Point& w, int orient_pqu) {
+  const double pux = p.x - u.x, puy = p.y - u.y;
+  const double qux = q.x - u.x, quy = q.y - u.y;
+  const double ex = w.x - u.x, ey = w.y - u.y;
+  const double plift = pux * pux + puy * puy;
+  const double qlift = qux * qux + quy * quy;
+  const double exquy = ex * quy, eyqux = ey * qux;
+  const double expuy = ex * puy, eypux = ey * pux;
+  const double det = plift * (exquy - eyqux) - qlift * (expuy - eypux);
+  const double permanent = plift * (std::fabs(exquy) + std::fabs(eyqux)) +
+                           qlift * (std::fabs(expuy) + std::fabs(eypux));
+  // Two of the three terms of incircle, same structure: incircle's bound covers it.
+  const double bound = detail::kIncircleBound * permanent;
+  int s = 0;
+  if (det > bound) {
+    s = 1;
+  } else if (-det > bound) {
+    s = -1;
+  } else {
+    using namespace exact;
+    const Expansion<2> epx = difference(p.x, u.x), epy = difference(p.y, u.y);
+    const Expansion<2> eqx = difference(q.x, u.x), eqy = difference(q.y, u.y);
+    const Expansion<2> eex = difference(w.x, u.x), eey = difference(w.y, u.y);
+    Expansion<16> pl = epx * epx + epy * epy;
+    Expansion<16> ql = eqx * eqx + eqy * eqy;
+    Expansion<16> cq = eex * eqy - eey * eqx;
+    Expansion<16> cp = eex * epy - eey * epx;
+    compress(pl);
+    compress(ql);
+    compress(cq);
+    compress(cp);
+    s = sign(pl * cq - ql * cp);
+  }
+  return s * orient_pqu;
+}
+
+// ---- thresholds of one pencil -----------------------------------------------------------------
+
+enum class Kind : std::uint8_t {
+  kThroughVertex,  // the pencil circle through vertex x (s_lo, s_hi)
+  kTangentAtP,     // the pencil circle tangent at p to the edge p→x
+  kTangentAtQ,     // the pencil circle tangent at q to the edge q→x
+  kTangentToEdge,  // the pencil circle tangent to an edge at an interior point (irrational)
+};
+
+struct Threshold {
+  double value = 0.0;
+  double error = 0.0;  // rigorous bound for the rational kinds; 0 for kTangentToEdge
+  VertexId xv = kNone; // the vertex defining a rational threshold
+  Kind kind = Kind::kTangentToEdge;
+};
+
+struct Pencil {
+  Point p, q;
+  VertexId pv = kNone, qv = kNone;
+  double bx = 0.0, by = 0.0;        // q − p, rounded
+  double local_scale = 0.0;         // 2 / |q − p|²
+  const Point* points = nullptr;    // vertex coordinates, for the exact comparisons
+};
+
+// Numerator and denominator of a rational threshold, exactly: s = N / D with D = orient(p, q, x).
+void rational_exact(const Pencil& pc, Kind kind, const Point& x, exact::Expansion<16>& num,
+                    exact::Expansion<16>& den) {
+  using namespace exact;
+  const Expansion<2> bx = difference(pc.q.x, pc.p.x), by = difference(pc.q.y, pc.p.y);
+  const Expansion<2> dpx = difference(x.x, pc.p.x), dpy = difference(x.y, pc.p.y);
+  den = bx * dpy - by * dpx;
+  switch (kind) {
+    case Kind::kThroughVertex: {
+      const Expansion<2> dqx = difference(x.x, pc.q.x), dqy = difference(x.y, pc.q.y);
+      num = dpx * dqx + dpy * dqy;
+      break;
+    }
+    case Kind::kTangentAtP:
+      num = -(dpx * bx + dpy * by);
+      break;
+    case Kind::kTangentAtQ: {
+      const Expansion<2> dqx = difference(x.x, pc.q.x), dqy = difference(x.y, pc.q.y);
+      num = dqx * bx + dqy * by;
+      break;
+    }
+    case Kind::kTangentToEdge:
+      throw InternalError("bundle: rational_exact on a tangency threshold");
+  }
+  compress(num);
+  compress(den);
+}
+
+// A rational threshold: the pencil circle through x (kThroughVertex) or tangent at p / q to the
+// edge towards x. x must not lie on the line pq.
+//   through x:          centre c with |c − p| = |c − x|  ⇒ s = (x−p)·(x−q) / cross(q−p, x−p)
+//   tangent at p to px: (c − p)·(x − p) = 0             ⇒ s = (x−p)·(p−q) / cross(q−p, x−p)
+//   tangent at q to qx: (c − q)·(x − q) = 0             ⇒ s = (x−q)·(q−p) / cross(q−p, x−p)
+Threshold rational_threshold(const Pencil& pc, Kind kind, VertexId xv, const Point& x) {
+  Threshold t;
+  t.kind = kind;
+  t.xv = xv;
+  const double dpx = x.x - pc.p.x, dpy = x.y - pc.p.y;
+  const double d1 = pc.bx * dpy, d2 = pc.by * dpx;
+  const double den = d1 - d2;
+  const double den_abs = std::fabs(d1) + std::fabs(d2);
+  double n1 = 0.0, n2 = 0.0;
+  if (kind == Kind::kTangentAtP) {
+    n1 = -(dpx * pc.bx);
+    n2 = -(dpy * pc.by);
+  } else {
+    const double dqx = x.x - pc.q.x, dqy = x.y - pc.q.y;
+    if (kind == Kind::kThroughVertex) {
+      n1 = dpx * dqx;
+      n2 = dpy * dqy;
+    } else {
+      n1 = dqx * pc.bx;
+      n2 = dqy * pc.by;
+    }
+  }
+  const double num = n1 + n2;
+  const double num_abs = std::fabs(n1) + std::fabs(n2);
+  // Each of num, den is within 4ε of its absolute sum (rounded differences, products, one sum);
+  // while |den| > 8ε·den_abs, |N/D − num/den| ≤ 8ε(num_abs + |s|·den_abs)/|den|, plus the division.
+  // Accept only well-conditioned quotients, so that error windows stay narrow.
+  if (std::fabs(den) > 1e-4 * den_abs) {
+    t.value = num / den;
+    t.error = 9.0 * kEps * (num_abs + std::fabs(t.value) * den_abs) / std::fabs(den) +
+              2.0 * kEps * std::fabs(t.value);
+    return t;
+  }
+  exact::Expansion<16> en, ed;
+  rational_exact(pc, kind, x, en, ed);
+  t.value = exact::estimate(en) / exact::estimate(ed);
+  t.error = 8.0 * kEps * std::fabs(t.value);
+  return t;
+}
+
+// The exact comparison of two rational thresholds (see compare_thresholds).
+[[gnu::noinline]] int compare_rational_exact(const Pencil& pc, const Threshold& a, const Threshold& b) {
+  using namespace exact;
+  Expansion<16> na, da, nb, db;
+  rational_exact(pc, a.kind, pc.points[a.xv], na, da);
+  rational_exact(pc, b.kind, pc.points[b.xv], nb, db);
+  // a − b = (na·db − nb·da) / (da·db).
+  const int s = sign(na * db - nb * da);
+  return s * sign(da) * sign(db);
+}
+
+// −1, 0, +1 as a < b, a = b, a > b: exact unless a tangency threshold is involved (then by the
+// rounded values).
+inline int compare_thresholds(const Pencil& pc, const Threshold& a, const Threshold& b,
+                              std::size_t& exact_count) {
+  const double gap = a.value - b.value;
+  const double window = a.error + b.error;
+  if (gap > window) return 1;
+  if (-gap > window) return -1;
+  if (a.kind == Kind::kTangentToEdge || b.kind == Kind::kTangentToEdge) return (gap > 0.0) - (gap < 0.0);
+  if (a.kind == b.kind && a.xv == b.xv) return 0;
+  ++exact_count;
+  return compare_rational_exact(pc, a, b);
+}
+
+// The minimum of f over the part above the line of the segment u→w (local coordinates, u₂ > 0),
+// given that it lies inside the segment (a pencil circle tangent to it). Along x = u + λe,
+// f' = 0 iff A λ² + B λ + C = 0 with A = |e|² e₂, B = 2 |e|² u₂, C = 2 u₂ (u·e) − e₂ (|u|² − 1).
+double tangency_minimum(const Point& u, const Point& w) {
+  const double ex = w.x - u.x, ey = w.y - u.y;
+  const double lambda_end = w.y > 0.0 ? 1.0 : u.y / (u.y - w.y);
+  const double e2 = ex * ex + ey * ey;
+  const double qa = e2 * ey;
+  const double qb = 2.0 * e2 * u.y;
+  const double qc = 2.0 * u.y * (u.x * ex + u.y * ey) - ey * ((u.x * u.x + u.y * u.y) - 1.0);
+  double best = kInf;
+  auto consider = [&](double lambda) {
+    if (!(lambda > 0.0)) lambda = 0.0;
+    if (lambda > lambda_end) lambda = lambda_end;
+    const double x = u.x + lambda * ex, y = u.y + lambda * ey;
+    if (!(y > 0.0)) return;
+    best = std::min(best, ((x * x + y * y) - 1.0) / (2.0 * y));
+  };
+  if (qa == 0.0) {
+    consider(-qc / qb);
+  } else {
+    const double disc = std::max(qb * qb - 4.0 * qa * qc, 0.0);
+    const double root = std::sqrt(disc);
+    const double qq = -0.5 * (qb + std::copysign(root, qb));  // qb > 0: no cancellation
+    consider(qq / qa);
+    if (qq != 0.0) consider(qc / qq);
+  }
+  if (best == kInf) consider(0.0);  // cannot happen unless rounding pushed both roots away
+  return best;
+}
+
+// ---- data shared by the workers -----------------------------------------------------------------
+
+// Morton (Z-order) key, 30 bits, of the cell of (x, y) in a 2^15 × 2^15 grid over the bounding box.
+std::uint32_t morton_key(const Point& p, double x0, double y0, double scale) {
+  auto cell = [scale](double v, double v0) {
+    const double c = (v - v0) * scale;
+    return static_cast<std::uint32_t>(std::clamp(c, 0.0, 32767.0));
+  };
+  auto spread = [](std::uint32_t v) {
+    v = (v | (v << 8)) & 0x00FF00FFu;
+    v = (v | (v << 4)) & 0x0F0F0F0Fu;
+    v = (v | (v << 2)) & 0x33333333u;
+    v = (v | (v << 1)) & 0x55555555u;
+    return v;
+  };
+  return spread(cell(p.x, x0)) | (spread(cell(p.y, y0)) << 1);
+}
+
+// What every worker reads: the mesh with its vertices renumbered along a Morton curve (so that the
+// per-vertex scratch of neighbouring pencils is close in memory), DT(V), the candidate list of
+// every Delaunay triangle, and the pencils (one Delaunay edge each).
+struct Shared {
+  explicit Shared(const Mesh& mesh) : m(mesh) {}
+
+  const Mesh& m;
+  std::vector<Point> pts;                   // by renumbered vertex id
+  struct Slot {
+    std::array<VertexId, 3> v;  // corners, renumbered (kInfinite for ghosts and dead slots)
+    std::array<Handle, 3> n;    // neighbours, as in Triangle::n
+  };
+  std::vector<Slot> slots;      // every mesh slot
+  std::vector<Handle> vertex_edge;          // renumbered id → a mesh edge leaving the vertex
+  std::uint32_t used = 0;                   // ids [0, used) are the vertices of T, and DT ids
+  Mesh dt;
+  std::vector<std::uint32_t> list_begin;    // per DT slot: its candidates in `list`
+  std::vector<TriangleId> list;
+  std::vector<Handle> pencils;              // per Delaunay edge: a DT handle with a finite left side
+
+  Handle sym(Handle h) const { return slots[h >> 2].n[h & 3]; }
+  VertexId org(Handle h) const { return slots[h >> 2].v[next3(h & 3)]; }
+  VertexId dest(Handle h) const { return slots[h >> 2].v[prev3(h & 3)]; }
+  VertexId apex(Handle h) const { return slots[h >> 2].v[h & 3]; }
+  Handle onext(Handle h) const { return sym(Mesh::lprev(h)); }
+  bool is_ghost(TriangleId t) const {
+    const auto& v = slots[t].v;
+    return v[0] == kInfinite || v[1] == kInfinite || v[2] == kInfinite;
+  }
+
+  // Renumbers, builds DT(V) and lists the pencils. False if T has no triangle.
+  bool build() {
+    const std::size_t nv = m.points.size();
+    std::vector<std::uint8_t> state(nv, 0);  // 1: corner of a live triangle, 2: vertex of T
+    bool any = false;
+    for (TriangleId t = 0; t < m.triangle_slots(); ++t) {
+      if (m.is_dead(t)) continue;
+      const std::uint8_t s = m.in_domain(t) ? 2 : 1;
+      any = any || s == 2;
+      for (const VertexId v : m.triangles[t].v) {
+        if (v != kInfinite) state[v] = std::max(state[v], s);
+      }
+    }
+    if (!any) return false;
+    double x0 = kInf, y0 = kInf, x1 = -kInf, y1 = -kInf;
+    for (VertexId v = 0; v < nv; ++v) {
+      if (state[v] == 0) continue;
+      x0 = std::min(x0, m.points[v].x);
+      y0 = std::min(y0, m.points[v].y);
+      x1 = std::max(x1, m.points[v].x);
+      y1 = std::max(y1, m.points[v].y);
+    }
+    const double extent = std::max(x1 * 0.5 - x0 * 0.5, y1 * 0.5 - y0 * 0.5);
+    const double scale = extent > 0.0 ? 16383.0 / extent : 0.0;  // extent is half the range
+    // Vertices of T first (they are the DT ids), each group in Morton order: group in bit 62,
+    // the 30-bit key in bits 32..61, the old id below.
+    std::vector<std::uint64_t> order;
+    for (VertexId v = 0; v < nv; ++v) {
+      if (state[v] == 0) continue;
+      const std::uint64_t group = state[v] == 2 ? 0 : 1;
+      order.push_back((group << 62) | (std::uint64_t{morton_key(m.points[v], x0, y0, scale)} << 32) | v);
+    }
+    std::sort(order.begin(), order.end());
+    std::vector<VertexId> renumber(nv, kInfinite);
+    pts.resize(order.size());
+    for (std::size_t i = 0; i < order.size(); ++i) {
+      const auto v = static_cast<VertexId>(order[i] & 0xFFFFFFFFu);
+      renumber[v] = static_cast<VertexId>(i);
+      pts[i] = m.points[v];
+      if (state[v] == 2) used = static_cast<std::uint32_t>(i + 1);
+    }
+    slots.resize(m.triangle_slots());
+    vertex_edge.assign(pts.size(), kNone);
+    for (TriangleId t = 0; t < m.triangle_slots(); ++t) {
+      for (unsigned k = 0; k < 3; ++k) {
+        const VertexId v = m.triangles[t].v[k];
+        slots[t].v[k] = (v == kInfinite || m.is_dead(t)) ? kInfinite : renumber[v];
+        slots[t].n[k] = m.triangles[t].n[k];
+      }
+      if (m.is_dead(t)) continue;
+      for (unsigned e = 0; e < 3; ++e) {
+        const Handle h = make_handle(t, e);
+        const VertexId o = org(h);
+        if (o != kInfinite && vertex_edge[o] == kNone) vertex_edge[o] = h;
+      }
+    }
+    dt = delaunay(std::vector<Point>(pts.begin(), pts.begin() + used));
+    if (!dt.duplicates.empty()) throw InternalError("bundle: two vertices of the mesh coincide");
+    for (TriangleId t = 0; t < dt.triangle_slots(); ++t) {
+      if (dt.is_dead(t) || dt.is_ghost(t)) continue;
+      for (unsigned e = 0; e < 3; ++e) {
+        const Handle h = make_handle(t, e);
+        const TriangleId other = triangle_of(dt.sym(h));
+        if (!dt.is_ghost(other) && other < t) continue;  // each interior edge once
+        pencils.push_back(h);
+      }
+    }
+    return true;
+  }
+};
+
+// ---- one worker's computations ------------------------------------------------------------------
+
+enum : std::uint8_t { kRoleLo = 0, kRoleA = 1, kRoleB = 2, kRoleHi = 3 };
+
+struct Event {
+  Threshold th;
+  std::uint32_t candidate = kNone;
+  std::uint8_t role = kRoleA;
+};
+
+struct Candidate {
+  TriangleId triangle = 0;
+  bool always = false;
+  std::uint32_t a_group = kNone;  // class of a_t (counts on the intervals above it)
+  std::uint32_t b_group = kNone;  // class of b_t (counts on the intervals below it)
+};
+
+// What one edge of a candidate contributes for the current pencil (the same for both triangles
+// on the edge, so it is computed once per pencil).
+struct EdgeInfo {
+  bool crosses = false;  // the edge crosses the open chord pq
+  bool has_a = false, has_b = false;
+  Threshold a, b;        // infimum of f above the line along the edge / supremum below
+};
+
+constexpr std::int8_t kSideP = 2;
+constexpr std::int8_t kSideQ = 3;
+
+class Worker {
+ public:
+  Worker(const Shared& shared, bool per_triangle, bool prune)
+      : sh_(shared), per_triangle_enabled_(per_triangle), prune_(prune) {
+    flood_vertex_.assign(sh_.pts.size(), FloodVertex{});
+    pencil_vertex_.assign(sh_.pts.size(), PencilVertex{});
+    triangle_stamp_.assign(sh_.m.triangle_slots(), 0);
+    candidate_stamp_.assign(sh_.m.triangle_slots(), 0);
+    candidate_index_.assign(sh_.m.triangle_slots(), 0);
+    if (per_triangle) per_triangle_.assign(sh_.m.triangle_slots(), 0);
+  }
+
+  // Results.
+  std::uint32_t best_count = 0;
+  std::size_t best_pencil = static_cast<std::size_t>(-1);
+  Point best_center;
+  double best_radius = 0.0;
+  std::vector<TriangleId> best_triangles;
+  std::uint32_t circumdisk_best = 0;
+  std::size_t pencils = 0, candidate_pairs = 0, exact_comparisons = 0;
+  std::vector<std::uint32_t>& per_triangle() { return per_triangle_; }
+
+  // ---- floods ----
+
+  // Collects into `out` the in-domain mesh triangles (a superset of those) meeting the open
+  // circumdisk of Delaunay triangle `dtt`, by a flood across mesh edges that meet it. The mesh
+  // triangles meeting the disk are connected that way: the disk's intersection with the convex
+  // hull is convex, and a path inside it avoiding vertices crosses edges at points inside the disk.
+  void flood(TriangleId dtt, std::vector<TriangleId>& out) {
+    out.clear();
+    const auto& v = sh_.dt.triangles[dtt].v;
+    circle_[0] = sh_.pts[v[0]];
+    circle_[1] = sh_.pts[v[1]];
+    circle_[2] = sh_.pts[v[2]];
+    circle_orient_ = orient_approx(circle_[0], circle_[1], circle_[2]);
+    bump(flood_stamp_, [this] {
+      for (auto& f : flood_vertex_) f.stamp = 0;
+    });
+    bump(triangle_mark_, [this] { std::fill(triangle_stamp_.begin(), triangle_stamp_.end(), 0); });
+    // The chord from v[0] to v[1] lies in the open disk, and so does the corner of the mesh
+    // triangle it leaves v[0] by.
+    const TriangleId start = triangle_towards(v[0], circle_[1]);
+    stack_.clear();
+    stack_.push_back(start);
+    triangle_stamp_[start] = triangle_mark_;
+    while (!stack_.empty()) {
+      const TriangleId t = stack_.back();
+      stack_.pop_back();
+      if (sh_.m.in_domain(t)) out.push_back(t);
+      for (unsigned e = 0; e < 3; ++e) {
+        const Handle h = make_handle(t, e);
+        const TriangleId n = triangle_of(sh_.sym(h));
+        if (triangle_stamp_[n] == triangle_mark_ || sh_.is_ghost(n)) continue;
+        if (edge_may_meet(sh_.org(h), sh_.dest(h))) {
+          triangle_stamp_[n] = triangle_mark_;
+          stack_.push_back(n);
+        }
+      }
+    }
+  }
+
+  // The number of triangles of `list` meeting the open circumdisk of Delaunay triangle `dtt`
+  // (see meets_circumdisk); appends them to `met` if it is not null.
+  std::uint32_t circumdisk_count(TriangleId dtt, const TriangleId* list, std::size_t size,
+                                 std::vector<TriangleId>* met) {
+    const auto& v = sh_.dt.triangles[dtt].v;
+    std::uint32_t count = 0;
+    for (std::size_t i = 0; i < size; ++i) {
+      if (meets_circumdisk(list[i], v[0], v[1], v[2])) {
+        ++count;
+        if (met) met->push_back(list[i]);
+      }
+    }
+    return count;
+  }
+
+  // ---- one pencil ----
+
+  void sweep(std::size_t index) {
+    const Mesh& dt = sh_.dt;
+    const Handle h = sh_.pencils[index];
+    const Handle hs = dt.sym(h);
+    const VertexId lv = dt.apex(h), rv = dt.apex(hs);  // rv = kInfinite on a hull edge
+    pc_.pv = dt.org(h);
+    pc_.qv = dt.dest(h);
+    pc_.p = sh_.pts[pc_.pv];
+    pc_.q = sh_.pts[pc_.qv];
+    pc_.points = sh_.pts.data();
+    // s_lo = s_hi: the four vertices are cocircular; the only disk is a circumdisk, which the
+    // neighbouring pencils reach as a limit (see the file comment).
+    if (rv != kInfinite && incircle(pc_.p, pc_.q, sh_.pts[lv], sh_.pts[rv]) == 0) return;
+    ++pencils;
+
+    bump(candidate_mark_, [this] { std::fill(candidate_stamp_.begin(), candidate_stamp_.end(), 0); });
+    candidates_.clear();
+    auto gather = [&](TriangleId dtt) {
+      for (std::uint32_t i = sh_.list_begin[dtt]; i < sh_.list_begin[dtt + 1]; ++i) {
+        const TriangleId t = sh_.list[i];
+        if (candidate_stamp_[t] == candidate_mark_) continue;
+        candidate_stamp_[t] = candidate_mark_;
+        candidate_index_[t] = static_cast<std::uint32_t>(candidates_.size());
+        Candidate c;
+        c.triangle = t;
+        candidates_.push_back(c);
+      }
+    };
+    gather(triangle_of(h));
+    if (rv != kInfinite) gather(triangle_of(hs));
+    candidate_pairs += candidates_.size();
+    // No disk of this pencil meets more triangles than it has candidates. Its two circumdisks
+    // are still counted (directly, when their lists could beat the best circumdisk so far).
+    if (prune_ && candidates_.size() <= best_count) {
+      for (const TriangleId dtt : {triangle_of(h), triangle_of(hs)}) {
+        if (dt.is_ghost(dtt)) continue;
+        const std::uint32_t size = sh_.list_begin[dtt + 1] - sh_.list_begin[dtt];
+        if (size <= circumdisk_best) continue;
+        circumdisk_best = std::max(circumdisk_best, circumdisk_count(dtt, sh_.list.data() + sh_.list_begin[dtt], size, nullptr));
+      }
+      return;
+    }
+
+    pc_.bx = pc_.q.x - pc_.p.x;
+    pc_.by = pc_.q.y - pc_.p.y;
+    pc_.local_scale = 2.0 / (pc_.bx * pc_.bx + pc_.by * pc_.by);
+    bump(pencil_stamp_, [this] {
+      for (auto& x : pencil_vertex_) x.stamp = 0;
+    });
+
+    const auto n_cand = static_cast<std::uint32_t>(candidates_.size());
+    if (edge_ref_.size() < 3 * static_cast<std::size_t>(n_cand)) edge_ref_.resize(3 * static_cast<std::size_t>(n_cand));
+    edge_info_.clear();
+    events_.clear();
+    std::uint32_t always_count = 0, b_total = 0;
+    for (std::uint32_t i = 0; i < n_cand; ++i) {
+      bool has_a = false, has_b = false;
+      Threshold a, b;
+      classify(i, has_a, a, has_b, b);
+      if (candidates_[i].always) {
+        ++always_count;
+        continue;
+      }
+      if (has_a) events_.push_back({a, i, kRoleA});
+      if (has_b) {
+        events_.push_back({b, i, kRoleB});
+        ++b_total;
+      }
+    }
+    events_.push_back({rational_threshold(pc_, Kind::kThroughVertex, lv, sh_.pts[lv]), kNone, kRoleHi});
+    if (rv != kInfinite) {
+      events_.push_back({rational_threshold(pc_, Kind::kThroughVertex, rv, sh_.pts[rv]), kNone, kRoleLo});
+    }
+
+    // Sort by rounded value, then repair runs whose error windows overlap with exact comparisons
+    // (an insertion sort per run: runs are short).
+    std::sort(events_.begin(), events_.end(), [](const Event& x, const Event& y) {
+      if (x.th.value != y.th.value) return x.th.value < y.th.value;
+      if (x.role != y.role) return x.role < y.role;
+      return x.candidate < y.candidate;
+    });
+    const std::size_t n = events_.size();
+    for (std::size_t i = 0; i < n;) {
+      std::size_t j = i + 1;
+      while (j < n && events_[j].th.value - events_[j - 1].th.value <=
+                          events_[j].th.error + events_[j - 1].th.error) {
+        ++j;
+      }
+      for (std::size_t k = i + 1; k < j; ++k) {
+        const Event moving = events_[k];
+        std::size_t l = k;
+        while (l > i && compare_thresholds(pc_, events_[l - 1].th, moving.th, exact_comparisons) > 0) {
+          events_[l] = events_[l - 1];
+          --l;
+        }
+        events_[l] = moving;
+      }
+      i = j;
+    }
+
+    // Classes of equal thresholds. Interval j lies below class j (j = 0: below everything).
+    group_start_.clear();
+    group_a_.clear();
+    group_b_.clear();
+    std::uint32_t lo_group = kNone, hi_group = kNone;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (i == 0 || compare_thresholds(pc_, events_[i - 1].th, events_[i].th, exact_comparisons) != 0) {
+        group_start_.push_back(static_cast<std::uint32_t>(i));
+        group_a_.push_back(0);
+        group_b_.push_back(0);
+      }
+      const auto g = static_cast<std::uint32_t>(group_start_.size() - 1);
+      const Event& ev = events_[i];
+      if (ev.role == kRoleLo) {
+        lo_group = g;
+      } else if (ev.role == kRoleHi) {
+        hi_group = g;
+      } else if (ev.role == kRoleA) {
+        candidates_[ev.candidate].a_group = g;
+        ++group_a_[g];
+      } else {
+        candidates_[ev.candidate].b_group = g;
+        ++group_b_[g];
+      }
+    }
+    // The circumdisks (the ends of the pencil): thresholds strictly below / above the end count.
+    const auto groups = static_cast<std::uint32_t>(group_start_.size());
+    auto count_at = [&](std::uint32_t g) {
+      std::uint32_t a_lt = 0, b_gt = 0;
+      for (std::uint32_t k = 0; k < g; ++k) a_lt += group_a_[k];
+      for (std::uint32_t k = g + 1; k < groups; ++k) b_gt += group_b_[k];
+      return always_count + a_lt + b_gt;
+    };
+    circumdisk_best = std::max(circumdisk_best, count_at(hi_group));
+    if (lo_group != kNone) circumdisk_best = std::max(circumdisk_best, count_at(lo_group));
+    // Valid intervals: above the class of s_lo (if any), not above the class of s_hi.
+    const std::uint32_t j_min = lo_group == kNone ? 0 : lo_group + 1;
+    const std::uint32_t j_max = hi_group;
+    if (j_min > j_max) return;  // cannot happen: s_lo < s_hi strictly here
+    counts_.resize(static_cast<std::size_t>(j_max) + 1);
+    std::uint32_t a_below = 0, b_below = 0, best_j = j_min;
+    for (std::uint32_t j = 0; j <= j_max; ++j) {
+      counts_[j] = always_count + a_below + (b_total - b_below);
+      if (j >= j_min && counts_[j] > counts_[best_j]) best_j = j;
+      a_below += group_a_[j];
+      b_below += group_b_[j];
+    }
+    if (counts_[best_j] > best_count) record_witness(index, best_j, counts_[best_j]);
+
+    if (per_triangle_enabled_) {
+      prefix_max_.resize(counts_.size());
+      suffix_max_.resize(counts_.size() + 1);
+      std::uint32_t run = 0;
+      for (std::uint32_t j = j_min; j <= j_max; ++j) prefix_max_[j] = run = std::max(run, counts_[j]);
+      run = 0;
+      suffix_max_[j_max + 1] = 0;
+      for (std::uint32_t j = j_max + 1; j-- > j_min;) suffix_max_[j] = run = std::max(run, counts_[j]);
+      for (const Candidate& c : candidates_) {
+        std::uint32_t best = 0;
+        if (c.always) {
+          best = prefix_max_[j_max];
+        } else {
+          if (c.a_group != kNone) {
+            const std::uint32_t j = std::max(c.a_group + 1, j_min);
+            if (j <= j_max) best = std::max(best, suffix_max_[j]);
+          }
+          if (c.b_group != kNone) {
+            const std::uint32_t j = std::min(c.b_group, j_max);
+            if (j >= j_min) best = std::max(best, prefix_max_[j]);
+          }
+        }
+        std::uint32_t& slot = per_triangle_[c.triangle];
+        slot = std::max(slot, best);
+      }
+    }
+  }
+
+ private:
+  struct FloodVertex {
+    std::uint32_t stamp = 0;
+    Approx value;  // incircle determinant of the current circle at the vertex
+  };
+  struct PencilVertex {
+    std::uint32_t stamp = 0;
+    std::int8_t side = 0;  // +1 left of p→q ("above"), −1 right, 0 on the line, kSideP, kSideQ
+    Point local;           // local coordinates: p = (−1, 0), q = (1, 0)
+  };
+
+  // Advances a stamp; on wrap-around clears the marks it guards.
+  template <class Clear>
+  static void bump(std::uint32_t& stamp, Clear clear) {
+    if (++stamp == 0) {
+      clear();
+      stamp = 1;
+    }
+  }
+
+  // The finite mesh triangle around vertex a whose closed corner at a contains the direction
+  // towards `target` (a point of the convex hull other than a).
+  TriangleId triangle_towards(VertexId a, const Point& target) const {
+    const Point& pa = sh_.pts[a];
+    const Handle start = sh_.vertex_edge[a];
+    Handle h = start;
+    for (std::size_t turn = 0; turn < sh_.m.triangle_slots(); ++turn) {
+      const VertexId d = sh_.dest(h), x = sh_.apex(h);
+      if (d != kInfinite && x != kInfinite && orient2d(pa, sh_.pts[d], target) >= 0 &&
+          orient2d(pa, target, sh_.pts[x]) >= 0) {
+        return triangle_of(h);
+      }
+      h = sh_.onext(h);
+      if (h == start) break;
+    }
+    throw InternalError("bundle: no mesh triangle around a vertex faces its Delaunay neighbour");
+  }
+
+  const Approx& circle_value(VertexId v) {
+    FloodVertex& f = flood_vertex_[v];
+    if (f.stamp != flood_stamp_) {
+      f.stamp = flood_stamp_;
+      f.value = incircle_approx(circle_[0], circle_[1], circle_[2], sh_.pts[v]);
+    }
+    return f.value;
+  }
+
+  // Permissive: true whenever the closed segment uw might meet the open circumdisk (never false
+  // when it does). g(λ) = incircle value at u + λ(w − u) = (1−λ) g(u) + λ g(w) + O|e|² λ(1−λ),
+  // O = orient(a, b, c) > 0: a concave quadratic.
+  bool edge_may_meet(VertexId u, VertexId w) {
+    const Approx& gu = circle_value(u);
+    const Approx& gw = circle_value(w);
+    if (gu.value > -gu.error || gw.value > -gw.error) return true;
+    const Point& pu = sh_.pts[u];
+    const Point& pw = sh_.pts[w];
+    const double ex = pw.x - pu.x, ey = pw.y - pu.y;
+    const double e2 = ex * ex + ey * ey;
+    const double a = circle_orient_.value * e2;
+    const double a_error = (circle_orient_.error + 4.0 * kEps * circle_orient_.value) * e2;
+    const double slope = gw.value - gu.value + a;
+    const double lambda = a > 0.0 ? std::clamp(slope / (2.0 * a), 0.0, 1.0) : 0.0;
+    const double gmax = gu.value + lambda * (slope - a * lambda);
+    const double slack = 2.0 * (gu.error + gw.error + a_error +
+                                8.0 * kEps * (std::fabs(gu.value) + std::fabs(gw.value) + a));
+    return gmax > -slack;
+  }
+
+  // Does mesh triangle t meet the open circumdisk of the vertices ca, cb, cc (counter-clockwise)?
+  // A corner strictly inside (exact incircle), a corner on the circle whose edge enters the disk
+  // (exact), or an edge passing through between two corners outside (rounded: the maximum of the
+  // concave quadratic g along the edge).
+  bool meets_circumdisk(TriangleId t, VertexId ca, VertexId cb, VertexId cc) const {
+    const Point& a = sh_.pts[ca];
+    const Point& b = sh_.pts[cb];
+    const Point& c = sh_.pts[cc];
+    const auto& tv = sh_.slots[t].v;
+    int inside[3];
+    for (int i = 0; i < 3; ++i) {
+      const VertexId v = tv[i];
+      inside[i] = (v == ca || v == cb || v == cc) ? 0 : incircle(a, b, c, sh_.pts[v]);
+      if (inside[i] > 0) return true;
+    }
+    const VertexId circle_ids[3] = {ca, cb, cc};
+    for (int i = 0; i < 3; ++i) {
+      if (inside[i] != 0) continue;
+      const VertexId u = tv[i];
+      // u is on the circle: two circle-defining vertices other than u span the same circle.
+      VertexId pa = kNone, pb = kNone;
+      for (const VertexId z : circle_ids) {
+        if (z == u) continue;
+        if (pa == kNone) {
+          pa = z;
+        } else if (pb == kNone) {
+          pb = z;
+        }
+      }
+      const Point& p = sh_.pts[pa];
+      const Point& q = sh_.pts[pb];
+      const Point& pu = sh_.pts[u];
+      const int o = orient2d(p, q, pu);
+      for (int k = 1; k <= 2; ++k) {
+        if (enters_circle(p, q, pu, sh_.pts[tv[(i + k) % 3]], o) > 0) return true;
+      }
+    }
+    const double o = orient_approx(a, b, c).value;
+    for (int i = 0; i < 3; ++i) {
+      const int iu = (i + 1) % 3, iw = (i + 2) % 3;
+      if (inside[iu] == 0 || inside[iw] == 0) continue;  // decided above
+      const Point& pu = sh_.pts[tv[iu]];
+      const Point& pw = sh_.pts[tv[iw]];
+      const double gu = incircle_approx(a, b, c, pu).value;
+      const double gw = incircle_approx(a, b, c, pw).value;
+      const double ex = pw.x - pu.x, ey = pw.y - pu.y;
+      const double coef = o * (ex * ex + ey * ey);
+      const double slope = gw - gu + coef;
+      const double lambda = coef > 0.0 ? std::clamp(slope / (2.0 * coef), 0.0, 1.0) : 0.0;
+      if (lambda > 0.0 && lambda < 1.0 && gu + lambda * (slope - coef * lambda) > 0.0) return true;
+    }
+    return false;
+  }
+
+  // Side of vertex v relative to the directed line p→q, cached per pencil with its local
+  // coordinates.
+  const PencilVertex& vertex(VertexId v) {
+    PencilVertex& x = pencil_vertex_[v];
+    if (x.stamp != pencil_stamp_) {
+      x.stamp = pencil_stamp_;
+      if (v == pc_.pv) {
+        x.side = kSideP;
+      } else if (v == pc_.qv) {
+        x.side = kSideQ;
+      } else {
+        const Point& pt = sh_.pts[v];
+        x.side = static_cast<std::int8_t>(orient2d(pc_.p, pc_.q, pt));
+        const double dx = pt.x - pc_.p.x, dy = pt.y - pc_.p.y;
+        x.local = {(dx * pc_.bx + dy * pc_.by) * pc_.local_scale - 1.0,
+                   (pc_.bx * dy - pc_.by * dx) * pc_.local_scale};
+      }
+    }
+    return x;
+  }
+
+  // Keeps the smaller (sigma = +1) or larger (sigma = −1) threshold in `best`.
+  void keep_extreme(int sigma, bool& has, Threshold& best, const Threshold& t) {
+    if (!has) {
+      has = true;
+      best = t;
+    } else if (compare_thresholds(pc_, t, best, exact_comparisons) * sigma < 0) {
+      best = t;
+    }
+  }
+
+  // The contribution of edge uw (see EdgeInfo); `info` starts empty.
+  void classify_edge(VertexId u, VertexId w, EdgeInfo& info) {
+    const PencilVertex& xu = vertex(u);
+    const PencilVertex& xw = vertex(w);
+    const std::int8_t su = xu.side, sw = xw.side;
+    const Point& pu = sh_.pts[u];
+    const Point& pw = sh_.pts[w];
+    if ((su == 1 && sw == -1) || (su == -1 && sw == 1)) {
+      // No vertex lies on the open chord of a Delaunay edge: crossing is proper or absent.
+      if (orient2d(pu, pw, pc_.p) * orient2d(pu, pw, pc_.q) < 0) {
+        info.crosses = true;
+        return;
+      }
+    }
+    const bool u_end = su == kSideP || su == kSideQ;
+    const bool w_end = sw == kSideP || sw == kSideQ;
+    if (u_end || w_end) {
+      if (u_end && w_end) return;  // the edge pq itself: its triangles meet the chord
+      // An edge from p or q: f is linear along it, its infimum is the tangent at that end.
+      const std::int8_t end_side = u_end ? su : sw;
+      const std::int8_t far_side = u_end ? sw : su;
+      const VertexId far = u_end ? w : u;
+      if (far_side != 1 && far_side != -1) return;
+      const Threshold th = rational_threshold(pc_, end_side == kSideP ? Kind::kTangentAtP : Kind::kTangentAtQ,
+                                              far, sh_.pts[far]);
+      if (far_side == 1) {
+        info.has_a = true;
+        info.a = th;
+      } else {
+        info.has_b = true;
+        info.b = th;
+      }
+      return;
+    }
+    for (const int sigma : {1, -1}) {
+      const bool in_u = su == sigma, in_w = sw == sigma;
+      if (!in_u && !in_w) continue;
+      bool interior = false;
+      if (in_u && in_w) {
+        interior = enters_circle(pc_.p, pc_.q, pu, pw, su) > 0 && enters_circle(pc_.p, pc_.q, pw, pu, sw) > 0;
+      } else if (in_u) {
+        interior = enters_circle(pc_.p, pc_.q, pu, pw, su) > 0;
+      } else {
+        interior = enters_circle(pc_.p, pc_.q, pw, pu, sw) > 0;
+      }
+      if (!interior) continue;
+      // Local coordinates, mirrored for the lower side (f(x₁, −x₂) = −f(x₁, x₂)).
+      Point lu = in_u ? xu.local : xw.local;
+      Point lw = in_u ? xw.local : xu.local;
+      if (sigma < 0) {
+        lu.y = -lu.y;
+        lw.y = -lw.y;
+      }
+      Threshold th;
+      th.kind = Kind::kTangentToEdge;
+      th.value = sigma * tangency_minimum(lu, lw);
+      if (sigma > 0) {
+        info.has_a = true;
+        info.a = th;
+      } else {
+        info.has_b = true;
+        info.b = th;
+      }
+    }
+  }
+
+  // Classifies candidate i for the current pencil: "always", and/or the thresholds a_t (above:
+  // counts for s > a_t) and b_t (below: counts for s < b_t). Edge contributions are shared with
+  // the neighbouring candidate across each edge.
+  void classify(std::uint32_t i, bool& has_a, Threshold& a, bool& has_b, Threshold& b) {
+    Candidate& cand = candidates_[i];
+    const TriangleId t = cand.triangle;
+    const auto& tv = sh_.slots[t].v;
+    bool always = false;
+    int ip = -1, iq = -1;
+    for (int k = 0; k < 3; ++k) {
+      const std::int8_t s = vertex(tv[k]).side;
+      if (s == kSideP) ip = k;
+      if (s == kSideQ) iq = k;
+    }
+    if (ip >= 0 && iq >= 0) always = true;  // pq is an edge of t
+    // The open chord pq enters t at its corner p (or q): q strictly inside the corner's angle.
+    if (!always && ip >= 0) {
+      const Point& x = sh_.pts[tv[next3(static_cast<unsigned>(ip))]];
+      const Point& y = sh_.pts[tv[prev3(static_cast<unsigned>(ip))]];
+      always = orient2d(pc_.p, x, pc_.q) > 0 && orient2d(pc_.p, pc_.q, y) > 0;
+    }
+    if (!always && iq >= 0) {
+      const Point& x = sh_.pts[tv[next3(static_cast<unsigned>(iq))]];
+      const Point& y = sh_.pts[tv[prev3(static_cast<unsigned>(iq))]];
+      always = orient2d(pc_.q, x, pc_.p) > 0 && orient2d(pc_.q, pc_.p, y) > 0;
+    }
+    has_a = has_b = false;
+    const auto& neighbours = sh_.slots[t].n;
+    for (unsigned k = 0; k < 3; ++k) {
+      const Handle across = neighbours[k];
+      const TriangleId n = triangle_of(across);
+      std::uint32_t& ref = edge_ref_[3 * static_cast<std::size_t>(i) + k];
+      if (candidate_stamp_[n] == candidate_mark_ && candidate_index_[n] < i) {
+        ref = edge_ref_[3 * static_cast<std::size_t>(candidate_index_[n]) + edge_of(across)];
+      } else {
+        ref = static_cast<std::uint32_t>(edge_info_.size());
+        edge_info_.emplace_back();
+        classify_edge(tv[next3(k)], tv[prev3(k)], edge_info_.back());
+      }
+      const EdgeInfo& info = edge_info_[ref];
+      always = always || info.crosses;
+      if (info.has_a) keep_extreme(1, has_a, a, info.a);
+      if (info.has_b) keep_extreme(-1, has_b, b, info.b);
+    }
+    cand.always = always;
+    // A triangle that misses the chord cannot meet one disk of the pencil both above and below
+    // the line (the segment joining the two meeting points would cross the open chord), so
+    // b_t ≤ a_t; keep rounded tangencies from contradicting that.
+    if (!always && has_a && has_b && compare_thresholds(pc_, b, a, exact_comparisons) > 0) b = a;
+  }
+
+  // A disk of the current pencil inside interval j, and the triangles it meets.
+  void record_witness(std::size_t index, std::uint32_t j, std::uint32_t count) {
+    best_count = count;
+    best_pencil = index;
+    const double upper = events_[group_start_[j]].th.value;
+    double s = 0.0;
+    if (j == 0) {
+      s = upper - std::max(1.0, std::fabs(upper));
+    } else {
+      const double lower = events_[group_start_[j - 1]].th.value;
+      s = 0.5 * lower + 0.5 * upper;
+    }
+    // Centre m + s·h with h = (q − p)⊥ / 2.
+    const double mx = 0.5 * pc_.p.x + 0.5 * pc_.q.x, my = 0.5 * pc_.p.y + 0.5 * pc_.q.y;
+    best_center = {mx - s * 0.5 * pc_.by, my + s * 0.5 * pc_.bx};
+    best_radius = distance(best_center, pc_.p);
+    best_triangles.clear();
+    for (const Candidate& c : candidates_) {
+      if (c.always || (c.a_group != kNone && c.a_group < j) || (c.b_group != kNone && c.b_group >= j)) {
+        best_triangles.push_back(c.triangle);
+      }
+    }
+  }
+
+  const Shared& sh_;
+  bool per_triangle_enabled_;
+  bool prune_;
+  std::vector<std::uint32_t> per_triangle_;
+
+  // Flood scratch.
+  Point circle_[3];
+  Approx circle_orient_;
+  std::uint32_t flood_stamp_ = 0, triangle_mark_ = 0;
+  std::vector<FloodVertex> flood_vertex_;
+  std::vector<std::uint32_t> triangle_stamp_;
+  std::vector<TriangleId> stack_;
+
+  // Pencil scratch.
+  Pencil pc_;
+  std::uint32_t pencil_stamp_ = 0, candidate_mark_ = 0;
+  std::vector<PencilVertex> pencil_vertex_;
+  std::vector<std::uint32_t> candidate_stamp_, candidate_index_;
+  std::vector<Candidate> candidates_;
+  std::vector<EdgeInfo> edge_info_;        // the edges classified for the current pencil
+  std::vector<std::uint32_t> edge_ref_;    // per candidate edge: its index in edge_info_
+  std::vector<Event> events_;
+  std::vector<std::uint32_t> group_start_, group_a_, group_b_, counts_, prefix_max_, suffix_max_;
+};
+
+// ---- driver -------------------------------------------------------------------------------------
+
+unsigned thread_count(unsigned requested, std::size_t work) {
+  if (work < 20000) return 1;  // small inputs: threads cost more than they save
+  unsigned n = requested != 0 ? requested : std::thread::hardware_concurrency();
+  return std::clamp(n, 1u, 16u);
+}
+
+// Runs body(worker, begin, end) on `threads` contiguous ranges of [0, n), one thread each.
+template <class Body>
+void for_ranges(std::vector<std::unique_ptr<Worker>>& workers, std::size_t n, Body body) {
+  const std::size_t threads = workers.size();
+  if (threads == 1) {
+    body(*workers[0], 0, n, 0);
+    return;
+  }
+  std::vector<std::exception_ptr> errors(threads);
+  std::vector<std::thread> pool;
+  for (std::size_t k = 0; k < threads; ++k) {
+    pool.emplace_back([&, k] {
+      try {
+        body(*workers[k], n * k / threads, n * (k + 1) / threads, k);
+      } catch (...) {
+        errors[k] = std::current_exception();
+      }
+    });
+  }
+  for (auto& th : pool) th.join();
+  for (auto& e : errors) {
+    if (e) std::rethrow_exception(e);
+  }
+}
+
+// Fills sh.list / sh.list_begin: the candidates of every Delaunay triangle, by floods.
+void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers) {
+  const std::size_t slots = sh.dt.triangle_slots();
+  std::vector<std::vector<TriangleId>> parts(workers.size());
+  std::vector<std::uint32_t> local_begin(slots + 1, 0);
+  for_ranges(workers, slots, [&](Worker& w, std::size_t begin, std::size_t end, std::size_t k) {
+    std::vector<TriangleId>& part = parts[k];
+    part.reserve((end - begin) * 12);
+    std::vector<TriangleId> one;
+    for (std::size_t t = begin; t < end; ++t) {
+      local_begin[t] = static_cast<std::uint32_t>(part.size());
+      const auto dtt = static_cast<TriangleId>(t);
+      if (sh.dt.is_dead(dtt) || sh.dt.is_ghost(dtt)) continue;
+      w.flood(dtt, one);
+      part.insert(part.end(), one.begin(), one.end());
+    }
+  });
+  std::size_t total = 0;
+  for (const auto& part : parts) total += part.size();
+  if (total > 0xFFFFFFF0u) throw InternalError("bundle: candidate lists too long");
+  sh.list.clear();
+  sh.list.reserve(total);
+  sh.list_begin.assign(slots + 1, 0);
+  for (std::size_t k = 0; k < workers.size(); ++k) {
+    const std::size_t begin = slots * k / workers.size(), end = slots * (k + 1) / workers.size();
+    const auto offset = static_cast<std::uint32_t>(sh.list.size());
+    for (std::size_t t = begin; t < end; ++t) sh.list_begin[t] = local_begin[t] + offset;
+    sh.list.insert(sh.list.end(), parts[k].begin(), parts[k].end());
+    parts[k] = {};
+  }
+  sh.list_begin[slots] = static_cast<std::uint32_t>(sh.list.size());
+}
+
+std::vector<std::unique_ptr<Worker>> make_workers(const Shared& sh, unsigned threads, bool per_triangle,
+                                                  bool prune) {
+  std::vector<std::unique_ptr<Worker>> workers;
+  for (unsigned k = 0; k < threads; ++k) workers.push_back(std::make_unique<Worker>(sh, per_triangle, prune));
+  return workers;
+}
+
+std::string triangle_name(std::size_t i) { return "triangle " + std::to_string(i + 1); }
+
+}  // namespace
+
+BundleResult bundle_number(const Mesh& mesh, const BundleOptions& options) {
+  BundleResult result;
+  Shared sh(mesh);
+  if (!sh.build()) {
+    if (options.per_triangle) result.per_triangle.assign(mesh.triangle_slots(), 0);
+    return result;
+  }
+  const unsigned threads = thread_count(options.threads, sh.pencils.size());
+  // Without per-triangle values, a pencil with no more candidates than the best count so far
+  // cannot improve it and is skipped (the first pencil reaching the maximum is never skipped, so
+  // the witness does not depend on the number of threads).
+  auto workers = make_workers(sh, threads, options.per_triangle, !options.per_triangle);
+  build_lists(sh, workers);
+  for_ranges(workers, sh.pencils.size(), [&](Worker& w, std::size_t begin, std::size_t end, std::size_t) {
+    for (std::size_t i = begin; i < end; ++i) w.sweep(i);
+  });
+  // Merge: the largest count, ties to the first pencil.
+  const Worker* best = workers[0].get();
+  for (const auto& w : workers) {
+    if (w->best_count > best->best_count || (w->best_count == best->best_count && w->best_pencil < best->best_pencil)) {
+      best = w.get();
+    }
+    result.circumdisk_bound = std::max(result.circumdisk_bound, w->circumdisk_best);
+    result.pencils += w->pencils;
+    result.candidate_pairs += w->candidate_pairs;
+    result.exact_comparisons += w->exact_comparisons;
+  }
+  result.bundle_number = best->best_count;
+  result.disk_center = best->best_center;
+  result.disk_radius = best->best_radius;
+  result.triangles = best->best_triangles;
+  std::sort(result.triangles.begin(), result.triangles.end());
+  if (options.per_triangle) {
+    result.per_triangle = std::move(workers[0]->per_triangle());
+    for (std::size_t k = 1; k < workers.size(); ++k) {
+      const auto& other = workers[k]->per_triangle();
+      for (std::size_t t = 0; t < other.size(); ++t) result.per_triangle[t] = std::max(result.per_triangle[t], other[t]);
+    }
+  }
+  return result;
+}
+
+std::vector<std::uint32_t> circumdisk_bundle_per_triangle(const Mesh& mesh, unsigned threads_requested) {
+  std::vector<std::uint32_t> best(mesh.triangle_slots(), 0);
+  Shared sh(mesh);
+  if (!sh.build()) return best;
+  const unsigned threads = thread_count(threads_requested, sh.dt.triangle_slots());
+  auto workers = make_workers(sh, threads, true, false);
+  for_ranges(workers, sh.dt.triangle_slots(), [&](Worker& w, std::size_t begin, std::size_t end, std::size_t) {
+    std::vector<TriangleId> list, met;
+    auto& mine = w.per_triangle();
+    for (std::size_t t = begin; t < end; ++t) {
+      const auto dtt = static_cast<TriangleId>(t);
+      if (sh.dt.is_dead(dtt) || sh.dt.is_ghost(dtt)) continue;
+      w.flood(dtt, list);
+      met.clear();
+      const std::uint32_t count = w.circumdisk_count(dtt, list.data(), list.size(), &met);
+      for (const TriangleId c : met) mine[c] = std::max(mine[c], count);
+    }
+  });
+  for (const auto& w : workers) {
+    const auto& mine = w->per_triangle();
+    for (std::size_t t = 0; t < best.size(); ++t) best[t] = std::max(best[t], mine[t]);
+  }
+  return best;
+}
+
+BundleResult bundle_number(const std::vector<Point>& points,
+                           const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                           const BundleOptions& options) {
+  if (triangles.empty()) return {};
+  // The used points, renumbered densely.
+  std::vector<std::uint32_t> compact(points.size(), kNone);
+  std::vector<std::uint32_t> original;  // compact id → index into points
+  Pslg pslg;
+  std::vector<std::array<std::uint32_t, 3>> tris(triangles.size());
+  for (std::size_t i = 0; i < triangles.size(); ++i) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t v = triangles[i][k];
+      if (v >= points.size()) {
+        throw InputError("", 0, triangle_name(i) + " names vertex " + std::to_string(v) + ", which does not exist");
+      }
+      if (compact[v] == kNone) {
+        compact[v] = static_cast<std::uint32_t>(original.size());
+        original.push_back(v);
+        pslg.points.push_back(points[v]);
+      }
+      tris[i][k] = compact[v];
+    }
+    auto& t = tris[i];
+    const int o = orient2d(pslg.points[t[0]], pslg.points[t[1]], pslg.points[t[2]]);
+    if (o == 0) throw InputError("", 0, triangle_name(i) + " is degenerate (its corners are collinear)");
+    if (o < 0) std::swap(t[1], t[2]);
+  }
+  // Every edge of T is a segment: the constrained Delaunay triangulation then contains every
+  // triangle of T and fills the holes and concavities, so the mesh covers the convex hull.
+  std::vector<std::uint64_t> edges;
+  edges.reserve(3 * tris.size());
+  for (const auto& t : tris) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = t[k], b = t[(k + 1) % 3];
+      edges.push_back(a < b ? (std::uint64_t{a} << 32 | b) : (std::uint64_t{b} << 32 | a));
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  pslg.segments.reserve(edges.size());
+  for (const std::uint64_t e : edges) {
+    pslg.segments.push_back({static_cast<std::uint32_t>(e >> 32), static_cast<std::uint32_t>(e & 0xFFFFFFFFu), 1});
+  }
+  ConstrainOptions constrain;
+  constrain.strict = true;
+  constrain.convex_hull = true;
+  Mesh mesh;
+  try {
+    mesh = constrained_delaunay(pslg, constrain);
+  } catch (const InputError& e) {
+    throw InputError("", 0, std::string("the triangles do not form a triangulation: ") + e.what());
+  }
+  if (!mesh.duplicates.empty()) {
+    const auto& [dup, kept] = mesh.duplicates.front();
+    throw InputError("", 0, "vertices " + std::to_string(original[dup]) + " and " +
+                                std::to_string(original[kept]) + " of the triangles coincide");
+  }
+  // Find every triangle of T among the faces; everything else is outside the domain.
+  std::vector<Handle> vertex_edge(mesh.points.size(), kNone);
+  for (TriangleId t = 0; t < mesh.triangle_slots(); ++t) {
+    if (mesh.is_dead(t)) continue;
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle h = make_handle(t, e);
+      const VertexId o = mesh.org(h);
+      if (o != kInfinite && vertex_edge[o] == kNone) vertex_edge[o] = h;
+    }
+    if (!mesh.is_ghost(t)) mesh.flags[t] = static_cast<std::uint8_t>(mesh.flags[t] | kOutside);
+  }
+  std::vector<std::uint32_t> slot_to_input(mesh.triangle_slots(), kNone);
+  for (std::size_t i = 0; i < tris.size(); ++i) {
+    const auto& t = tris[i];
+    TriangleId found = kNone;
+    const Handle start = vertex_edge[t[0]];
+    Handle h = start;
+    for (std::size_t turn = 0; turn < mesh.triangle_slots(); ++turn) {
+      if (mesh.dest(h) == t[1] && mesh.apex(h) == t[2]) {
+        found = triangle_of(h);
+        break;
+      }
+      h = mesh.onext(h);
+      if (h == start) break;
+    }
+    if (found == kNone) {
+      throw InputError("", 0, triangle_name(i) + " overlaps other triangles (or a vertex lies on its boundary)");
+    }
+    if (slot_to_input[found] != kNone) {
+      throw InputError("", 0, triangle_name(i) + " repeats " + triangle_name(slot_to_input[found]));
+    }
+    slot_to_input[found] = static_cast<std::uint32_t>(i);
+    mesh.flags[found] = static_cast<std::uint8_t>(mesh.flags[found] & ~kOutside);
+  }
+  BundleResult r = bundle_number(mesh, options);
+  for (std::uint32_t& t : r.triangles) t = slot_to_input[t];
+  std::sort(r.triangles.begin(), r.triangles.end());
+  if (options.per_triangle) {
+    std::vector<std::uint32_t> by_input(triangles.size(), 0);
+    for (TriangleId t = 0; t < r.per_triangle.size(); ++t) {
+      if (slot_to_input[t] != kNone) by_input[slot_to_input[t]] = r.per_triangle[t];
+    }
+    r.per_triangle = std::move(by_input);
+  }
+  return r;
+}
+
+}  // namespace mwst

@@ -1,0 +1,1784 @@
+// Quadtree refinement (QTR): Bern, Eppstein, Gilbert, "Provably good mesh generation" (FOCS 1990,
+// JCSS 48(3) 1994) — split, balance, warp, triangulate by a case table — with polygons handled by
+// warping corners onto segments and cutting cells along them; the QTR column of Boyacı, Erten,
+// Üngör, "Triangulations Loosing Bundles and Weight". The route and the guarantees are described
+// in include/mwst/quadtree.hpp; the cell triangulations are in quadtree_cells.cpp.
+//
+// Data layout (flat arrays, indices, no per-cell allocation):
+//  - Nodes live in one vector; the four children of a node are consecutive (SW, SE, NW, NE, i.e.
+//    Morton order), each node knows its parent. A node is addressed by (level, ix, iy); the integer
+//    coordinates map to the plane through the root's corner and side 2^e, so every cell corner is
+//    the same double however it is reached. Neighbours are found by climbing to the first ancestor
+//    that covers the wanted cell and descending again (Samet), O(1) on average.
+//  - Each leaf keeps the list of features (vertex ids, and segment indices offset by the number of
+//    vertices) meeting its closed extended cell B(C). Children filter their parent's list: a vertex
+//    sits in at most 9 lists per level and a segment in those of the cells along it (output), so
+//    the build costs O(n log n + output).
+//  - Vertices of the subdivision (leaf corners and the side midpoints smaller neighbours create)
+//    are owned by the leaf for which they are the lower-left corner or a midpoint of the left or
+//    bottom side (plus the root's top and right border), so ids come from one pass over the leaves
+//    in Morton order with no hashing; every leaf then reads its loop of up to 8 vertices through
+//    neighbour look-ups.
+//
+// Robustness: all sign decisions are exact (orient2d); constructed points (warped corners moved
+// onto segments, crossing points) are rounded once. Every cell triangulation is checked exactly
+// (strictly counter-clockwise triangles, diagonals inside). If any check fails — which needs
+// features closer than the deepest level can separate, or rounding at the scale of an ulp — the
+// result is instead the constrained Delaunay triangulation of the input plus the quadtree's free
+// corners (QuadtreeStats::fallback), so every input still gets a valid mesh.
+#include "mwst/quadtree.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "mwst/error.hpp"
+
+namespace mwst {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+// The quadtree route could not finish (see the file comment); the caller builds the fallback.
+struct RouteFailure {
+  std::string reason;
+};
+
+// ---- the clean input ------------------------------------------------------------------------------
+
+struct FeatureSegment {
+  VertexId a = 0, b = 0;
+  std::int32_t marker = 0;
+  bool hull_only = false;  // a convex hull edge that is not an input segment (domain boundary only)
+};
+
+struct CleanInput {
+  Mesh vertices_only;                    // points, kinds, markers, duplicates; no triangles
+  std::vector<VertexId> vertices;        // feature vertices (every vertex that is not a duplicate)
+  std::vector<FeatureSegment> segments;  // subsegments of the clean graph, then hull edges
+};
+
+// A PSLG with segments: its CDT resolves duplicates, vertices on segments and crossings; the
+// subsegments of the CDT are the clean segments.
+CleanInput clean_graph(const Pslg& pslg, const QuadtreeOptions& options, QuadtreeStats& stats) {
+  ConstrainOptions constrain;
+  constrain.strict = options.strict;
+  constrain.convex_hull = options.convex_hull;
+  Mesh cdt = constrained_delaunay(pslg, constrain, &stats.input);
+  CleanInput in;
+  in.vertices_only.points = cdt.points;
+  in.vertices_only.vertex_kind = cdt.vertex_kind;
+  in.vertices_only.vertex_marker = cdt.vertex_marker;
+  in.vertices_only.duplicates = cdt.duplicates;
+  in.vertices_only.input_vertex_count = cdt.input_vertex_count;
+  for (VertexId v = 0; v < cdt.points.size(); ++v) {
+    if (cdt.vertex_kind[v] != VertexKind::kDuplicate) in.vertices.push_back(v);
+  }
+  std::vector<std::pair<std::uint64_t, std::int32_t>> seen;
+  std::vector<std::pair<VertexId, VertexId>> hull;
+  for (TriangleId t = 0; t < cdt.triangles.size(); ++t) {
+    if (cdt.is_dead(t)) continue;
+    if (cdt.is_ghost(t)) {
+      const Triangle& g = cdt.triangles[t];
+      unsigned k = 0;
+      while (g.v[k] != kInfinite) ++k;
+      hull.emplace_back(g.v[next3(k)], g.v[prev3(k)]);
+      continue;
+    }
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle h = make_handle(t, e);
+      if (!cdt.is_segment(h)) continue;
+      const VertexId u = cdt.org(h), w = cdt.dest(h);
+      const std::uint64_t key = (std::uint64_t{std::min(u, w)} << 32) | std::max(u, w);
+      seen.emplace_back(key, cdt.marker(h));
+    }
+  }
+  std::sort(seen.begin(), seen.end());
+  for (std::size_t i = 0; i < seen.size(); ++i) {
+    if (i > 0 && seen[i].first == seen[i - 1].first) continue;
+    in.segments.push_back({static_cast<VertexId>(seen[i].first >> 32),
+                           static_cast<VertexId>(seen[i].first & 0xFFFFFFFFu), seen[i].second, false});
+  }
+  // The domain is the convex hull when asked or when no segment survived (all of zero length).
+  if (options.convex_hull || in.segments.empty()) {
+    for (const auto& [a, b] : hull) {
+      const std::uint64_t key = (std::uint64_t{std::min(a, b)} << 32) | std::max(a, b);
+      const auto it = std::lower_bound(seen.begin(), seen.end(), std::make_pair(key, std::int32_t{0}),
+                                       [](const auto& x, const auto& y) { return x.first < y.first; });
+      if (it != seen.end() && it->first == key) continue;
+      in.segments.push_back({a, b, 1, true});
+    }
+  }
+  return in;
+}
+
+// A point set: duplicates by sorting, the convex hull by Andrew's monotone chain (exact), and the
+// input points lying on hull edges inserted into them (the hull edges are the domain boundary, and
+// a feature segment must not contain a vertex). O(n log n); the Delaunay triangulation of the CDT
+// route would cost more than the whole quadtree for a million points. The refusals match delaunay().
+CleanInput clean_point_set(const Pslg& pslg) {
+  const std::size_t n = pslg.points.size();
+  if (n >= std::numeric_limits<std::uint32_t>::max() / 4) {
+    throw InputError(pslg.source, 0, "too many points (" + std::to_string(n) + ")");
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!in_supported_range(pslg.points[i])) {
+      throw InputError(pslg.source, 0,
+                       "point " + std::to_string(i + static_cast<std::size_t>(pslg.first_index)) +
+                           " has a coordinate outside the supported range (0 or magnitude in "
+                           "[1e-50, 1e50])");
+    }
+  }
+  if (n < 3) throw InputError(pslg.source, 0, "fewer than three points (" + std::to_string(n) + ")");
+  const std::vector<Point>& p = pslg.points;
+  std::vector<VertexId> order(n);
+  for (VertexId i = 0; i < n; ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](VertexId a, VertexId b) {
+    if (p[a].x != p[b].x) return p[a].x < p[b].x;
+    if (p[a].y != p[b].y) return p[a].y < p[b].y;
+    return a < b;
+  });
+  CleanInput in;
+  Mesh& m = in.vertices_only;
+  m.points = p;
+  m.vertex_kind.assign(n, VertexKind::kInput);
+  m.vertex_marker = pslg.point_markers.size() == n ? pslg.point_markers : std::vector<std::int32_t>(n, 0);
+  m.input_vertex_count = static_cast<std::uint32_t>(n);
+  std::vector<VertexId> unique;  // sorted by (x, y)
+  unique.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const VertexId v = order[i];
+    if (!unique.empty() && p[unique.back()] == p[v]) {
+      m.vertex_kind[v] = VertexKind::kDuplicate;
+      m.duplicates.emplace_back(v, unique.back());
+      continue;
+    }
+    unique.push_back(v);
+  }
+  std::sort(m.duplicates.begin(), m.duplicates.end());
+  if (unique.size() == 1) throw InputError(pslg.source, 0, "fewer than three distinct points (all points coincide)");
+  if (unique.size() == 2) throw InputError(pslg.source, 0, "fewer than three distinct points");
+  // Strict hull (collinear points popped): lower chain left to right, upper chain right to left.
+  auto chain = [&](bool lower) {
+    std::vector<VertexId> h;
+    for (std::size_t k = 0; k < unique.size(); ++k) {
+      const VertexId v = unique[lower ? k : unique.size() - 1 - k];
+      while (h.size() >= 2 && orient2d(p[h[h.size() - 2]], p[h.back()], p[v]) <= 0) h.pop_back();
+      h.push_back(v);
+    }
+    return h;
+  };
+  const std::vector<VertexId> lower = chain(true), upper = chain(false);
+  if (lower.size() + upper.size() < 5) throw InputError(pslg.source, 0, "all points are collinear");
+  std::vector<VertexId> hull(lower.begin(), lower.end() - 1);
+  hull.insert(hull.end(), upper.begin(), upper.end() - 1);
+  // Points on hull edges: an edge (a, b) of the counter-clockwise hull is found for a point by
+  // binary search on the x-monotone chains; vertical edges only occur at the two extreme x.
+  std::vector<std::vector<VertexId>> on_edge(hull.size());
+  std::vector<char> is_hull(n, 0);
+  for (VertexId v : hull) is_hull[v] = 1;
+  const std::size_t lower_edges = lower.size() - 1;
+  auto between = [&](const Point& a, const Point& b, const Point& x) {
+    // x is collinear with a and b: strictly between them along the dominant axis (exact).
+    if (a.x != b.x) return (a.x < x.x && x.x < b.x) || (b.x < x.x && x.x < a.x);
+    return (a.y < x.y && x.y < b.y) || (b.y < x.y && x.y < a.y);
+  };
+  for (VertexId v : unique) {
+    if (is_hull[v]) continue;
+    const Point& x = p[v];
+    // Candidate edges: the lower-chain and upper-chain edges spanning x.x (binary search), and
+    // the vertical edges at the extreme x.
+    auto test = [&](std::size_t e) {
+      const Point& a = p[hull[e]];
+      const Point& b = p[hull[(e + 1) % hull.size()]];
+      if (orient2d(a, b, x) == 0 && between(a, b, x)) {
+        on_edge[e].push_back(v);
+        return true;
+      }
+      return false;
+    };
+    // Lower chain: edges 0 .. lower_edges-1 with x increasing (non-decreasing).
+    {
+      std::size_t lo = 0, hi = lower_edges;  // first edge whose right end has x ≥ x.x
+      while (lo < hi) {
+        const std::size_t mid = (lo + hi) / 2;
+        if (p[hull[(mid + 1) % hull.size()]].x < x.x) lo = mid + 1; else hi = mid;
+      }
+      if (lo < lower_edges && test(lo)) continue;
+      if (lo + 1 < lower_edges && test(lo + 1)) continue;
+    }
+    // Upper chain: edges lower_edges .. hull.size()-1 with x decreasing.
+    {
+      std::size_t lo = lower_edges, hi = hull.size();
+      while (lo < hi) {
+        const std::size_t mid = (lo + hi) / 2;
+        if (p[hull[(mid + 1) % hull.size()]].x > x.x) lo = mid + 1; else hi = mid;
+      }
+      if (lo < hull.size() && test(lo)) continue;
+      if (lo + 1 < hull.size() && test(lo + 1)) continue;
+    }
+    // Vertical edges at the extreme x (both ends share x).
+    for (std::size_t e = 0; e < hull.size(); ++e) {
+      if (p[hull[e]].x == x.x && p[hull[(e + 1) % hull.size()]].x == x.x && test(e)) break;
+    }
+  }
+  for (std::size_t e = 0; e < hull.size(); ++e) {
+    const Point a = p[hull[e]];
+    auto& list = on_edge[e];
+    std::sort(list.begin(), list.end(), [&](VertexId u, VertexId w) {
+      return std::fabs(p[u].x - a.x) + std::fabs(p[u].y - a.y) < std::fabs(p[w].x - a.x) + std::fabs(p[w].y - a.y);
+    });
+    VertexId from = hull[e];
+    for (VertexId v : list) {
+      in.segments.push_back({from, v, 1, true});
+      from = v;
+    }
+    in.segments.push_back({from, hull[(e + 1) % hull.size()], 1, true});
+  }
+  in.vertices = std::move(unique);
+  std::sort(in.vertices.begin(), in.vertices.end());
+  return in;
+}
+
+// ---- the quadtree ---------------------------------------------------------------------------------
+
+constexpr std::uint8_t kFresh = 1;  // created after the first build: still to be checked
+
+struct Node {
+  std::int64_t ix = 0, iy = 0;         // cell index at its level
+  std::uint32_t parent = kNone;
+  std::uint32_t child = kNone;         // first of four consecutive children; kNone for a leaf
+  std::uint32_t feat_begin = 0;        // leaves: features meeting the closed B(C) in Tree::features
+  std::uint32_t feat_count = 0;
+  std::uint32_t vertex = kNone;        // leaves: the input vertex in the half-open cell, if any
+  std::uint8_t level = 0;
+  std::uint8_t state = 0;
+};
+
+struct Box {
+  double x1, y1, x2, y2;
+};
+
+class Tree {
+ public:
+  Tree(const CleanInput& in, const QuadtreeOptions& options, QuadtreeStats& stats)
+      : in_(in), pts_(in.vertices_only.points), nv_(static_cast<std::uint32_t>(pts_.size())),
+        max_level_(std::min(options.max_depth, 52u)), stats_(stats) {
+    // Root: a power-of-two square at least twice the bounding box, its corner aligned to 1/16 of
+    // its side, so every vertex lies at least 3/16 of the root inside it: a warp target or a corner
+    // moved onto a segment is never on the root's border (which must stay the convex hull).
+    double xmin = std::numeric_limits<double>::infinity(), ymin = xmin;
+    double xmax = -xmin, ymax = -xmin;
+    for (VertexId v : in.vertices) {
+      xmin = std::min(xmin, pts_[v].x);
+      xmax = std::max(xmax, pts_[v].x);
+      ymin = std::min(ymin, pts_[v].y);
+      ymax = std::max(ymax, pts_[v].y);
+    }
+    const double span = std::max(xmax - xmin, ymax - ymin);
+    int e = 0;
+    std::frexp(span, &e);  // span < 2^e
+    e += 1;
+    for (;;) {
+      const double side = std::ldexp(1.0, e), grid = std::ldexp(1.0, e - 4);
+      x0_ = std::floor((0.5 * (xmin + xmax) - 0.5 * side) / grid) * grid;
+      y0_ = std::floor((0.5 * (ymin + ymax) - 0.5 * side) / grid) * grid;
+      const double margin = std::ldexp(1.0, e - 3);
+      if (xmin - x0_ > margin && x0_ + side - xmax > margin && ymin - y0_ > margin &&
+          y0_ + side - ymax > margin) {
+        break;
+      }
+      ++e;
+    }
+    exponent_ = e;
+    for (unsigned l = 0; l < step_.size(); ++l) step_[l] = std::ldexp(1.0, e - static_cast<int>(l));
+  }
+
+  // Plane coordinates of grid line i at a level (i may lie one or two cells outside the root).
+  // (The products are exact: an integer below 2^53 times a power of two.)
+  double X(std::int64_t i, unsigned level) const { return x0_ + static_cast<double>(i) * step_[level]; }
+  double Y(std::int64_t i, unsigned level) const { return y0_ + static_cast<double>(i) * step_[level]; }
+  double cell_size(unsigned level) const { return step_[level]; }
+  Box box(const Node& n) const {
+    return {X(n.ix, n.level), Y(n.iy, n.level), X(n.ix + 1, n.level),
+            Y(n.iy + 1, n.level)};
+  }
+  // The extended cell B(C): the cell grown by its own size on every side.
+  Box extended(const Node& n) const {
+    return {X(n.ix - 1, n.level), Y(n.iy - 1, n.level),
+            X(n.ix + 2, n.level), Y(n.iy + 2, n.level)};
+  }
+
+  bool is_vertex(std::uint32_t f) const { return f < nv_; }
+  const FeatureSegment& segment(std::uint32_t f) const { return in_.segments[f - nv_]; }
+  std::uint32_t vertex_count() const { return nv_; }
+
+  // Does feature f meet the closed box? Exact (a segment and a box are convex: separating axes
+  // x, y and the segment's normal, the last decided by orient2d at the box corners).
+  bool meets(std::uint32_t f, const Box& b) const {
+    if (is_vertex(f)) {
+      const Point& q = pts_[f];
+      return b.x1 <= q.x && q.x <= b.x2 && b.y1 <= q.y && q.y <= b.y2;
+    }
+    const FeatureSegment& s = segment(f);
+    const Point& p = pts_[s.a];
+    const Point& q = pts_[s.b];
+    if (std::max(p.x, q.x) < b.x1 || std::min(p.x, q.x) > b.x2 || std::max(p.y, q.y) < b.y1 ||
+        std::min(p.y, q.y) > b.y2) {
+      return false;
+    }
+    const int o1 = orient2d(p, q, {b.x1, b.y1}), o2 = orient2d(p, q, {b.x2, b.y1});
+    const int o3 = orient2d(p, q, {b.x2, b.y2}), o4 = orient2d(p, q, {b.x1, b.y2});
+    return !((o1 > 0 && o2 > 0 && o3 > 0 && o4 > 0) || (o1 < 0 && o2 < 0 && o3 < 0 && o4 < 0));
+  }
+
+  // BEG's rule: does the feature list of an extended cell meet the input simply? At most one
+  // vertex; with one, only segments incident to it; with none, at most one segment.
+  bool simple(const std::uint32_t* list, std::size_t count) const {
+    std::uint32_t vertex = kNone;
+    for (std::size_t i = 0; i < count; ++i) {
+      if (!is_vertex(list[i])) continue;
+      if (vertex != kNone) return false;
+      vertex = list[i];
+    }
+    // Without a vertex, several segments are still "one vertex and its segments" if they share an
+    // endpoint (lying outside B(C)): they are incident features and do not lower the local
+    // feature size; splitting them apart would only refine towards their common vertex forever.
+    std::uint32_t common_a = kNone, common_b = kNone;
+    for (std::size_t i = 0; i < count; ++i) {
+      if (is_vertex(list[i])) continue;
+      const FeatureSegment& s = segment(list[i]);
+      if (vertex != kNone) {
+        if (s.a != vertex && s.b != vertex) return false;
+        continue;
+      }
+      if (common_a == kNone && common_b == kNone) {
+        common_a = s.a;
+        common_b = s.b;
+        continue;
+      }
+      if (common_a != s.a && common_a != s.b) common_a = kNone;
+      if (common_b != s.a && common_b != s.b) common_b = kNone;
+      if (common_a == kNone && common_b == kNone) return false;
+    }
+    return true;
+  }
+
+  bool meets_any(const Node& n, const std::uint32_t* list, std::size_t count) const {
+    const Box b = box(n);
+    for (std::size_t i = 0; i < count; ++i) {
+      if (meets(list[i], b)) return true;
+    }
+    return false;
+  }
+
+  // Does the leaf have to be split by the feature rule? (Levels 0 and 1 always split.)
+  bool feature_split(const Node& n, const std::uint32_t* list, std::size_t count) const {
+    if (n.level < 2) return true;
+    if (simple(list, count)) return false;
+    return meets_any(n, list, count);
+  }
+
+  // Appends to `out` the features of the parent's list that meet each child's extended cell.
+  void filter_children(const Node& parent, const std::uint32_t* list, std::size_t count,
+                       std::array<std::vector<std::uint32_t>, 4>& out) const {
+    const unsigned l = parent.level + 1u;
+    const std::int64_t cx = parent.ix * 2, cy = parent.iy * 2;
+    // Extended boxes of the children: columns cx, cx+1 and rows cy, cy+1.
+    const double xa1 = X(cx - 1, l), xa2 = X(cx + 2, l), xb1 = X(cx, l), xb2 = X(cx + 3, l);
+    const double ya1 = Y(cy - 1, l), ya2 = Y(cy + 2, l), yb1 = Y(cy, l), yb2 = Y(cy + 3, l);
+    const Box boxes[4] = {{xa1, ya1, xa2, ya2}, {xb1, ya1, xb2, ya2}, {xa1, yb1, xa2, yb2}, {xb1, yb1, xb2, yb2}};
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::uint32_t f = list[i];
+      if (is_vertex(f)) {
+        const Point& q = pts_[f];
+        const bool col0 = xa1 <= q.x && q.x <= xa2, col1 = xb1 <= q.x && q.x <= xb2;
+        const bool row0 = ya1 <= q.y && q.y <= ya2, row1 = yb1 <= q.y && q.y <= yb2;
+        if (col0 && row0) out[0].push_back(f);
+        if (col1 && row0) out[1].push_back(f);
+        if (col0 && row1) out[2].push_back(f);
+        if (col1 && row1) out[3].push_back(f);
+      } else {
+        for (unsigned k = 0; k < 4; ++k) {
+          if (meets(f, boxes[k])) out[k].push_back(f);
+        }
+      }
+    }
+  }
+
+  // First build: breadth first, splitting by the feature rule.
+  void build() {
+    nodes.clear();
+    nodes.push_back(Node{});
+    std::vector<std::uint32_t> pool, next_pool;
+    pool.reserve(in_.vertices.size() + in_.segments.size());
+    for (VertexId v : in_.vertices) pool.push_back(v);
+    for (std::uint32_t s = 0; s < in_.segments.size(); ++s) pool.push_back(nv_ + s);
+    struct Item {
+      std::uint32_t node, begin, count;
+    };
+    std::vector<Item> frontier{{0, 0, static_cast<std::uint32_t>(pool.size())}}, next;
+    std::array<std::vector<std::uint32_t>, 4> lists;
+    while (!frontier.empty()) {
+      next.clear();
+      next_pool.clear();
+      for (const Item& item : frontier) {
+        const std::uint32_t* list = pool.data() + item.begin;
+        const Node n = nodes[item.node];
+        const bool split = n.level < max_level_ && feature_split(n, list, item.count);
+        if (!split) {
+          Node& leaf = nodes[item.node];
+          leaf.feat_begin = static_cast<std::uint32_t>(features.size());
+          leaf.feat_count = item.count;
+          features.insert(features.end(), list, list + item.count);
+          leaf.vertex = vertex_in(leaf);
+          continue;
+        }
+        if (n.level >= 2) ++stats_.splits_feature;
+        for (auto& l : lists) l.clear();
+        filter_children(n, list, item.count, lists);
+        const auto first = static_cast<std::uint32_t>(nodes.size());
+        nodes[item.node].child = first;
+        for (unsigned k = 0; k < 4; ++k) {
+          Node c;
+          c.ix = 2 * n.ix + (k & 1);
+          c.iy = 2 * n.iy + (k >> 1);
+          c.parent = item.node;
+          c.level = static_cast<std::uint8_t>(n.level + 1);
+          nodes.push_back(c);
+          next.push_back({first + k, static_cast<std::uint32_t>(next_pool.size()),
+                          static_cast<std::uint32_t>(lists[k].size())});
+          next_pool.insert(next_pool.end(), lists[k].begin(), lists[k].end());
+        }
+      }
+      frontier.swap(next);
+      pool.swap(next_pool);
+    }
+  }
+
+  // The node covering cell (l, tx, ty): the cell itself if it exists (leaf or not), else the leaf
+  // containing it; kNone outside the root. Climbs from `from`, then descends.
+  std::uint32_t find(std::uint32_t from, unsigned l, std::int64_t tx, std::int64_t ty) const {
+    const std::int64_t side = std::int64_t{1} << l;
+    if (tx < 0 || ty < 0 || tx >= side || ty >= side) return kNone;
+    std::uint32_t a = from;
+    for (;;) {
+      const Node& n = nodes[a];
+      if (n.level <= l && (tx >> (l - n.level)) == n.ix && (ty >> (l - n.level)) == n.iy) break;
+      a = n.parent;
+    }
+    while (nodes[a].level < l && nodes[a].child != kNone) {
+      const unsigned d = l - nodes[a].level - 1u;
+      a = nodes[a].child + static_cast<std::uint32_t>(((tx >> d) & 1) + 2 * ((ty >> d) & 1));
+    }
+    return a;
+  }
+
+  bool is_leaf(std::uint32_t a) const { return nodes[a].child == kNone; }
+
+  // The input vertex in the half-open leaf [x1, x2) × [y1, y2), if any.
+  std::uint32_t vertex_in(const Node& n) const {
+    const Box b = box(n);
+    for (std::uint32_t i = 0; i < n.feat_count; ++i) {
+      const std::uint32_t f = features[n.feat_begin + i];
+      if (!is_vertex(f)) continue;
+      const Point& q = pts_[f];
+      if (b.x1 <= q.x && q.x < b.x2 && b.y1 <= q.y && q.y < b.y2) return f;
+    }
+    return kNone;
+  }
+
+  // Corner of leaf n nearest to q, as 0 BL, 1 BR, 2 TR, 3 TL, with (qx, qy) its offsets.
+  void nearest_corner(const Node& n, const Point& q, unsigned& qx, unsigned& qy) const {
+    qx = q.x >= X(n.ix * 2 + 1, n.level + 1u) ? 1u : 0u;
+    qy = q.y >= Y(n.iy * 2 + 1, n.level + 1u) ? 1u : 0u;
+  }
+
+  // Splits leaf a; children get the features of a's list that meet their extended cells.
+  void split(std::uint32_t a) {
+    const Node n = nodes[a];
+    scratch_.assign(features.begin() + n.feat_begin, features.begin() + n.feat_begin + n.feat_count);
+    std::array<std::vector<std::uint32_t>, 4> lists;
+    filter_children(n, scratch_.data(), scratch_.size(), lists);
+    const auto first = static_cast<std::uint32_t>(nodes.size());
+    nodes[a].child = first;
+    for (unsigned k = 0; k < 4; ++k) {
+      Node c;
+      c.ix = 2 * n.ix + (k & 1);
+      c.iy = 2 * n.iy + (k >> 1);
+      c.parent = a;
+      c.level = static_cast<std::uint8_t>(n.level + 1);
+      c.state = kFresh;
+      c.feat_begin = static_cast<std::uint32_t>(features.size());
+      c.feat_count = static_cast<std::uint32_t>(lists[k].size());
+      features.insert(features.end(), lists[k].begin(), lists[k].end());
+      c.vertex = vertex_in(c);
+      nodes.push_back(c);
+      work_.push_back(first + k);
+    }
+    // Leaves around a may now break balance or the warp rule: look at them again.
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        if (dx == 0 && dy == 0) continue;
+        const std::uint32_t b = find(a, n.level, n.ix + dx, n.iy + dy);
+        if (b != kNone && is_leaf(b)) work_.push_back(b);
+      }
+    }
+  }
+
+  // Checks leaf a against the feature rule (if fresh), balance and the warp rule, splitting what
+  // must be split. Returns true if something was split.
+  bool check(std::uint32_t a) {
+    if (!is_leaf(a)) return false;
+    Node& n = nodes[a];
+    const unsigned l = n.level;
+    if (n.state & kFresh) {
+      n.state = static_cast<std::uint8_t>(n.state & ~kFresh);
+      if (l < max_level_ && feature_split(n, features.data() + n.feat_begin, n.feat_count)) {
+        ++stats_.splits_feature;
+        split(a);
+        return true;
+      }
+    }
+    bool changed = false;
+    // Balance: an edge neighbour more than one level coarser is split.
+    static constexpr int kDir[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+    for (const auto& d : kDir) {
+      const std::uint32_t b = find(a, l, nodes[a].ix + d[0], nodes[a].iy + d[1]);
+      if (b != kNone && nodes[b].level + 1u < l) {
+        ++stats_.splits_balance;
+        split(b);
+        work_.push_back(a);
+        changed = true;
+      }
+    }
+    if (changed) return true;
+    // Warp rule: the four leaves around the corner the vertex will move have a's size. A finer
+    // one means a is split (the vertex gets a smaller leaf); a coarser one is split itself.
+    const std::uint32_t v = nodes[a].vertex;
+    if (v != kNone) {
+      unsigned qx = 0, qy = 0;
+      nearest_corner(nodes[a], pts_[v], qx, qy);
+      const std::int64_t cx = nodes[a].ix + qx, cy = nodes[a].iy + qy;
+      for (int dy = -1; dy <= 0; ++dy) {
+        for (int dx = -1; dx <= 0; ++dx) {
+          const std::uint32_t b = find(a, l, cx + dx, cy + dy);
+          if (b == kNone || b == a) continue;
+          if (nodes[b].level < l) {
+            ++stats_.splits_warp;
+            split(b);
+            work_.push_back(a);
+            return true;
+          }
+          if (is_leaf(b)) continue;
+          if (l >= max_level_) return false;  // counted by count_unresolved()
+          ++stats_.splits_warp;
+          split(a);
+          return true;
+        }
+      }
+    }
+    return false;
+  }
+
+  // Balance and warp rule, to a fixed point.
+  void finish() {
+    for (std::uint32_t a = 0; a < nodes.size(); ++a) {
+      if (is_leaf(a)) work_.push_back(a);
+    }
+    // The work list is complete: a balance violation needs a new leaf (each new leaf is
+    // queued), and a warp-rule violation needs a split next to the vertex's leaf (the leaves
+    // around every split node are queued).
+    while (!work_.empty()) {
+      const std::uint32_t a = work_.back();
+      work_.pop_back();
+      check(a);
+    }
+    stats_.unresolved = count_unresolved();
+    relayout();
+  }
+
+  // Stores the nodes depth first, each node's four children together, so that a node's parent,
+  // children and spatial neighbours are mostly close in memory for the look-ups that follow.
+  void relayout() {
+    std::vector<Node> out;
+    out.reserve(nodes.size());
+    out.push_back(nodes[0]);
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> stack{{0, 0}};  // (old, new)
+    while (!stack.empty()) {
+      const auto [old_index, new_index] = stack.back();
+      stack.pop_back();
+      const std::uint32_t c = nodes[old_index].child;
+      if (c == kNone) continue;
+      const auto first = static_cast<std::uint32_t>(out.size());
+      out[new_index].child = first;
+      for (std::uint32_t k = 0; k < 4; ++k) {
+        out.push_back(nodes[c + k]);
+        out.back().parent = new_index;
+      }
+      for (std::uint32_t k = 4; k-- > 0;) stack.emplace_back(c + k, first + k);
+    }
+    nodes.swap(out);
+  }
+
+  // Leaves at the deepest level that still break the feature rule or the warp rule.
+  std::size_t count_unresolved() const {
+    std::size_t count = 0;
+    for (std::uint32_t a = 0; a < nodes.size(); ++a) {
+      if (!is_leaf(a) || nodes[a].level < max_level_) continue;
+      const Node& n = nodes[a];
+      bool bad = feature_split(n, features.data() + n.feat_begin, n.feat_count);
+      const std::uint32_t v = n.vertex;
+      if (!bad && v != kNone) {
+        unsigned qx = 0, qy = 0;
+        nearest_corner(n, pts_[v], qx, qy);
+        for (int dy = -1; dy <= 0; ++dy) {
+          for (int dx = -1; dx <= 0; ++dx) {
+            const std::uint32_t b = find(a, n.level, n.ix + qx + dx, n.iy + qy + dy);
+            if (b != kNone && b != a && (nodes[b].level != n.level || !is_leaf(b))) bad = true;
+          }
+        }
+      }
+      count += bad ? 1 : 0;
+    }
+    return count;
+  }
+
+  // Leaves in Morton (Z) order.
+  std::vector<std::uint32_t> leaves_in_order() const {
+    std::vector<std::uint32_t> out, stack{0};
+    while (!stack.empty()) {
+      const std::uint32_t a = stack.back();
+      stack.pop_back();
+      if (is_leaf(a)) {
+        out.push_back(a);
+        continue;
+      }
+      for (int k = 3; k >= 0; --k) stack.push_back(nodes[a].child + static_cast<std::uint32_t>(k));
+    }
+    return out;
+  }
+
+  unsigned max_level() const { return max_level_; }
+
+  std::vector<Node> nodes;
+  std::vector<std::uint32_t> features;  // the leaves' lists
+
+ private:
+  const CleanInput& in_;
+  const std::vector<Point>& pts_;
+  std::uint32_t nv_;
+  unsigned max_level_;
+  QuadtreeStats& stats_;
+  double x0_ = 0.0, y0_ = 0.0;
+  int exponent_ = 0;
+  std::array<double, 64> step_{};  // cell size at each level
+  std::vector<std::uint32_t> work_;
+  std::vector<std::uint32_t> scratch_;
+};
+
+// ---- from the quadtree to the mesh ----------------------------------------------------------------
+
+// Loop slots of a leaf, counter-clockwise from the lower-left corner; odd slots are side midpoints.
+enum Slot : unsigned { kBL = 0, kBottom = 1, kBR = 2, kRight = 3, kTR = 4, kTop = 5, kTL = 6, kLeft = 7 };
+// Owned-vertex bits of a leaf.
+enum Own : unsigned { kOwnLL = 0, kOwnLeftMid = 1, kOwnBottomMid = 2, kOwnUL = 3, kOwnLR = 4, kOwnUR = 5 };
+
+class Builder {
+ public:
+  Builder(const CleanInput& in, const QuadtreeOptions& options, QuadtreeStats& stats, Tree& tree)
+      : in_(in), options_(options), stats_(stats), tree_(tree), pts_(in.vertices_only.points) {}
+
+  Mesh run(const std::vector<Point>& holes);
+
+  // Free corners for the fallback (grid vertices not near a feature); valid after number_vertices().
+  std::vector<Point> fallback_points() const;
+
+ private:
+  using Tri = std::array<std::uint32_t, 3>;
+
+  std::uint32_t own(std::uint32_t k, unsigned bit) const {
+    if (((own_mask_[k] >> bit) & 1u) == 0) throw RouteFailure{"a leaf lacks an expected vertex"};
+    return own_base_[k] + static_cast<std::uint32_t>(std::popcount(static_cast<unsigned>(own_mask_[k] & ((1u << bit) - 1u))));
+  }
+  std::uint32_t leaf_of(std::uint32_t node) const { return leaf_index_[node]; }
+  // The leaf containing the point just north-east of the lower-left corner of cell (l, tx, ty).
+  std::uint32_t leaf_sw(std::uint32_t from, unsigned l, std::int64_t tx, std::int64_t ty) const {
+    std::uint32_t a = tree_.find(from, l, tx, ty);
+    if (a == kNone) throw RouteFailure{"neighbour outside the root"};
+    while (!tree_.is_leaf(a)) a = tree_.nodes[a].child;
+    return a;
+  }
+  // The vertex of leaf node d at grid point (tx, ty) of level l, which is d's lower-left corner or
+  // the midpoint of its left or bottom side.
+  std::uint32_t vertex_at(std::uint32_t d, unsigned l, std::int64_t tx, std::int64_t ty) const {
+    const Node& n = tree_.nodes[d];
+    const unsigned top = tree_.max_level();
+    const std::int64_t dx = n.ix << (top - n.level), dy = n.iy << (top - n.level);
+    const std::int64_t gx = tx << (top - l), gy = ty << (top - l);
+    const std::uint32_t k = leaf_of(d);
+    if (dx == gx && dy == gy) return own(k, kOwnLL);
+    if (dx == gx) return own(k, kOwnLeftMid);
+    if (dy == gy) return own(k, kOwnBottomMid);
+    throw RouteFailure{"vertex ownership is inconsistent"};
+  }
+
+  void number_vertices();
+  void build_loops();
+  void warp();
+  void segments_pass();
+  void triangulate_cells(Mesh& mesh);
+  void link_cells(Mesh& mesh);
+  void mark_segments(Mesh& mesh);
+
+  bool in_chain(std::uint32_t g) const { return g < gseg_.size() && (gseg_[g] != kNone || gwarp_[g] != kNone); }
+
+  bool on_segment(std::uint32_t g, std::uint32_t s) const {
+    if (g < gseg_.size() && gseg_[g] == s) return true;
+    const FeatureSegment& seg = in_.segments[s];
+    return gwarp_[g] == seg.a || gwarp_[g] == seg.b;
+  }
+
+  const CleanInput& in_;
+  const QuadtreeOptions& options_;
+  QuadtreeStats& stats_;
+  Tree& tree_;
+  const std::vector<Point>& pts_;
+
+  std::vector<std::uint32_t> leaves_;      // leaf ordinal → node, Morton order
+  std::vector<std::uint32_t> leaf_index_;  // node → leaf ordinal (kNone for inner nodes)
+  std::vector<std::uint32_t> own_base_;
+  std::vector<std::uint8_t> own_mask_;
+  std::vector<std::uint32_t> loops_;       // 8 slots per leaf, kNone where absent
+  std::vector<Point> gpos_;                // grid vertex (then crossing point) positions
+  std::vector<std::uint8_t> glevel_;       // deepest level of a leaf around each grid vertex
+  std::vector<std::uint8_t> gtop_;         // shallowest level of a leaf around each grid vertex
+  std::vector<VertexId> gwarp_;            // input vertex a grid vertex was warped to, or kNone
+  std::vector<std::uint32_t> gseg_;        // segment a vertex lies on (snapped, exact, crossing)
+  std::vector<std::uint8_t> gmoved_;       // moved off its grid position (warped or snapped)
+  std::uint32_t grid_count_ = 0;
+  std::vector<std::uint32_t> input_gv_;    // input vertex → its grid vertex
+  // Crossing points per leaf edge: (leaf, start slot, vertex), sorted by leaf.
+  struct EdgeCrossing {
+    std::uint32_t leaf, slot, vertex;
+  };
+  std::vector<EdgeCrossing> crossings_;
+  // Subsegment chains: neighbours of a vertex along segments.
+  std::unordered_map<std::uint32_t, std::vector<std::pair<std::uint32_t, std::uint32_t>>> chain_;
+  std::size_t subsegment_count_ = 0;
+  // Final ids and the cells' boundary edges.
+  std::vector<VertexId> final_id_;
+  std::vector<std::uint32_t> bound_begin_;  // per leaf: first boundary edge in bound_
+  std::vector<std::uint32_t> bound_sides_;  // per leaf: polygon index of BR, TR, TL (8 bits each)
+  std::vector<Handle> bound_;               // boundary edge handles, in polygon order
+  std::vector<std::pair<Handle, std::uint32_t>> segment_edges_;  // (edge, segment) to mark
+};
+
+void Builder::number_vertices() {
+  leaves_ = tree_.leaves_in_order();
+  leaf_index_.assign(tree_.nodes.size(), kNone);
+  for (std::uint32_t k = 0; k < leaves_.size(); ++k) leaf_index_[leaves_[k]] = k;
+  own_base_.resize(leaves_.size());
+  own_mask_.resize(leaves_.size());
+  std::uint32_t next = 0;
+  gpos_.clear();
+  gpos_.reserve(leaves_.size() + leaves_.size() / 4 + 16);
+  for (std::uint32_t k = 0; k < leaves_.size(); ++k) {
+    const std::uint32_t a = leaves_[k];
+    const Node& n = tree_.nodes[a];
+    const unsigned l = n.level;
+    const std::int64_t side = std::int64_t{1} << l, ix = n.ix, iy = n.iy;
+    unsigned mask = 1u << kOwnLL;
+    gpos_.push_back({tree_.X(ix, l), tree_.Y(iy, l)});
+    const std::uint32_t w = tree_.find(a, l, ix - 1, iy);
+    if (w != kNone && tree_.nodes[w].level == l && !tree_.is_leaf(w)) {
+      mask |= 1u << kOwnLeftMid;
+      gpos_.push_back({tree_.X(ix, l), tree_.Y(2 * iy + 1, l + 1)});
+    }
+    const std::uint32_t s = tree_.find(a, l, ix, iy - 1);
+    if (s != kNone && tree_.nodes[s].level == l && !tree_.is_leaf(s)) {
+      mask |= 1u << kOwnBottomMid;
+      gpos_.push_back({tree_.X(2 * ix + 1, l + 1), tree_.Y(iy, l)});
+    }
+    const bool top = iy + 1 == side, right = ix + 1 == side;
+    if (top) {
+      mask |= 1u << kOwnUL;
+      gpos_.push_back({tree_.X(ix, l), tree_.Y(iy + 1, l)});
+    }
+    if (right) {
+      mask |= 1u << kOwnLR;
+      gpos_.push_back({tree_.X(ix + 1, l), tree_.Y(iy, l)});
+    }
+    if (top && right) {
+      mask |= 1u << kOwnUR;
+      gpos_.push_back({tree_.X(ix + 1, l), tree_.Y(iy + 1, l)});
+    }
+    own_base_[k] = next;
+    own_mask_[k] = static_cast<std::uint8_t>(mask);
+    next += static_cast<std::uint32_t>(std::popcount(mask));
+  }
+  grid_count_ = next;
+}
+
+void Builder::build_loops() {
+  loops_.assign(8 * leaves_.size(), kNone);
+  glevel_.assign(grid_count_, 0);
+  gtop_.assign(grid_count_, 255);
+  for (std::uint32_t k = 0; k < leaves_.size(); ++k) {
+    const std::uint32_t a = leaves_[k];
+    const Node& n = tree_.nodes[a];
+    const unsigned l = n.level;
+    const std::int64_t side = std::int64_t{1} << l, ix = n.ix, iy = n.iy;
+    const bool top = iy + 1 == side, right = ix + 1 == side;
+    std::uint32_t* loop = &loops_[8 * std::size_t{k}];
+    loop[kBL] = own(k, kOwnLL);
+    if ((own_mask_[k] >> kOwnBottomMid) & 1u) loop[kBottom] = own(k, kOwnBottomMid);
+    if ((own_mask_[k] >> kOwnLeftMid) & 1u) loop[kLeft] = own(k, kOwnLeftMid);
+    loop[kBR] = right ? own(k, kOwnLR) : vertex_at(leaf_sw(a, l, ix + 1, iy), l, ix + 1, iy);
+    if (top && right) {
+      loop[kTR] = own(k, kOwnUR);
+    } else if (top) {
+      // The leaf to the east along the root's top border: (xR, yT) is its upper-left corner.
+      std::uint32_t d = tree_.find(a, l, ix + 1, iy);
+      while (!tree_.is_leaf(d)) d = tree_.nodes[d].child + 2;
+      loop[kTR] = own(leaf_of(d), kOwnUL);
+    } else if (right) {
+      std::uint32_t d = tree_.find(a, l, ix, iy + 1);
+      while (!tree_.is_leaf(d)) d = tree_.nodes[d].child + 1;
+      loop[kTR] = own(leaf_of(d), kOwnLR);
+    } else {
+      loop[kTR] = vertex_at(leaf_sw(a, l, ix + 1, iy + 1), l, ix + 1, iy + 1);
+    }
+    loop[kTL] = top ? own(k, kOwnUL) : vertex_at(leaf_sw(a, l, ix, iy + 1), l, ix, iy + 1);
+    if (!right) {
+      const std::uint32_t r = tree_.find(a, l, ix + 1, iy);
+      if (tree_.nodes[r].level == l && !tree_.is_leaf(r)) {
+        const std::uint32_t nw = tree_.nodes[r].child + 2;
+        if (!tree_.is_leaf(nw)) throw RouteFailure{"unbalanced quadtree"};
+        loop[kRight] = own(leaf_of(nw), kOwnLL);
+      }
+    }
+    if (!top) {
+      const std::uint32_t t = tree_.find(a, l, ix, iy + 1);
+      if (tree_.nodes[t].level == l && !tree_.is_leaf(t)) {
+        const std::uint32_t se = tree_.nodes[t].child + 1;
+        if (!tree_.is_leaf(se)) throw RouteFailure{"unbalanced quadtree"};
+        loop[kTop] = own(leaf_of(se), kOwnLL);
+      }
+    }
+    for (unsigned s = 0; s < 8; ++s) {
+      if (loop[s] == kNone) continue;
+      glevel_[loop[s]] = std::max(glevel_[loop[s]], static_cast<std::uint8_t>(l));
+      gtop_[loop[s]] = std::min(gtop_[loop[s]], static_cast<std::uint8_t>(l));
+    }
+  }
+}
+
+void Builder::warp() {
+  gwarp_.assign(grid_count_, kNone);
+  gmoved_.assign(grid_count_, 0);
+  input_gv_.assign(pts_.size(), kNone);
+  // Each leaf knows the input vertex in its half-open square (at most one: the splitting rule).
+  for (std::uint32_t k = 0; k < leaves_.size(); ++k) {
+    const Node& n = tree_.nodes[leaves_[k]];
+    const VertexId v = n.vertex;
+    if (v == kNone) continue;
+    const Point& q = pts_[v];
+    unsigned qx = 0, qy = 0;
+    tree_.nearest_corner(n, q, qx, qy);
+    static constexpr unsigned kCornerSlot[2][2] = {{kBL, kTL}, {kBR, kTR}};  // [qx][qy]
+    const std::uint32_t g = loops_[8 * std::size_t{k} + kCornerSlot[qx][qy]];
+    if (gwarp_[g] != kNone || input_gv_[v] != kNone) throw RouteFailure{"two input vertices warp the same corner"};
+    gwarp_[g] = v;
+    gmoved_[g] = 1;
+    gpos_[g] = q;
+    input_gv_[v] = g;
+    ++stats_.warped;
+  }
+  for (VertexId v : in_.vertices) {
+    if (input_gv_[v] == kNone) throw RouteFailure{"an input vertex lies in no leaf"};
+  }
+}
+
+// Corners onto segments, crossing points, and the chains of subsegments.
+void Builder::segments_pass() {
+  if (in_.segments.empty()) return;
+  const std::uint32_t nv = tree_.vertex_count();
+  gseg_.assign(grid_count_, kNone);
+  // The leaves that have a segment in their list (the only ones the passes below look at).
+  std::vector<std::uint32_t> near;
+  for (std::uint32_t k = 0; k < leaves_.size(); ++k) {
+    const Node& n = tree_.nodes[leaves_[k]];
+    for (std::uint32_t i = 0; i < n.feat_count; ++i) {
+      if (tree_.features[n.feat_begin + i] >= nv) {
+        near.push_back(k);
+        break;
+      }
+    }
+  }
+  // 1. Corners exactly on a segment join its chain where they are.
+  for (const std::uint32_t k : near) {
+    const Node& n = tree_.nodes[leaves_[k]];
+    for (std::uint32_t i = 0; i < n.feat_count; ++i) {
+      const std::uint32_t f = tree_.features[n.feat_begin + i];
+      if (f < nv) continue;
+      const std::uint32_t s = f - nv;
+      const Point& a = pts_[in_.segments[s].a];
+      const Point& b = pts_[in_.segments[s].b];
+      for (unsigned slot = 0; slot < 8; ++slot) {
+        const std::uint32_t g = loops_[8 * std::size_t{k} + slot];
+        if (g == kNone || gwarp_[g] != kNone || gseg_[g] != kNone) continue;
+        const Point& p = gpos_[g];
+        if (orient2d(a, b, p) != 0) continue;
+        const bool between = a.x != b.x ? ((a.x < p.x && p.x < b.x) || (b.x < p.x && p.x < a.x))
+                                        : ((a.y < p.y && p.y < b.y) || (b.y < p.y && p.y < a.y));
+        if (!between) continue;
+        gseg_[g] = s;
+        ++stats_.on_segment;
+      }
+    }
+  }
+  // 2. BEG's warp towards segments: corners close to a segment move onto it, so that no sliver
+  //    is cut off a cell. Two moves, scored as a fraction of the leaf size; a corner takes the
+  //    best-scoring one (each corner moves at most once):
+  //    X. a segment crosses an edge uc of a leaf of size S at x with |x − c| < snap_fraction·S and
+  //       |x − c| < |uc|/2: c moves to x, along the edge (the leaves on both sides of the edge keep
+  //       at least half of it; the others only grow);
+  //    P. a corner lies nearer to a segment than snap_fraction × its largest incident leaf and
+  //       0.4 × its smallest: it moves to its projection (a segment running almost along the cell
+  //       edges crosses none near the corner). Two ends of one edge can both move only if the
+  //       edge meets the segment at less than asin(0.8), so they stay 0.3 of the edge apart.
+  struct Choice {
+    std::uint32_t segment;
+    double fraction;
+    Point target;
+  };
+  std::unordered_map<std::uint32_t, Choice> choice;
+  auto offer = [&](std::uint32_t c, const Choice& candidate) {
+    const auto [it, fresh] = choice.emplace(c, candidate);
+    if (!fresh && (candidate.fraction < it->second.fraction ||
+                   (candidate.fraction == it->second.fraction && candidate.segment < it->second.segment))) {
+      it->second = candidate;
+    }
+  };
+  // Moving corners changes which edges a segment crosses (a corner left beside the moved
+  // neighbours may now lie right next to the segment), so the two rules run to a fixed point;
+  // every corner moves at most once.
+  for (int round = 0; round < 4; ++round) {
+    choice.clear();
+    // 2a. Crossings.
+    for (const std::uint32_t k : near) {
+      const Node& n = tree_.nodes[leaves_[k]];
+      const std::uint32_t* loop = &loops_[8 * std::size_t{k}];
+      for (std::uint32_t i = 0; i < n.feat_count; ++i) {
+        const std::uint32_t f = tree_.features[n.feat_begin + i];
+        if (f < nv) continue;
+        const std::uint32_t s = f - nv;
+        const Point& a = pts_[in_.segments[s].a];
+        const Point& b = pts_[in_.segments[s].b];
+        for (unsigned slot = 0; slot < 8; ++slot) {
+          const std::uint32_t u = loop[slot];
+          if (u == kNone) continue;
+          unsigned next = (slot + 1) % 8;
+          while (loop[next] == kNone) next = (next + 1) % 8;
+          const std::uint32_t w = loop[next];
+          if (on_segment(u, s) || on_segment(w, s)) continue;
+          const Point& pu = gpos_[u];
+          const Point& pw = gpos_[w];
+          if (orient2d(a, b, pu) * orient2d(a, b, pw) >= 0) continue;
+          if (orient2d(pu, pw, a) * orient2d(pu, pw, b) >= 0) continue;
+          const Point x = segment_intersection(gpos_[std::min(u, w)], gpos_[std::max(u, w)], a, b);
+          const double length = distance(pu, pw);
+          const double size = tree_.cell_size(n.level);
+          for (const std::uint32_t c : {u, w}) {
+            if (gwarp_[c] != kNone || gseg_[c] != kNone) continue;
+            const double along = distance(gpos_[c], x);
+            if (!(along < options_.snap_fraction * size) || !(along < 0.5 * length)) continue;
+            offer(c, {s, along / size, x});
+          }
+        }
+      }
+    }
+    // 2b. Projections.
+    for (const std::uint32_t k : near) {
+      const Node& n = tree_.nodes[leaves_[k]];
+      for (std::uint32_t i = 0; i < n.feat_count; ++i) {
+        const std::uint32_t f = tree_.features[n.feat_begin + i];
+        if (f < nv) continue;
+        const std::uint32_t s = f - nv;
+        const Point& a = pts_[in_.segments[s].a];
+        const Point& b = pts_[in_.segments[s].b];
+        const double dx = b.x - a.x, dy = b.y - a.y;
+        for (unsigned slot = 0; slot < 8; ++slot) {
+          const std::uint32_t g = loops_[8 * std::size_t{k} + slot];
+          if (g == kNone || gwarp_[g] != kNone || gseg_[g] != kNone) continue;
+          const Point& p = gpos_[g];
+          const double t = ((p.x - a.x) * dx + (p.y - a.y) * dy) / (dx * dx + dy * dy);
+          if (!(t > 0.0 && t < 1.0)) continue;
+          const Point proj{a.x + t * dx, a.y + t * dy};
+          const double d = distance(p, proj);
+          const double size = tree_.cell_size(gtop_[g]);
+          if (!(d < options_.snap_fraction * size) || !(d < 0.4 * tree_.cell_size(glevel_[g])) ||
+              !(d < distance(proj, a)) || !(d < distance(proj, b))) {
+            continue;
+          }
+          offer(g, {s, d / size, proj});
+        }
+      }
+    }
+    for (const auto& [g, c] : choice) {
+      gseg_[g] = c.segment;
+      gpos_[g] = c.target;
+      gmoved_[g] = 1;
+      ++stats_.snapped;
+    }
+    if (choice.empty()) break;
+  }
+  // 2. Crossing points: every leaf edge properly crossed by a segment of the leaf's list (edges
+  //    ending on that segment only touch it). One vertex per (edge, segment), shared by both sides.
+  std::unordered_map<std::uint64_t, std::vector<std::pair<std::uint32_t, std::uint32_t>>> made;
+  for (const std::uint32_t k : near) {
+    const Node& n = tree_.nodes[leaves_[k]];
+    const std::uint32_t* loop = &loops_[8 * std::size_t{k}];
+    for (std::uint32_t i = 0; i < n.feat_count; ++i) {
+      const std::uint32_t f = tree_.features[n.feat_begin + i];
+      if (f < nv) continue;
+      const std::uint32_t s = f - nv;
+      const Point& a = pts_[in_.segments[s].a];
+      const Point& b = pts_[in_.segments[s].b];
+      for (unsigned slot = 0; slot < 8; ++slot) {
+        const std::uint32_t u = loop[slot];
+        if (u == kNone) continue;
+        unsigned next = (slot + 1) % 8;
+        while (loop[next] == kNone) next = (next + 1) % 8;
+        const std::uint32_t w = loop[next];
+        if (on_segment(u, s) || on_segment(w, s)) continue;
+        const Point& pu = gpos_[u];
+        const Point& pw = gpos_[w];
+        if (orient2d(a, b, pu) * orient2d(a, b, pw) >= 0) continue;
+        if (orient2d(pu, pw, a) * orient2d(pu, pw, b) >= 0) continue;
+        const std::uint64_t key = (std::uint64_t{std::min(u, w)} << 32) | std::max(u, w);
+        auto& list = made[key];
+        std::uint32_t x = kNone;
+        for (const auto& [seg, vertex] : list) {
+          if (seg == s) x = vertex;
+        }
+        if (x == kNone) {
+          x = static_cast<std::uint32_t>(gpos_.size());
+          const Point& lo = gpos_[std::min(u, w)];
+          const Point& hi = gpos_[std::max(u, w)];
+          gpos_.push_back(segment_intersection(lo, hi, a, b));
+          gseg_.push_back(s);
+          gwarp_.push_back(kNone);
+          gmoved_.push_back(1);
+          list.emplace_back(s, x);
+          ++stats_.crossings;
+        }
+        crossings_.push_back({k, slot, x});
+      }
+    }
+  }
+  std::sort(crossings_.begin(), crossings_.end(), [](const EdgeCrossing& p, const EdgeCrossing& q) {
+    return p.leaf != q.leaf ? p.leaf < q.leaf : p.slot != q.slot ? p.slot < q.slot : p.vertex < q.vertex;
+  });
+  crossings_.erase(std::unique(crossings_.begin(), crossings_.end(),
+                               [](const EdgeCrossing& p, const EdgeCrossing& q) {
+                                 return p.leaf == q.leaf && p.slot == q.slot && p.vertex == q.vertex;
+                               }),
+                   crossings_.end());
+  // 3. Chains: along each segment, its endpoints and the vertices on it, by position.
+  std::vector<std::vector<std::uint32_t>> on(in_.segments.size());
+  for (std::uint32_t g = 0; g < gseg_.size(); ++g) {
+    if (gseg_[g] != kNone) on[gseg_[g]].push_back(g);
+  }
+  for (std::uint32_t s = 0; s < in_.segments.size(); ++s) {
+    const FeatureSegment& seg = in_.segments[s];
+    const Point& a = pts_[seg.a];
+    const Point& b = pts_[seg.b];
+    const double dx = b.x - a.x, dy = b.y - a.y;
+    auto param = [&](std::uint32_t g) { return (gpos_[g].x - a.x) * dx + (gpos_[g].y - a.y) * dy; };
+    auto& list = on[s];
+    std::sort(list.begin(), list.end(), [&](std::uint32_t p, std::uint32_t q) { return param(p) < param(q); });
+    const std::uint32_t first = input_gv_[seg.a], last = input_gv_[seg.b];
+    list.insert(list.begin(), first);
+    list.push_back(last);
+    for (std::size_t i = 0; i + 1 < list.size(); ++i) {
+      if (!(param(list[i]) < param(list[i + 1]))) {
+        throw RouteFailure{"two vertices at the same place on a segment"};
+      }
+      chain_[list[i]].emplace_back(list[i + 1], s);
+      chain_[list[i + 1]].emplace_back(list[i], s);
+      ++subsegment_count_;
+    }
+  }
+}
+
+// The case table with its adjacency: for each midpoint mask, the triangles over polygon positions
+// (the present slots in order) and, per triangle edge, either the polygon edge it lies on or the
+// triangle edge across it inside the cell.
+struct PlainCell {
+  std::uint8_t slots[8];        // polygon position → slot
+  std::uint8_t size = 0;        // polygon vertices
+  std::uint8_t count = 0;       // triangles
+  std::uint8_t tri[6][3];       // polygon positions, counter-clockwise
+  std::int8_t boundary[6][3];   // polygon edge index or -1
+  std::uint8_t twin[6][3];      // 3·triangle + edge across, for inner edges
+};
+
+const std::array<PlainCell, 16>& plain_cells() {
+  static const auto table = [] {
+    std::array<PlainCell, 16> out{};
+    const auto& cases = detail::quadtree_case_table();
+    for (unsigned mask = 0; mask < 16; ++mask) {
+      PlainCell& c = out[mask];
+      std::uint8_t position[8] = {};
+      for (std::uint8_t slot = 0; slot < 8; ++slot) {
+        if ((slot & 1) != 0 && (mask & (1u << (slot / 2))) == 0) continue;
+        position[slot] = c.size;
+        c.slots[c.size++] = slot;
+      }
+      c.count = static_cast<std::uint8_t>(cases[mask].size());
+      for (std::size_t i = 0; i < cases[mask].size(); ++i) {
+        for (unsigned k = 0; k < 3; ++k) c.tri[i][k] = position[cases[mask][i][k]];
+      }
+      for (unsigned i = 0; i < c.count; ++i) {
+        for (unsigned e = 0; e < 3; ++e) {
+          const unsigned from = c.tri[i][next3(e)], to = c.tri[i][prev3(e)];
+          c.boundary[i][e] = (to == (from + 1u) % c.size) ? static_cast<std::int8_t>(from) : std::int8_t{-1};
+          if (c.boundary[i][e] >= 0) continue;
+          for (unsigned j = 0; j < c.count; ++j) {
+            for (unsigned f = 0; f < 3; ++f) {
+              if (c.tri[j][next3(f)] == to && c.tri[j][prev3(f)] == from) c.twin[i][e] = static_cast<std::uint8_t>(3 * j + f);
+            }
+          }
+        }
+      }
+    }
+    return out;
+  }();
+  return table;
+}
+
+void Builder::triangulate_cells(Mesh& mesh) {
+  const auto& plain = plain_cells();
+  bound_begin_.resize(leaves_.size() + 1);
+  bound_sides_.resize(leaves_.size());
+  bound_.clear();
+  bound_.reserve(leaves_.size() * 5);
+  mesh.triangles.reserve(leaves_.size() * 3);
+  std::size_t next_crossing = 0;
+  // Scratch for the program cells.
+  std::vector<std::uint32_t> poly;           // vertices of the cell polygon
+  std::vector<Tri> tris;
+  std::vector<std::array<std::uint8_t, 3>> local;
+  std::vector<Point> sub_points;
+  struct Chord {
+    std::uint32_t i, j, segment;
+  };
+  std::vector<Chord> chords;
+  std::vector<std::pair<std::vector<std::uint32_t>, std::vector<Chord>>> pieces;  // polygon indices
+  for (std::uint32_t k = 0; k < leaves_.size(); ++k) {
+    const std::uint32_t* loop = &loops_[8 * std::size_t{k}];
+    bound_begin_[k] = static_cast<std::uint32_t>(bound_.size());
+    // Crossings on this leaf's edges.
+    const std::size_t cross_begin = next_crossing;
+    while (next_crossing < crossings_.size() && crossings_[next_crossing].leaf == k) ++next_crossing;
+    bool special = cross_begin != next_crossing;
+    for (unsigned s = 0; s < 8 && !special; ++s) {
+      const std::uint32_t g = loop[s];
+      if (g != kNone && (gmoved_[g] || (!gseg_.empty() && gseg_[g] != kNone))) special = true;
+    }
+    if (!special) {
+      // Untouched square: the case table, with its adjacency.
+      unsigned mask = 0;
+      for (unsigned side = 0; side < 4; ++side) {
+        if (loop[2 * side + 1] != kNone) mask |= 1u << side;
+      }
+      const PlainCell& c = plain[mask];
+      const auto first = static_cast<TriangleId>(mesh.triangles.size());
+      bound_.resize(bound_.size() + c.size);
+      Handle* bound = bound_.data() + bound_begin_[k];
+      for (unsigned i = 0; i < c.count; ++i) {
+        const VertexId a = final_id_[loop[c.slots[c.tri[i][0]]]];
+        const VertexId b = final_id_[loop[c.slots[c.tri[i][1]]]];
+        const VertexId d = final_id_[loop[c.slots[c.tri[i][2]]]];
+        if (orient2d(mesh.points[a], mesh.points[b], mesh.points[d]) <= 0) {
+          throw RouteFailure{"a cell triangle is not counter-clockwise"};
+        }
+        Triangle t{{a, b, d}, {kNone, kNone, kNone}};
+        for (unsigned e = 0; e < 3; ++e) {
+          if (c.boundary[i][e] >= 0) {
+            bound[c.boundary[i][e]] = make_handle(first + i, e);
+          } else {
+            t.n[e] = make_handle(first + c.twin[i][e] / 3u, c.twin[i][e] % 3u);
+          }
+        }
+        mesh.triangles.push_back(t);
+      }
+      std::uint32_t sides = 0;
+      for (unsigned q = 0; q < c.size; ++q) {
+        if (c.slots[q] == kBR) sides |= q;
+        if (c.slots[q] == kTR) sides |= q << 8;
+        if (c.slots[q] == kTL) sides |= q << 16;
+      }
+      bound_sides_[k] = sides;
+      ++stats_.table_cells;
+      continue;
+    }
+    // The polygon: loop slots with the crossing points of each edge inserted in order.
+    poly.clear();
+    std::uint8_t side_index[4] = {0, 0, 0, 0};  // polygon index of BL, BR, TR, TL
+    for (unsigned s = 0; s < 8; ++s) {
+      if (loop[s] == kNone) continue;
+      if ((s & 1) == 0) side_index[s / 2] = static_cast<std::uint8_t>(poly.size());
+      poly.push_back(loop[s]);
+      if (cross_begin == next_crossing) continue;
+      const std::size_t before = poly.size();
+      for (std::size_t c = cross_begin; c < next_crossing; ++c) {
+        if (crossings_[c].slot == s) poly.push_back(crossings_[c].vertex);
+      }
+      if (poly.size() - before > 1) {
+        const Point origin = gpos_[loop[s]];
+        std::sort(poly.begin() + static_cast<std::ptrdiff_t>(before), poly.end(), [&](std::uint32_t p, std::uint32_t q) {
+          return squared_distance(origin, gpos_[p]) < squared_distance(origin, gpos_[q]);
+        });
+      }
+    }
+    if (poly.size() > 250) throw RouteFailure{"a cell has too many boundary vertices"};
+    tris.clear();
+    {
+      ++stats_.program_cells;
+      // Chords: consecutive chain vertices that are both on this polygon and not adjacent on it.
+      chords.clear();
+      const std::size_t m = poly.size();
+      for (std::size_t i = 0; i < m; ++i) {
+        if (!in_chain(poly[i])) continue;
+        const auto it = chain_.find(poly[i]);
+        if (it == chain_.end()) continue;
+        for (const auto& [other, s] : it->second) {
+          for (std::size_t j = i + 1; j < m; ++j) {
+            if (poly[j] != other) continue;
+            const bool adjacent = j == i + 1 || (i == 0 && j == m - 1);
+            if (adjacent) continue;  // a boundary edge on the segment: marked below
+            chords.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j), s});
+          }
+        }
+      }
+      // Triangulates one piece, given as polygon indices (counter-clockwise).
+      auto triangulate = [&](const std::uint32_t* index, std::size_t count) {
+        sub_points.clear();
+        for (std::size_t i = 0; i < count; ++i) sub_points.push_back(gpos_[poly[index[i]]]);
+        local.clear();
+        Point centre;
+        bool used_centre = false;
+        if (!detail::triangulate_piece(sub_points, local, centre, used_centre)) {
+          throw RouteFailure{"a warped or cut cell has no valid triangulation"};
+        }
+        if (used_centre) {
+          // BEG add such points to distorted cells; it lifts the worst warped point-set cell from
+          // 13.4° to 18.3° (tests/test_quadtree.cpp enumerates the configurations).
+          gpos_.push_back(centre);
+          gwarp_.push_back(kNone);
+          gmoved_.push_back(1);
+          if (!gseg_.empty()) gseg_.push_back(kNone);
+          final_id_.push_back(mesh.add_vertex(centre, VertexKind::kSteiner, 0));
+          ++stats_.centres;
+        }
+        for (const auto& t : local) {
+          std::uint32_t v[3];
+          for (unsigned c = 0; c < 3; ++c) {
+            v[c] = t[c] == count ? static_cast<std::uint32_t>(gpos_.size() - 1) : poly[index[t[c]]];
+          }
+          tris.push_back({v[0], v[1], v[2]});
+        }
+      };
+      if (chords.empty()) {
+        // A warped cell: one piece.
+        static constexpr auto kIdentity = [] {
+          std::array<std::uint32_t, 256> a{};
+          for (std::uint32_t i = 0; i < 256; ++i) a[i] = i;
+          return a;
+        }();
+        triangulate(kIdentity.data(), m);
+      } else {
+        // Cut the polygon along the chords, then triangulate each piece.
+        pieces.clear();
+        std::vector<std::uint32_t> all(m);
+        for (std::uint32_t i = 0; i < m; ++i) all[i] = i;
+        pieces.emplace_back(std::move(all), chords);
+        for (std::size_t p = 0; p < pieces.size(); ++p) {
+          while (!pieces[p].second.empty()) {
+            const Chord c = pieces[p].second.back();
+            pieces[p].second.pop_back();
+            const std::vector<std::uint32_t> idx = pieces[p].first;
+            const auto pi = std::find(idx.begin(), idx.end(), c.i) - idx.begin();
+            const auto pj = std::find(idx.begin(), idx.end(), c.j) - idx.begin();
+            if (pi == static_cast<std::ptrdiff_t>(idx.size()) || pj == static_cast<std::ptrdiff_t>(idx.size())) {
+              throw RouteFailure{"a chord leaves its piece"};
+            }
+            std::vector<std::uint32_t> one, two;
+            for (auto q = pi;; q = (q + 1) % static_cast<std::ptrdiff_t>(idx.size())) {
+              one.push_back(idx[static_cast<std::size_t>(q)]);
+              if (q == pj) break;
+            }
+            for (auto q = pj;; q = (q + 1) % static_cast<std::ptrdiff_t>(idx.size())) {
+              two.push_back(idx[static_cast<std::size_t>(q)]);
+              if (q == pi) break;
+            }
+            std::vector<Chord> rest_one, rest_two;
+            for (const Chord& d : pieces[p].second) {
+              const bool in_one = std::find(one.begin(), one.end(), d.i) != one.end() &&
+                                  std::find(one.begin(), one.end(), d.j) != one.end();
+              const bool in_two = std::find(two.begin(), two.end(), d.i) != two.end() &&
+                                  std::find(two.begin(), two.end(), d.j) != two.end();
+              if (in_one) {
+                rest_one.push_back(d);
+              } else if (in_two) {
+                rest_two.push_back(d);
+              } else {
+                throw RouteFailure{"crossing chords in a cell"};
+              }
+            }
+            pieces[p] = {std::move(one), std::move(rest_one)};
+            pieces.emplace_back(std::move(two), std::move(rest_two));
+          }
+        }
+        for (const auto& piece : pieces) triangulate(piece.first.data(), piece.first.size());
+      }
+    }
+    // Emit the triangles; link the edges inside the cell; record the boundary edges.
+    const auto first = static_cast<TriangleId>(mesh.triangles.size());
+    const std::size_t m = poly.size();
+    bound_.resize(bound_.size() + m, kNone);
+    Handle* bound = bound_.data() + bound_begin_[k];
+    for (const Tri& t : tris) {
+      const VertexId a = final_id_[t[0]], b = final_id_[t[1]], c = final_id_[t[2]];
+      if (orient2d(mesh.points[a], mesh.points[b], mesh.points[c]) <= 0) {
+        throw RouteFailure{"a cell triangle is not counter-clockwise"};
+      }
+      mesh.triangles.push_back(Triangle{{a, b, c}, {kNone, kNone, kNone}});
+    }
+    const auto count = static_cast<TriangleId>(tris.size());
+    for (TriangleId i = 0; i < count; ++i) {
+      for (unsigned e = 0; e < 3; ++e) {
+        const Handle h = make_handle(first + i, e);
+        // Edge e of triangle i runs from corner e+1 to corner e+2.
+        const std::uint32_t from = tris[i][next3(e)], to = tris[i][prev3(e)];
+        // A polygon edge?
+        bool boundary = false;
+        for (std::size_t q = 0; q < m; ++q) {
+          if (poly[q] == from && poly[(q + 1) % m] == to) {
+            bound[q] = h;
+            boundary = true;
+            break;
+          }
+        }
+        if (boundary || mesh.triangles[first + i].n[e] != kNone) continue;
+        for (TriangleId j = i + 1; j < count && mesh.triangles[first + i].n[e] == kNone; ++j) {
+          for (unsigned f = 0; f < 3; ++f) {
+            if (tris[j][next3(f)] == to && tris[j][prev3(f)] == from) {
+              mesh.triangles[first + i].n[e] = make_handle(first + j, f);
+              mesh.triangles[first + j].n[f] = h;
+              break;
+            }
+          }
+        }
+        if (mesh.triangles[first + i].n[e] == kNone) throw RouteFailure{"a cell triangulation is not closed"};
+      }
+    }
+    for (std::size_t q = 0; q < m; ++q) {
+      if (bound[q] == kNone) throw RouteFailure{"a cell boundary edge has no triangle"};
+    }
+    bound_sides_[k] = static_cast<std::uint32_t>(side_index[1]) | (static_cast<std::uint32_t>(side_index[2]) << 8) |
+                      (static_cast<std::uint32_t>(side_index[3]) << 16);
+    // Segment edges: chords and boundary edges between consecutive chain vertices.
+    if (special && !chain_.empty()) {
+      for (TriangleId i = 0; i < count; ++i) {
+        for (unsigned e = 0; e < 3; ++e) {
+          const std::uint32_t from = tris[i][next3(e)], to = tris[i][prev3(e)];
+          if (!in_chain(from)) continue;
+          const auto it = chain_.find(from);
+          if (it == chain_.end()) continue;
+          for (const auto& [other, s] : it->second) {
+            if (other == to) segment_edges_.emplace_back(make_handle(first + i, e), s);
+          }
+        }
+      }
+    }
+  }
+  bound_begin_[leaves_.size()] = static_cast<std::uint32_t>(bound_.size());
+}
+
+void Builder::link_cells(Mesh& mesh) {
+  // Edges of leaf k on side `side` (0 bottom, 1 right, 2 top, 3 left), as a range in bound_.
+  auto side_range = [&](std::uint32_t k, unsigned side) {
+    const std::uint32_t begin = bound_begin_[k], end = bound_begin_[k + 1];
+    const std::uint32_t s = bound_sides_[k];
+    const std::uint32_t at[5] = {0, s & 0xFFu, (s >> 8) & 0xFFu, (s >> 16) & 0xFFu, end - begin};
+    return std::make_pair(begin + at[side], begin + at[side + 1]);
+  };
+  struct Outer {
+    double position;  // along the root's border, counter-clockwise from its lower-left corner
+    Handle handle;
+  };
+  std::vector<Outer> outer;
+  const double root = tree_.cell_size(0);
+  auto perimeter = [&](const Point& p, unsigned side) {
+    const Point o{tree_.X(0, 0), tree_.Y(0, 0)};
+    switch (side) {
+      case 0: return p.x - o.x;
+      case 1: return root + (p.y - o.y);
+      case 2: return 2 * root + (o.x + root - p.x);
+      default: return 3 * root + (o.y + root - p.y);
+    }
+  };
+  std::uint32_t across[2];
+  for (std::uint32_t k = 0; k < leaves_.size(); ++k) {
+    const std::uint32_t a = leaves_[k];
+    const Node& n = tree_.nodes[a];
+    const unsigned l = n.level;
+    for (unsigned side = 0; side < 4; ++side) {
+      static constexpr int kStep[4][2] = {{0, -1}, {1, 0}, {0, 1}, {-1, 0}};
+      const std::uint32_t r = tree_.find(a, l, n.ix + kStep[side][0], n.iy + kStep[side][1]);
+      const auto [begin, end] = side_range(k, side);
+      if (r == kNone) {
+        for (std::uint32_t q = begin; q < end; ++q) {
+          outer.push_back({perimeter(mesh.points[mesh.org(bound_[q])], side), bound_[q]});
+        }
+        continue;
+      }
+      // Each shared side is linked once, from the leaf on its left or bottom (sides right, top).
+      if (side != 1 && side != 2) continue;
+      std::size_t count = 0;
+      if (tree_.nodes[r].level == l && !tree_.is_leaf(r)) {
+        const std::uint32_t c = tree_.nodes[r].child;
+        if (side == 1) {
+          across[0] = c + 0;  // west column of the finer neighbour
+          across[1] = c + 2;
+        } else {
+          across[0] = c + 0;  // south row
+          across[1] = c + 1;
+        }
+        count = 2;
+      } else {
+        across[0] = r;
+        count = 1;
+      }
+      const unsigned opposite = side == 1 ? 3u : 0u;
+      for (std::uint32_t q = begin; q < end; ++q) {
+        const Handle h = bound_[q];
+        const VertexId from = mesh.org(h), to = mesh.dest(h);
+        bool linked = false;
+        for (std::size_t c = 0; c < count && !linked; ++c) {
+          const std::uint32_t other = leaf_of(across[c]);
+          if (other == kNone) throw RouteFailure{"unbalanced quadtree"};
+          const auto [ob, oe] = side_range(other, opposite);
+          for (std::uint32_t p = ob; p < oe; ++p) {
+            const Handle g = bound_[p];
+            if (mesh.org(g) == to && mesh.dest(g) == from) {
+              mesh.triangles[h >> 2].n[h & 3] = g;
+              mesh.triangles[g >> 2].n[g & 3] = h;
+              linked = true;
+              break;
+            }
+          }
+        }
+        if (!linked) throw RouteFailure{"neighbouring cells do not share an edge"};
+      }
+    }
+  }
+  // Ghost triangles around the root square (its border is the convex hull).
+  std::sort(outer.begin(), outer.end(), [](const Outer& p, const Outer& q) { return p.position < q.position; });
+  const auto first = static_cast<TriangleId>(mesh.triangles.size());
+  const std::size_t count = outer.size();
+  for (std::size_t i = 0; i < count; ++i) {
+    const Handle h = outer[i].handle;  // u→w, the root inside on its left
+    // Ghost (w, u, ∞): edge 2 is w→u.
+    mesh.triangles.push_back(Triangle{{mesh.dest(h), mesh.org(h), kInfinite}, {kNone, kNone, kNone}});
+    const TriangleId g = first + static_cast<TriangleId>(i);
+    mesh.triangles[g].n[2] = h;
+    mesh.triangles[h >> 2].n[h & 3] = make_handle(g, 2);
+  }
+  for (std::size_t i = 0; i < count; ++i) {
+    // Consecutive border edges e_i = u→w and e_{i+1} = w→x: ghost (x, w, ∞) edge 0 (w→∞) faces
+    // ghost (w, u, ∞) edge 1 (∞→w).
+    const TriangleId g = first + static_cast<TriangleId>(i);
+    const TriangleId next = first + static_cast<TriangleId>((i + 1) % count);
+    if (mesh.triangles[next].v[1] != mesh.triangles[g].v[0]) throw RouteFailure{"the root border is not closed"};
+    mesh.triangles[next].n[0] = make_handle(g, 1);
+    mesh.triangles[g].n[1] = make_handle(next, 0);
+  }
+  mesh.flags.assign(mesh.triangles.size(), 0);
+}
+
+void Builder::mark_segments(Mesh& mesh) {
+  // Every subsegment must be one edge of the mesh (found from one or both sides).
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> seen;
+  bool any_marked = false;
+  for (const FeatureSegment& s : in_.segments) any_marked = any_marked || !s.hull_only;
+  if (any_marked) mesh.segment_marker.assign(3 * mesh.triangles.size(), 0);
+  for (const auto& [h, s] : segment_edges_) {
+    const FeatureSegment& seg = in_.segments[s];
+    const Handle t = mesh.sym(h);
+    const auto bit_h = static_cast<std::uint8_t>(kSegmentEdge0 << (h & 3));
+    const auto bit_t = static_cast<std::uint8_t>(kSegmentEdge0 << (t & 3));
+    mesh.flags[h >> 2] = static_cast<std::uint8_t>(mesh.flags[h >> 2] | bit_h);
+    mesh.flags[t >> 2] = static_cast<std::uint8_t>(mesh.flags[t >> 2] | bit_t);
+    if (any_marked) {
+      const std::int32_t marker = seg.hull_only ? 0 : seg.marker;
+      mesh.segment_marker[3 * (h >> 2) + (h & 3)] = marker;
+      mesh.segment_marker[3 * (t >> 2) + (t & 3)] = marker;
+    }
+    const VertexId u = mesh.org(h), w = mesh.dest(h);
+    seen.emplace_back((std::uint64_t{std::min(u, w)} << 32) | std::max(u, w), s);
+  }
+  std::sort(seen.begin(), seen.end());
+  seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
+  if (seen.size() != subsegment_count_) throw RouteFailure{"a subsegment is not an edge of the mesh"};
+}
+
+// Hole seeds that fall exactly on a quadtree vertex (round coordinates meet the aligned grid
+// often) are moved into a triangle around it; the CDT has no vertex there, so for it the seed lies
+// in a triangle. Seeds on input vertices stay (carve warns about them, as for the CDT).
+std::vector<Point> movable_seeds(const Mesh& mesh, const std::vector<Point>& holes) {
+  std::vector<Point> out;
+  for (const Point& p : holes) {
+    if (!in_supported_range(p)) {
+      out.push_back(p);
+      continue;
+    }
+    const Location loc = mesh.locate(p);
+    const VertexId v = loc.kind == Location::Kind::kOnVertex ? mesh.org(loc.handle) : kInfinite;
+    if (v == kInfinite || v < mesh.input_vertex_count || mesh.vertex_kind[v] != VertexKind::kSteiner) {
+      out.push_back(p);
+      continue;
+    }
+    Point moved = p;
+    Handle h = loc.handle;
+    do {
+      const TriangleId t = h >> 2;
+      if (!mesh.is_ghost(t)) {
+        const Triangle& T = mesh.triangles[t];
+        const Point &a = mesh.points[T.v[0]], &b = mesh.points[T.v[1]], &c = mesh.points[T.v[2]];
+        const Point g{(a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0};
+        if (orient2d(a, b, g) > 0 && orient2d(b, c, g) > 0 && orient2d(c, a, g) > 0) {
+          moved = g;
+          break;
+        }
+      }
+      h = mesh.onext(h);
+    } while (h != loc.handle);
+    out.push_back(moved);
+  }
+  return out;
+}
+
+Mesh Builder::run(const std::vector<Point>& holes) {
+  const auto t0 = Clock::now();
+  number_vertices();
+  build_loops();
+  warp();
+  segments_pass();
+  // Final vertex ids: the clean input's vertices keep theirs; the Steiner points follow in Morton
+  // order of their leaves (crossing points last).
+  Mesh mesh;
+  const Mesh& base = in_.vertices_only;
+  mesh.points = base.points;
+  mesh.vertex_kind = base.vertex_kind;
+  mesh.vertex_marker = base.vertex_marker;
+  mesh.duplicates = base.duplicates;
+  mesh.input_vertex_count = base.input_vertex_count;
+  final_id_.resize(gpos_.size());
+  std::size_t steiner = 0;
+  for (std::uint32_t g = 0; g < gpos_.size(); ++g) steiner += gwarp_[g] == kNone ? 1 : 0;
+  mesh.points.reserve(mesh.points.size() + steiner);
+  mesh.vertex_kind.reserve(mesh.points.size() + steiner);
+  mesh.vertex_marker.reserve(mesh.points.size() + steiner);
+  for (std::uint32_t g = 0; g < gpos_.size(); ++g) {
+    if (gwarp_[g] != kNone) {
+      final_id_[g] = gwarp_[g];
+      continue;
+    }
+    VertexKind kind = VertexKind::kSteiner;
+    std::int32_t marker = 0;
+    if (!gseg_.empty() && gseg_[g] != kNone && !in_.segments[gseg_[g]].hull_only) {
+      kind = VertexKind::kSteinerOnSegment;
+      marker = in_.segments[gseg_[g]].marker;
+    }
+    final_id_[g] = mesh.add_vertex(gpos_[g], kind, marker);
+  }
+  triangulate_cells(mesh);
+  link_cells(mesh);
+  mark_segments(mesh);
+  stats_.seconds_mesh = seconds_since(t0);
+  const auto t1 = Clock::now();
+  // Carve as the CDT does: flood from the root's border and from the hole seeds across every edge
+  // that is not a segment. The domain boundary of a point set is its hull (temporary segments).
+  carve(mesh, movable_seeds(mesh, holes), /*convex_hull=*/false, &stats_.warnings);
+  bool hull_marks = false;
+  for (const FeatureSegment& s : in_.segments) hull_marks = hull_marks || s.hull_only;
+  if (hull_marks) {
+    for (const auto& [h, s] : segment_edges_) {
+      if (in_.segments[s].hull_only) mesh.clear_segment(h);
+    }
+  }
+  stats_.seconds_carve = seconds_since(t1);
+  return mesh;
+}
+
+std::vector<Point> Builder::fallback_points() const {
+  // Grid corners away from every feature: at least a quarter of their smallest leaf from it.
+  std::vector<Point> out;
+  if (loops_.empty()) return out;
+  std::vector<char> near(grid_count_, 0);
+  for (std::uint32_t k = 0; k < leaves_.size(); ++k) {
+    const Node& n = tree_.nodes[leaves_[k]];
+    for (unsigned slot = 0; slot < 8; ++slot) {
+      const std::uint32_t g = loops_[8 * std::size_t{k} + slot];
+      if (g == kNone || near[g]) continue;
+      const double r = 0.25 * tree_.cell_size(glevel_[g]);
+      const Point& p = gpos_[g];
+      const Box b{p.x - r, p.y - r, p.x + r, p.y + r};
+      for (std::uint32_t i = 0; i < n.feat_count && !near[g]; ++i) {
+        const std::uint32_t f = tree_.features[n.feat_begin + i];
+        if (tree_.meets(f, b)) near[g] = 1;
+      }
+    }
+  }
+  for (std::uint32_t g = 0; g < grid_count_; ++g) {
+    if (!near[g] && (gwarp_.empty() || gwarp_[g] == kNone)) out.push_back(gpos_[g]);
+  }
+  return out;
+}
+
+// The fallback: the CDT of the input plus extra Steiner points (quadtree corners away from the
+// features), with the kinds fixed up. Valid for every input the CDT accepts.
+Mesh fallback_mesh(const Pslg& pslg, const QuadtreeOptions& options, std::vector<Point> extra) {
+  // Drop extra points that coincide with input points or with each other (a duplicate Steiner
+  // point could otherwise be kept in place of an input point).
+  std::vector<Point> input_sorted = pslg.points;
+  auto less = [](const Point& a, const Point& b) { return a.x != b.x ? a.x < b.x : a.y < b.y; };
+  std::sort(input_sorted.begin(), input_sorted.end(), less);
+  std::sort(extra.begin(), extra.end(), less);
+  extra.erase(std::unique(extra.begin(), extra.end()), extra.end());
+  std::vector<Point> kept;
+  for (const Point& p : extra) {
+    if (!std::binary_search(input_sorted.begin(), input_sorted.end(), p, less)) kept.push_back(p);
+  }
+  Pslg g = pslg;
+  const std::size_t n0 = pslg.points.size();
+  g.points.insert(g.points.end(), kept.begin(), kept.end());
+  if (!g.point_markers.empty()) g.point_markers.resize(g.points.size(), 0);
+  ConstrainOptions constrain;
+  constrain.strict = options.strict;
+  constrain.convex_hull = options.convex_hull;
+  Mesh m = constrained_delaunay(g, constrain);
+  const std::size_t n1 = n0 + kept.size();
+  for (std::size_t v = n0; v < m.points.size(); ++v) {
+    if (m.vertex_kind[v] == VertexKind::kDuplicate) continue;
+    m.vertex_kind[v] = v < n1 ? VertexKind::kSteiner : VertexKind::kSteinerOnSegment;
+  }
+  m.input_vertex_count = static_cast<std::uint32_t>(n0);
+  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+    if (m.is_dead(t)) continue;
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle h = make_handle(t, e);
+      if (!m.is_segment(h)) continue;
+      for (VertexId v : {m.org(h), m.dest(h)}) {
+        if (v != kInfinite && v >= n0 && m.vertex_kind[v] == VertexKind::kSteiner) {
+          m.vertex_kind[v] = VertexKind::kSteinerOnSegment;
+        }
+      }
+    }
+  }
+  return m;
+}
+
+}  // namespace
+
+Mesh quadtree_refinement(const Pslg& pslg, const QuadtreeOptions& options, QuadtreeStats* stats_out) {
+  if (!(options.snap_fraction > 0.0 && options.snap_fraction < 0.5)) {
+    throw std::invalid_argument("quadtree: snap_fraction must lie in (0, 0.5)");
+  }
+  QuadtreeStats stats;
+  const auto t0 = Clock::now();
+  const bool graph = !pslg.segments.empty();
+  CleanInput in = graph ? clean_graph(pslg, options, stats) : clean_point_set(pslg);
+  if (!graph) stats.input.duplicates = in.vertices_only.duplicates.size();
+  if (!graph && !pslg.holes.empty()) {
+    stats.warnings.push_back("the input has no segments, so its domain is the convex hull; " +
+                             std::to_string(pslg.holes.size()) + " hole seed(s) ignored");
+  }
+  stats.features_vertices = in.vertices.size();
+  stats.features_segments = in.segments.size();
+  stats.seconds_input = seconds_since(t0);
+  bool any_real_segment = false;
+  for (const FeatureSegment& s : in.segments) any_real_segment = any_real_segment || !s.hull_only;
+  const std::vector<Point> holes = any_real_segment ? pslg.holes : std::vector<Point>{};
+
+  Mesh mesh;
+  std::vector<Point> extra;
+  try {
+    const auto t1 = Clock::now();
+    Tree tree(in, options, stats);
+    tree.build();
+    tree.finish();
+    stats.seconds_tree = seconds_since(t1);
+    // Leaf statistics.
+    for (std::uint32_t a = 0; a < tree.nodes.size(); ++a) {
+      if (!tree.is_leaf(a)) continue;
+      ++stats.leaves;
+      const Node& n = tree.nodes[a];
+      stats.depth = std::max(stats.depth, static_cast<unsigned>(n.level));
+      if (options.keep_leaves) {
+        const Box b = tree.box(n);
+        stats.leaf_cells.push_back({b.x1, b.y1, b.x2 - b.x1,
+                                    tree.meets_any(n, tree.features.data() + n.feat_begin, n.feat_count)});
+      }
+    }
+    Builder builder(in, options, stats, tree);
+    try {
+      if (options.force_fallback) throw RouteFailure{"forced by the options"};
+      if (stats.unresolved > 0) {
+        throw RouteFailure{std::to_string(stats.unresolved) +
+                           " leaves at the deepest level still see the input non-simply"};
+      }
+      mesh = builder.run(holes);
+    } catch (const RouteFailure& failure) {
+      stats.fallback = true;
+      stats.fallback_reason = failure.reason;
+      extra = builder.fallback_points();
+    } catch (const InternalError& error) {
+      // A broken invariant on the quadtree route (a bug; the tests assert no fallback on their
+      // inputs): the user still gets a valid mesh, with a warning naming the invariant.
+      stats.fallback = true;
+      stats.fallback_reason = std::string("internal error: ") + error.what();
+      extra = builder.fallback_points();
+    }
+  } catch (const RouteFailure& failure) {
+    stats.fallback = true;
+    stats.fallback_reason = failure.reason;
+  }
+  if (stats.fallback) {
+    const auto t2 = Clock::now();
+    stats.warnings.push_back("quadtree refinement fell back to the constrained Delaunay triangulation "
+                             "of the input plus quadtree corners: " + stats.fallback_reason);
+    mesh = fallback_mesh(pslg, options, std::move(extra));
+    stats.seconds_mesh = seconds_since(t2);
+  }
+  if (stats_out) *stats_out = std::move(stats);
+  return mesh;
+}
+
+}  // namespace mwst

@@ -1,0 +1,237 @@
+// Triangulating one quadtree cell (Bern, Eppstein, Gilbert, "Provably good mesh generation", 1994,
+// section 3: "triangulate each square by a small case table"; Boyacı, Erten, Üngör use it as QTR).
+//
+// Two tools, both over the boundary vertices of a cell only (no interior Steiner point):
+//  - triangulate_polygon(): the max–min-angle triangulation of a small simple polygon by dynamic
+//    programming over its diagonals (Klincsek 1980's O(k³) scheme for decomposable objectives). It
+//    serves cells whose corners were warped onto input vertices or segments and the pieces of cells
+//    cut along a segment. Validity is decided exactly (orient2d); only the choice among valid
+//    triangulations uses rounded angles.
+//  - quadtree_case_table(): the same program run once on the unit square with each of the 16
+//    patterns of side midpoints; untouched leaves look their triangles up.
+//
+// Quality measure: the sine of a triangle's smallest angle, |cross| / (|e2|·|e3|) with e2, e3 the
+// two longer edges. The smallest angle is at most 60°, where the sine is increasing, so comparing
+// sines compares smallest angles.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "mwst/quadtree.hpp"
+
+namespace mwst::detail {
+
+namespace {
+
+constexpr std::size_t kMaxPolygon = 64;
+
+// Sine of the smallest angle of triangle (a, b, c) (rounded; 0 for a degenerate triangle).
+double min_angle_sine(const Point& a, const Point& b, const Point& c) {
+  const double ab = squared_distance(a, b), bc = squared_distance(b, c), ca = squared_distance(c, a);
+  const double cross = std::fabs((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x));
+  // Product of the two longer squared edges = product of all three / the shortest.
+  const double shortest = std::min({ab, bc, ca});
+  const double longer = ab * bc * ca / shortest;
+  if (!(longer > 0.0)) return 0.0;
+  return cross / std::sqrt(longer);
+}
+
+// Closed segments pq and rs share a point (exact).
+bool segments_touch(const Point& p, const Point& q, const Point& r, const Point& s) {
+  const int o1 = orient2d(p, q, r), o2 = orient2d(p, q, s);
+  const int o3 = orient2d(r, s, p), o4 = orient2d(r, s, q);
+  if (o1 * o2 < 0 && o3 * o4 < 0) return true;
+  // Collinear touching: a point of one lies on the other (bounding-box test is exact then).
+  auto on = [](const Point& a, const Point& b, const Point& x) {
+    return std::min(a.x, b.x) <= x.x && x.x <= std::max(a.x, b.x) && std::min(a.y, b.y) <= x.y &&
+           x.y <= std::max(a.y, b.y);
+  };
+  if (o1 == 0 && on(p, q, r)) return true;
+  if (o2 == 0 && on(p, q, s)) return true;
+  if (o3 == 0 && on(r, s, p)) return true;
+  if (o4 == 0 && on(r, s, q)) return true;
+  return false;
+}
+
+}  // namespace
+
+bool triangulate_polygon(const std::vector<Point>& q, std::vector<std::array<std::uint8_t, 3>>& out) {
+  const std::size_t k = q.size();
+  if (k < 3 || k > kMaxPolygon) return false;
+  if (k == 3) {
+    if (orient2d(q[0], q[1], q[2]) <= 0) return false;
+    out.push_back({0, 1, 2});
+    return true;
+  }
+  // ok(i, j), i < j: ij is a polygon edge or a diagonal strictly inside the polygon.
+  // Flat k × k tables (entry i·k + j), deliberately left uninitialised: every entry is written
+  // before it is read, and clearing 64 × 64 tables per cell dominated the run time.
+  std::array<bool, kMaxPolygon * kMaxPolygon> ok;
+  auto at = [k](std::size_t i, std::size_t j) { return i * k + j; };
+  auto prev = [k](std::size_t i) { return i == 0 ? k - 1 : i - 1; };
+  auto next = [k](std::size_t i) { return i + 1 == k ? 0 : i + 1; };
+  // The diagonal from vertex i towards point x leaves i inside the polygon's interior angle
+  // (O'Rourke, "Computational Geometry in C", InCone).
+  auto in_cone = [&](std::size_t i, const Point& x) {
+    const Point& a = q[prev(i)];
+    const Point& b = q[next(i)];
+    if (orient2d(a, q[i], b) >= 0) return orient2d(q[i], x, a) > 0 && orient2d(x, q[i], b) > 0;
+    return !(orient2d(q[i], x, b) >= 0 && orient2d(x, q[i], a) >= 0);
+  };
+  // A weakly convex polygon (no reflex vertex, winding once: every triangle of the fan from q[0]
+  // is not clockwise) has every chord inside it; a chord running along a straight side leaves a
+  // collinear sub-polygon, which the program below rejects (no strictly counter-clockwise
+  // triangle), so the O(k³) diagonal tests can be skipped. Warped point-set cells are of this kind.
+  bool convex = true;
+  for (std::size_t i = 0; i < k && convex; ++i) {
+    if (orient2d(q[prev(i)], q[i], q[next(i)]) < 0) convex = false;
+    if (i >= 1 && i + 1 < k && orient2d(q[0], q[i], q[i + 1]) < 0) convex = false;
+  }
+  for (std::size_t i = 0; i < k; ++i) {
+    for (std::size_t j = i + 1; j < k; ++j) {
+      if (j == i + 1 || (i == 0 && j == k - 1)) {
+        ok[at(i, j)] = true;
+        continue;
+      }
+      ok[at(i, j)] = false;
+      if (q[i] == q[j]) continue;
+      if (convex) {
+        ok[at(i, j)] = true;
+        continue;
+      }
+      if (!in_cone(i, q[j]) || !in_cone(j, q[i])) continue;
+      bool clear = true;
+      for (std::size_t m = 0; m < k && clear; ++m) {
+        const std::size_t n = next(m);
+        if (m == i || m == j || n == i || n == j) continue;
+        if (segments_touch(q[i], q[j], q[m], q[n])) clear = false;
+      }
+      // A vertex on the open diagonal whose both edges are incident to i or j (k = 4 squares with a
+      // collinear corner) is caught by the cone tests; this catches the rest.
+      ok[at(i, j)] = clear;
+    }
+  }
+  // best(i, j): the best smallest-angle sine over triangulations of the sub-polygon i..j (closed by
+  // the chord ij); length(i, j) the total length of its diagonals; split(i, j) the apex on ij.
+  constexpr double kNoTriangulation = -1.0;
+  std::array<double, kMaxPolygon * kMaxPolygon> best;
+  std::array<double, kMaxPolygon * kMaxPolygon> length;
+  std::array<std::uint8_t, kMaxPolygon * kMaxPolygon> split;
+  for (std::size_t i = 0; i + 1 < k; ++i) {
+    best[at(i, i + 1)] = std::numeric_limits<double>::infinity();
+    length[at(i, i + 1)] = 0.0;
+  }
+  for (std::size_t gap = 2; gap < k; ++gap) {
+    for (std::size_t i = 0; i + gap < k; ++i) {
+      const std::size_t j = i + gap;
+      best[at(i, j)] = kNoTriangulation;
+      if (!ok[at(i, j)]) continue;
+      const double chord = (gap == k - 1) ? 0.0 : distance(q[i], q[j]);
+      double best_length = 0.0;
+      for (std::size_t m = i + 1; m < j; ++m) {
+        if (!ok[at(i, m)] || !ok[at(m, j)]) continue;
+        if (best[at(i, m)] < 0.0 || best[at(m, j)] < 0.0) continue;
+        if (orient2d(q[i], q[m], q[j]) <= 0) continue;
+        const double quality = std::min({min_angle_sine(q[i], q[m], q[j]), best[at(i, m)], best[at(m, j)]});
+        const double total = length[at(i, m)] + length[at(m, j)] + chord;
+        // Ties (within rounding of symmetric configurations) go to the lighter triangulation.
+        const double tolerance = 1e-12;
+        const bool better = quality > best[at(i, j)] + tolerance ||
+                            (quality >= best[at(i, j)] - tolerance && total < best_length - 1e-12 * total);
+        if (best[at(i, j)] < 0.0 || better) {
+          best[at(i, j)] = quality;
+          best_length = total;
+          split[at(i, j)] = static_cast<std::uint8_t>(m);
+        }
+      }
+      length[at(i, j)] = best_length;
+    }
+  }
+  if (best[at(0, k - 1)] < 0.0) return false;
+  // Unwind the choices.
+  std::array<std::pair<std::uint8_t, std::uint8_t>, kMaxPolygon> stack{};
+  std::size_t top = 0;
+  stack[top++] = {0, static_cast<std::uint8_t>(k - 1)};
+  while (top > 0) {
+    const auto [i, j] = stack[--top];
+    if (j - i < 2) continue;
+    const std::uint8_t m = split[at(i, j)];
+    out.push_back({i, m, j});
+    stack[top++] = {i, m};
+    stack[top++] = {m, j};
+  }
+  return true;
+}
+
+double triangulation_quality(const std::vector<Point>& polygon,
+                             const std::vector<std::array<std::uint8_t, 3>>& triangles) {
+  double q = std::numeric_limits<double>::infinity();
+  for (const auto& t : triangles) q = std::min(q, min_angle_sine(polygon[t[0]], polygon[t[1]], polygon[t[2]]));
+  return q;
+}
+
+bool centroid_fan(const std::vector<Point>& polygon, Point& centre, double& quality) {
+  const std::size_t k = polygon.size();
+  if (k < 3) return false;
+  double x = 0.0, y = 0.0;
+  for (const Point& p : polygon) {
+    x += p.x;
+    y += p.y;
+  }
+  centre = {x / static_cast<double>(k), y / static_cast<double>(k)};
+  quality = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < k; ++i) {
+    const Point& a = polygon[i];
+    const Point& b = polygon[i + 1 == k ? 0 : i + 1];
+    if (orient2d(centre, a, b) <= 0) return false;
+    quality = std::min(quality, min_angle_sine(centre, a, b));
+  }
+  return true;
+}
+
+bool triangulate_piece(const std::vector<Point>& polygon, std::vector<std::array<std::uint8_t, 3>>& out,
+                       Point& centre, bool& used_centre) {
+  // Sine of 20°: below it the centre is tried.
+  constexpr double kFanBelow = 0.34202014332566873;
+  used_centre = false;
+  const std::size_t start = out.size();
+  const bool triangulated = triangulate_polygon(polygon, out);
+  const double quality = triangulated
+                             ? triangulation_quality(polygon, {out.begin() + static_cast<std::ptrdiff_t>(start), out.end()})
+                             : -1.0;
+  double fan_quality = 0.0;
+  if (quality < kFanBelow && polygon.size() < kMaxPolygon && centroid_fan(polygon, centre, fan_quality) &&
+      fan_quality > quality) {
+    out.resize(start);
+    const auto k = static_cast<std::uint8_t>(polygon.size());
+    for (std::uint8_t i = 0; i < k; ++i) out.push_back({k, i, static_cast<std::uint8_t>((i + 1) % k)});
+    used_centre = true;
+    return true;
+  }
+  return triangulated;
+}
+
+const std::array<std::vector<std::array<std::uint8_t, 3>>, 16>& quadtree_case_table() {
+  static const auto table = [] {
+    std::array<std::vector<std::array<std::uint8_t, 3>>, 16> t;
+    // Slots around the unit square, counter-clockwise from the lower-left corner.
+    constexpr Point kSlot[8] = {{0, 0}, {0.5, 0}, {1, 0}, {1, 0.5}, {1, 1}, {0.5, 1}, {0, 1}, {0, 0.5}};
+    for (unsigned mask = 0; mask < 16; ++mask) {
+      std::vector<Point> polygon;
+      std::vector<std::uint8_t> slot_of;
+      for (std::uint8_t s = 0; s < 8; ++s) {
+        // Odd slots are the midpoints of sides (s - 1) / 2: bottom, right, top, left.
+        if ((s & 1) != 0 && (mask & (1u << (s / 2))) == 0) continue;
+        polygon.push_back(kSlot[s]);
+        slot_of.push_back(s);
+      }
+      std::vector<std::array<std::uint8_t, 3>> local;
+      triangulate_polygon(polygon, local);
+      for (const auto& tri : local) t[mask].push_back({slot_of[tri[0]], slot_of[tri[1]], slot_of[tri[2]]});
+    }
+    return t;
+  }();
+  return table;
+}
+
+}  // namespace mwst::detail

@@ -1,0 +1,164 @@
+// `mwst triangulate INPUT [-o PREFIX] [--method dt|dr|brh|qtr|opt] [--min-angle DEG]
+//  [--steiner offcenter|circumcenter] [--bundle-k K] [--flip] [--max-area A] [--max-steiner N]
+//  [--convex-hull] [--strict] [--bundle] [--json FILE] [--draw FILE] [--quiet]`
+// Reads a Triangle .node/.poly, runs triangulate() (mwst/pipeline.hpp: the methods of Boyacı,
+// Erten, Üngör, "Triangulations Loosing Bundles and Weight", and ours) and writes PREFIX.node,
+// PREFIX.ele, PREFIX.poly and the JSON report, all only after the computation succeeded.
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "cli/commands.hpp"
+#include "mwst/io.hpp"
+#include "mwst/draw.hpp"
+#include "mwst/error.hpp"
+#include "mwst/pipeline.hpp"
+
+namespace mwst::cli {
+
+namespace {
+
+struct TriangulateArgs {
+  std::string input;
+  std::string prefix;
+  std::string method = "dt";
+  double min_angle = 20.0;
+  std::string steiner = "offcenter";
+  std::size_t bundle_k = 0;
+  bool flip = false;
+  double max_area = -1.0;
+  std::size_t max_steiner = 0;
+  bool max_steiner_given = false;  // --max-steiner 0 is a budget of no Steiner points
+  bool convex_hull = false;
+  bool strict = false;
+  bool bundle = false;
+  std::string json;
+  std::string draw;
+  bool quiet = false;
+};
+
+std::string fixed(double v, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+void print_summary(const Report& r, const std::vector<std::string>& written) {
+  std::cout << r.input << ": method " << r.method << ": " << r.vertices << " vertices (" << r.steiner
+            << " Steiner), " << r.triangles << " triangles\n"
+            << "  weight " << fixed(r.weight_total, 6) << " = boundary " << fixed(r.weight_boundary, 6)
+            << " + interior " << fixed(r.weight_interior, 6) << "\n"
+            << "  angles " << fixed(r.min_angle, 3) << " to " << fixed(r.max_angle, 3) << " degrees";
+  if (!r.stop_reason.empty()) std::cout << "; stopped: " << r.stop_reason;
+  std::cout << "; " << fixed(r.total_seconds(), 3) << " s\n";
+  if (!written.empty()) {
+    std::cout << "  wrote";
+    for (const std::string& path : written) std::cout << ' ' << path;
+    std::cout << '\n';
+  }
+}
+
+int run_triangulate(const TriangulateArgs& a) {
+  TriangulateOptions options;
+  options.method = *parse_method(a.method);  // CLI11 checked the name
+  options.min_angle_deg = a.min_angle;
+  options.steiner = *parse_steiner_rule(a.steiner);
+  options.bundle_k = a.bundle_k;
+  options.flip = a.flip;
+  options.max_area = a.max_area;
+  if (a.max_steiner_given) options.max_steiner = a.max_steiner;
+  options.convex_hull = a.convex_hull;
+  options.strict = a.strict;
+  options.bundle = a.bundle;
+  try {
+    check_options(options);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  io::PictureFormat draw_format{};
+  if (!a.draw.empty()) {
+    try {
+      draw_format = io::picture_format(a.draw);
+    } catch (const mwst::InputError& e) {
+      throw UsageError(std::string("--draw: ") + e.what());
+    }
+  }
+
+  const std::string prefix = a.prefix.empty() ? default_prefix(a.input) : a.prefix;
+  for (const char* ext : {".node", ".ele", ".poly"}) refuse_overwrite(a.input, prefix + ext);
+  if (!a.json.empty() && a.json != "-") refuse_overwrite(a.input, a.json);
+
+  const Pslg pslg = io::read_input(a.input);
+  Mesh mesh;
+  const Report report = triangulate(pslg, options, &mesh);
+
+  OutputFiles out;
+  out.write_mesh(mesh, prefix, pslg.first_index);
+  if (!a.json.empty()) out.write_json(a.json, to_json(report));
+  if (!a.draw.empty()) out.write(a.draw, io::render_pictures({io::picture_of(mesh)}, draw_format));
+  out.commit();
+  // Only now, so that a failed run prints exactly one line.
+  if (!a.quiet) {
+    for (const std::string& w : report.warnings) warn(w);
+    if (a.json != "-") print_summary(report, out.written());
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+void register_triangulate(CLI::App& app, Action& action) {
+  auto args = std::make_shared<TriangulateArgs>();
+  CLI::App* sub = app.add_subcommand("triangulate", "Triangulate a .node point set or .poly graph");
+  sub->add_option("INPUT", args->input, "Triangle .node (point set: its convex hull) or .poly file")
+      ->type_name("FILE")
+      ->required();
+  sub->add_option("-o,--output", args->prefix,
+                  "Output prefix for PREFIX.node/.ele/.poly (default: INPUT without its extension + .1, "
+                  "or with its iteration number incremented: foo.1.poly -> foo.2)")
+      ->type_name("PREFIX");
+  sub->add_option("--method", args->method,
+                  "dt = (constrained) Delaunay, dr = Delaunay refinement, brh = bundle removal, "
+                  "qtr = quadtree refinement, opt = weight optimiser")
+      ->check(CLI::IsMember({"dt", "dr", "brh", "qtr", "opt"}))
+      ->capture_default_str();
+  sub->add_option("--min-angle", args->min_angle, "Minimum angle bound in degrees, in [0, 60)")
+      ->check(CLI::Validator(
+          [](const std::string& s) -> std::string {
+            try {
+              std::size_t used = 0;
+              const double v = std::stod(s, &used);
+              if (used == s.size() && v >= 0.0 && v < 60.0) return {};
+            } catch (const std::exception&) {
+            }
+            return "must be a number in [0, 60), found '" + s + "'";
+          },
+          "in [0, 60)"))
+      ->capture_default_str();
+  sub->add_option("--steiner", args->steiner, "Steiner point rule for refinement")
+      ->check(CLI::IsMember({"offcenter", "circumcenter"}))
+      ->capture_default_str();
+  sub->add_option("--bundle-k", args->bundle_k,
+                  "BRH bundle size k >= 3 (default ceil(4*pi/alpha)+3 from --min-angle)")
+      ->check(CLI::NonNegativeNumber);
+  sub->add_flag("--flip", args->flip, "Weight-reducing edge flips (EFH) after the method");
+  sub->add_option("--max-area", args->max_area, "Refine triangles larger than this area")
+      ->check(CLI::PositiveNumber);
+  CLI::Option* max_steiner =
+      sub->add_option("--max-steiner", args->max_steiner, "Stop refining after this many Steiner points")
+          ->check(CLI::NonNegativeNumber);
+  sub->add_flag("--convex-hull", args->convex_hull, "Triangulate the whole convex hull (holes still carve)");
+  sub->add_flag("--strict", args->strict, "Refuse crossing segments instead of splitting them");
+  sub->add_flag("--bundle", args->bundle, "Add the exact bundle number to the report");
+  sub->add_option("--json", args->json, "Write the JSON report to FILE ('-' = standard output)")
+      ->type_name("FILE");
+  sub->add_option("--draw", args->draw, "Draw the mesh to FILE.png, .svg or .pdf")->type_name("FILE");
+  sub->add_flag("-q,--quiet", args->quiet, "No summary and no warnings");
+  sub->callback([args, max_steiner, &action] {
+    args->max_steiner_given = max_steiner->count() > 0;
+    action = [args] { return run_triangulate(*args); };
+  });
+}
+
+}  // namespace mwst::cli

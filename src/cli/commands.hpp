@@ -1,0 +1,94 @@
+// src/cli/commands.hpp — how the `mwst` subcommands plug into the command line, and the helpers
+// they share (exit codes, warnings, output files that vanish on failure, the default prefix).
+//
+// Adding a subcommand `mwst NAME`: write src/cli/cmd_NAME.cpp defining
+//     void register_NAME(CLI::App& app, Action& action);
+// which adds the subcommand and its options to `app` and, in the subcommand's parse callback,
+// stores in `action` what to run once parsing is done (so that errors in the run are not mistaken
+// for usage errors). Declare it below and add it to kCommands in main.cpp. The action returns the
+// exit code; errors are thrown and turned into exit codes in one place (main.cpp):
+//   InputError → 1, printed as "mwst: FILE:LINE: what is wrong" (exactly one line);
+//   UsageError, std::invalid_argument, CLI11 parse errors → 2;
+//   InternalError and anything else → 3.
+// Nothing may be written to an output file before all computation succeeded: collect outputs in
+// an OutputFiles and commit() at the end.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "mwst/mesh.hpp"
+
+namespace mwst::cli {
+
+// Exit codes of the command-line contract (DESIGN.md).
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitBadInput = 1;  // also: `mwst check` found violations
+inline constexpr int kExitUsage = 2;
+inline constexpr int kExitInternal = 3;
+
+// What a subcommand runs after a successful parse; returns the exit code.
+using Action = std::function<int()>;
+
+// A subcommand's registration function (see above).
+using Registrar = void (*)(CLI::App& app, Action& action);
+
+void register_triangulate(CLI::App& app, Action& action);  // cmd_triangulate.cpp
+void register_check(CLI::App& app, Action& action);        // cmd_check.cpp
+void register_generate(CLI::App& app, Action& action);     // cmd_generate.cpp
+void register_bundle(CLI::App& app, Action& action);       // cmd_bundle.cpp
+void register_draw(CLI::App& app, Action& action);          // cmd_draw.cpp
+void register_experiment(CLI::App& app, Action& action);    // cmd_experiment.cpp
+
+// Bad usage found after parsing (an option value no method can use, an output that would
+// overwrite the input, a feature not implemented yet): exit code 2.
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// "mwst: warning: MESSAGE" on stderr.
+void warn(std::string_view message);
+
+// Triangle's default output prefix: the input path without its extension, with its iteration
+// number incremented if the name ends in one ("foo.1.poly" → "foo.2"), else plus ".1"
+// ("data/Africa.poly" → "data/Africa.1").
+std::string default_prefix(const std::string& input);
+
+// Throws UsageError if writing `output` would replace the file `input`.
+void refuse_overwrite(const std::string& input, const std::string& output);
+
+// Files written by one command: each is written atomically (temporary name, rename); if the
+// command fails before commit(), the destructor removes every file written so far, so a failure
+// leaves no output behind.
+class OutputFiles {
+ public:
+  OutputFiles() = default;
+  OutputFiles(const OutputFiles&) = delete;
+  OutputFiles& operator=(const OutputFiles&) = delete;
+  ~OutputFiles();
+
+  void write(const std::string& path, std::string_view content);
+  // PREFIX.node, PREFIX.ele and, if the mesh has subsegments, PREFIX.poly (io::write_mesh). A
+  // stale PREFIX.poly from an earlier run is removed at commit() when the mesh has none.
+  void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index);
+  // `path` "-" means standard output, printed at commit() (after every file is in place).
+  void write_json(const std::string& path, const nlohmann::json& json);
+  void commit();
+  const std::vector<std::string>& written() const { return written_; }
+
+ private:
+  std::vector<std::string> written_;
+  std::vector<std::string> remove_at_commit_;
+  std::string stdout_text_;
+  bool committed_ = false;
+};
+
+}  // namespace mwst::cli

@@ -1,0 +1,85 @@
+// Helpers shared by the `mwst` subcommands (src/cli/commands.hpp): warnings, Triangle's default
+// output prefix, the overwrite guard, and output files that are removed again if a command fails.
+#include <unistd.h>
+
+#include <cctype>
+#include <filesystem>
+#include <iostream>
+#include <system_error>
+
+#include "cli/commands.hpp"
+#include "mwst/io.hpp"
+
+namespace mwst::cli {
+
+void warn(std::string_view message) { std::cerr << "mwst: warning: " << message << '\n'; }
+
+std::string default_prefix(const std::string& input) {
+  const std::size_t slash = input.find_last_of('/');
+  const std::size_t name_start = slash == std::string::npos ? 0 : slash + 1;
+  std::string stem = input;
+  const std::size_t dot = input.find_last_of('.');
+  if (dot != std::string::npos && dot > name_start) stem = input.substr(0, dot);
+  // Triangle's iteration number: "foo.1" → "foo.2".
+  const std::size_t last_dot = stem.find_last_of('.');
+  if (last_dot != std::string::npos && last_dot > name_start && last_dot + 1 < stem.size()) {
+    const std::string digits = stem.substr(last_dot + 1);
+    bool all_digits = digits.size() <= 9;
+    for (const char c : digits) all_digits = all_digits && std::isdigit(static_cast<unsigned char>(c));
+    if (all_digits) return stem.substr(0, last_dot + 1) + std::to_string(std::stol(digits) + 1);
+  }
+  return stem + ".1";
+}
+
+void refuse_overwrite(const std::string& input, const std::string& output) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const bool same = fs::equivalent(input, output, ec);
+  if (!ec && same) throw UsageError("the output " + output + " would overwrite the input " + input);
+}
+
+OutputFiles::~OutputFiles() {
+  if (committed_) return;
+  for (const std::string& path : written_) ::unlink(path.c_str());
+}
+
+void OutputFiles::write(const std::string& path, std::string_view content) {
+  io::write_file_atomic(path, content);
+  written_.push_back(path);
+}
+
+void OutputFiles::write_mesh(const Mesh& mesh, const std::string& prefix, int first_index) {
+  bool has_subsegments = false;
+  for (TriangleId t = 0; t < mesh.triangles.size() && !has_subsegments; ++t) {
+    if (!mesh.in_domain(t)) continue;
+    for (unsigned e = 0; e < 3; ++e) has_subsegments = has_subsegments || mesh.is_segment(make_handle(t, e));
+  }
+  io::write_mesh(mesh, prefix, first_index);  // removes its own files if it fails half-way
+  written_.push_back(prefix + ".node");
+  written_.push_back(prefix + ".ele");
+  if (has_subsegments) {
+    written_.push_back(prefix + ".poly");
+  } else {
+    remove_at_commit_.push_back(prefix + ".poly");
+  }
+}
+
+void OutputFiles::write_json(const std::string& path, const nlohmann::json& json) {
+  const std::string text = json.dump(2) + "\n";
+  if (path == "-") {
+    stdout_text_ += text;
+  } else {
+    write(path, text);
+  }
+}
+
+void OutputFiles::commit() {
+  for (const std::string& path : remove_at_commit_) ::unlink(path.c_str());
+  committed_ = true;
+  if (!stdout_text_.empty()) {
+    std::cout << stdout_text_;
+    std::cout.flush();
+  }
+}
+
+}  // namespace mwst::cli

@@ -1,0 +1,592 @@
+// tests/test_cli.cpp — the `mwst` command line (src/cli/) against the contract of DESIGN.md, run as
+// a real process (the binary at MWST_BINARY) on files in a fresh temporary directory:
+//   - every bad input exits 1 with exactly one stderr line "mwst: FILE[:LINE]: ..." and leaves no
+//     output file behind; every bad usage exits 2 and writes nothing;
+//   - `triangulate` (dt, dr) on every data set writes .node/.ele(/.poly) that `mwst check` accepts
+//     (constrained Delaunay; DR's angle bound except where it reports triangles it cannot fix);
+//   - `check` rejects corrupted meshes (clockwise triangle, missing triangle, moved vertex, flipped
+//     non-Delaunay edge, missing subsegment);
+//   - the JSON report has the documented keys and agrees with the files;
+//   - `generate` is deterministic and its point sets triangulate validly;
+//   - two runs give byte-identical outputs.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "mwst/geometry.hpp"
+#include "mwst/io.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// ---- running the binary ------------------------------------------------------------------------
+
+struct Outcome {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+  std::vector<std::string> err_lines() const {
+    std::vector<std::string> lines;
+    std::istringstream in(err);
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    return lines;
+  }
+};
+
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void spit(const fs::path& path, const std::string& content) {
+  std::ofstream out(path, std::ios::binary);
+  out << content;
+}
+
+// A fresh working directory (where the command runs and writes) and a separate directory for the
+// captured stdout/stderr, so that listing the working directory shows only what mwst wrote.
+class Sandbox {
+ public:
+  Sandbox() {
+    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
+    std::string name = std::string(info->test_suite_name()) + "_" + info->name();
+    for (char& c : name) {
+      if (c == '/') c = '_';
+    }
+    root_ = fs::path(testing::TempDir()) / ("mwst_cli_" + std::to_string(::getpid()) + "_" + name);
+    fs::remove_all(root_);
+    fs::create_directories(root_ / "work");
+    fs::create_directories(root_ / "capture");
+  }
+  ~Sandbox() {
+    std::error_code ec;
+    fs::remove_all(root_, ec);
+  }
+  fs::path dir() const { return root_ / "work"; }
+  std::string path(const std::string& name) const { return (dir() / name).string(); }
+  void put(const std::string& name, const std::string& content) const { spit(dir() / name, content); }
+  std::string get(const std::string& name) const { return slurp(dir() / name); }
+  bool has(const std::string& name) const { return fs::exists(dir() / name); }
+  std::set<std::string> entries() const {
+    std::set<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir())) names.insert(e.path().filename().string());
+    return names;
+  }
+
+  // Runs `mwst args...` with the working directory as current directory.
+  Outcome run(const std::vector<std::string>& args) const {
+    const std::string out_path = (root_ / "capture" / "stdout").string();
+    const std::string err_path = (root_ / "capture" / "stderr").string();
+    const std::string work = dir().string();
+    std::vector<std::string> argv_storage = {MWST_BINARY};
+    argv_storage.insert(argv_storage.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (std::string& a : argv_storage) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+      const int o = ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      const int e = ::open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      if (o < 0 || e < 0 || ::dup2(o, 1) < 0 || ::dup2(e, 2) < 0 || ::chdir(work.c_str()) != 0) ::_exit(127);
+      ::execv(argv[0], argv.data());
+      ::_exit(127);
+    }
+    Outcome r;
+    int status = 0;
+    if (pid > 0 && ::waitpid(pid, &status, 0) == pid && WIFEXITED(status)) r.exit_code = WEXITSTATUS(status);
+    r.out = slurp(out_path);
+    r.err = slurp(err_path);
+    return r;
+  }
+
+ private:
+  fs::path root_;
+};
+
+std::string describe(const Outcome& r) {
+  return "exit " + std::to_string(r.exit_code) + "\n--- stdout:\n" + r.out + "--- stderr:\n" + r.err;
+}
+
+std::string data(const std::string& name) { return std::string(MWST_DATA_DIR) + "/" + name; }
+
+std::vector<std::string> data_sets() {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(MWST_DATA_DIR)) {
+    const std::string ext = e.path().extension().string();
+    if (ext == ".poly" || ext == ".node") names.push_back(e.path().filename().string());
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// Number of segments of a Triangle .poly file (0 for .node).
+std::size_t segment_count(const std::string& path) {
+  if (fs::path(path).extension() != ".poly") return 0;
+  return mwst::io::read_poly(path).segments.size();
+}
+
+// ---- 1. bad input: exit 1, one line, no output ------------------------------------------------
+
+struct BadInput {
+  const char* name;
+  std::map<std::string, std::string> files;  // written before the run
+  std::vector<std::string> args;
+  std::string where;  // the stderr line must start with "mwst: " + where
+};
+
+const std::string kSquare = "4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n";
+
+std::vector<BadInput> bad_inputs() {
+  return {
+      {"bad_number", {{"in.node", "4 2 0 0\n1 0 0\n2 1 0\n3 1 x\n4 0 1\n"}}, {"triangulate", "in.node"}, "in.node:4: "},
+      {"bad_number_dr", {{"in.node", "4 2 0 0\n1 0 0\n2 1 0\n3 1 x\n4 0 1\n"}},
+       {"triangulate", "in.node", "--method", "dr", "--json", "r.json"}, "in.node:4: "},
+      {"missing_file", {}, {"triangulate", "nothere.poly"}, "nothere.poly: "},
+      {"unknown_extension", {{"in.txt", kSquare}}, {"triangulate", "in.txt"}, "in.txt: "},
+      {"too_large", {{"in.node", "3 2 0 0\n1 0 0\n2 1e60 0\n3 0 1\n"}}, {"triangulate", "in.node"}, "in.node:3: "},
+      {"too_small", {{"in.node", "3 2 0 0\n1 0 0\n2 1 0\n# comment\n3 0 1e-60\n"}}, {"triangulate", "in.node"},
+       "in.node:5: "},
+      {"not_finite", {{"in.node", "3 2 0 0\n1 0 0\n2 nan 0\n3 0 1\n"}}, {"triangulate", "in.node"}, "in.node:3: "},
+      {"truncated", {{"in.node", "5 2 0 0\n1 0 0\n2 1 0\n3 0 1\n"}}, {"triangulate", "in.node"}, "in.node:"},
+      {"collinear", {{"in.node", "3 2 0 0\n1 0 0\n2 1 1\n3 2 2\n"}}, {"triangulate", "in.node"}, "in.node: "},
+      {"two_points", {{"in.node", "3 2 0 0\n1 0 0\n2 1 1\n3 0 0\n"}}, {"triangulate", "in.node"}, "in.node: "},
+      {"missing_vertex", {{"in.poly", kSquare + "1 0\n1 1 7\n0\n"}}, {"triangulate", "in.poly"}, "in.poly:7: "},
+      {"crossing_strict", {{"in.poly", kSquare + "2 0\n1 1 3\n2 2 4\n0\n"}}, {"triangulate", "in.poly", "--strict"},
+       "in.poly:8: "},
+      {"output_dir_missing", {{"in.poly", kSquare + "4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n"}},
+       {"triangulate", "in.poly", "-o", "nodir/out"}, "nodir/out.node: "},
+      // The mesh files are written first; they must be removed again when the report cannot be.
+      {"json_dir_missing", {{"in.poly", kSquare + "4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n"}},
+       {"triangulate", "in.poly", "--json", "nodir/r.json"}, "nodir/r.json: "},
+      // Warnings (a crossing is split) are not printed when the run fails.
+      {"warning_then_failure", {{"in.poly", kSquare + "6 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n5 1 3\n6 2 4\n0\n"}},
+       {"triangulate", "in.poly", "--json", "nodir/r.json"}, "nodir/r.json: "},
+      {"check_missing_mesh", {{"in.node", kSquare}}, {"check", "in.node", "nomesh"}, "nomesh.node: "},
+      {"check_bad_input", {{"in.node", "4 2 0 0\n1 0 0\n2 1 0\n3 1 x\n4 0 1\n"}}, {"check", "in.node", "m"},
+       "in.node:4: "},
+      {"generate_dir_missing", {}, {"generate", "uniform", "10", "-o", "nodir/p.node"}, "nodir/p.node: "},
+  };
+}
+
+class BadInputTest : public testing::TestWithParam<BadInput> {};
+
+TEST_P(BadInputTest, ExitsOneWithOneLocatedLineAndNoOutput) {
+  const BadInput& c = GetParam();
+  Sandbox box;
+  std::set<std::string> before;
+  for (const auto& [name, content] : c.files) {
+    box.put(name, content);
+    before.insert(name);
+  }
+  const Outcome r = box.run(c.args);
+  EXPECT_EQ(r.exit_code, 1) << describe(r);
+  const auto lines = r.err_lines();
+  ASSERT_EQ(lines.size(), 1u) << describe(r);
+  EXPECT_EQ(lines[0].rfind("mwst: " + c.where, 0), 0u) << lines[0];
+  EXPECT_GT(lines[0].size(), ("mwst: " + c.where).size()) << "the message says what is wrong";
+  EXPECT_EQ(box.entries(), before) << "no output file may be left behind";
+}
+
+INSTANTIATE_TEST_SUITE_P(Cli, BadInputTest, testing::ValuesIn(bad_inputs()),
+                         [](const testing::TestParamInfo<BadInput>& p) { return p.param.name; });
+
+// ---- 2. bad usage: exit 2, nothing written -----------------------------------------------------
+
+TEST(Cli, BadUsageExitsTwoAndWritesNothing) {
+  Sandbox box;
+  box.put("in.poly", kSquare + "4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n");
+  const std::vector<std::vector<std::string>> cases = {
+      {},
+      {"frobnicate"},
+      {"triangulate"},
+      {"triangulate", "in.poly", "--bogus"},
+      {"triangulate", "in.poly", "--method", "xyz"},
+      {"triangulate", "in.poly", "--min-angle", "60"},
+      {"triangulate", "in.poly", "--min-angle", "-1"},
+      {"triangulate", "in.poly", "--min-angle", "abc"},
+      {"triangulate", "in.poly", "--steiner", "incenter"},
+      {"triangulate", "in.poly", "--bundle-k", "2"},
+      {"triangulate", "in.poly", "--max-area", "-3"},
+      {"triangulate", "in.poly", "--max-steiner", "-1"},
+      {"triangulate", "in.poly", "--bundle-k", "-5"},
+      {"generate", "uniform", "-3", "-o", "p.node"},
+      {"generate", "uniform", "10", "--seed", "-1", "-o", "p.node"},
+      {"triangulate", "in.poly", "extra-argument"},
+      {"triangulate", "in.poly", "-o", "in"},  // would overwrite in.poly
+      {"check", "in.poly"},
+      {"check", "in.poly", "m", "--min-angle", "x"},
+      {"generate", "uniform", "10"},
+      {"generate", "gaussian", "10", "-o", "p.node"},
+      {"generate", "uniform", "ten", "-o", "p.node"},
+      {"generate", "uniform", "0", "-o", "p.node"},
+      {"generate", "uniform", "10", "-o", "p.txt"},
+  };
+  for (const auto& args : cases) {
+    const Outcome r = box.run(args);
+    std::string cmd;
+    for (const auto& a : args) cmd += a + " ";
+    EXPECT_EQ(r.exit_code, 2) << cmd << "\n" << describe(r);
+    EXPECT_EQ(r.err.rfind("mwst: ", 0), 0u) << cmd << "\n" << describe(r);
+    EXPECT_EQ(box.entries(), std::set<std::string>{"in.poly"}) << cmd;
+  }
+}
+
+TEST(Cli, HelpExitsZero) {
+  Sandbox box;
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"--help"}, {"triangulate", "--help"}, {"check", "--help"}, {"generate", "--help"}}) {
+    const Outcome r = box.run(args);
+    EXPECT_EQ(r.exit_code, 0) << describe(r);
+    EXPECT_NE(r.out.find("--"), std::string::npos) << describe(r);
+  }
+  EXPECT_NE(box.run({"triangulate", "--help"}).out.find("--min-angle"), std::string::npos);
+}
+
+// ---- 3. every data set: triangulate, then check --------------------------------------------------
+
+class DataSetTest : public testing::TestWithParam<std::string> {};
+
+// "N triangles left near small input angles" → N (0 for any other stop reason).
+std::size_t triangles_left(const std::string& stop_reason) {
+  static const std::regex pattern("^([0-9]+) triangles? left");
+  std::smatch m;
+  return std::regex_search(stop_reason, m, pattern) ? std::stoul(m[1]) : 0;
+}
+
+TEST_P(DataSetTest, TriangulationsPassCheck) {
+  const std::string input = data(GetParam());
+  const bool has_segments = segment_count(input) > 0;
+  Sandbox box;
+  // DT: constrained Delaunay, checked exactly.
+  Outcome r = box.run({"triangulate", input, "-o", "dt", "--quiet", "--json", "dt.json"});
+  ASSERT_EQ(r.exit_code, 0) << describe(r);
+  EXPECT_TRUE(r.out.empty() && r.err.empty()) << "--quiet prints nothing\n" << describe(r);
+  EXPECT_TRUE(box.has("dt.node") && box.has("dt.ele"));
+  EXPECT_EQ(box.has("dt.poly"), has_segments);
+  r = box.run({"check", input, "dt", "--delaunay"});
+  EXPECT_EQ(r.exit_code, 0) << describe(r);
+  const auto dt = nlohmann::json::parse(box.get("dt.json"));
+  EXPECT_EQ(dt["steiner"].get<std::size_t>(), 0u);
+
+  // DR at 20°: constrained Delaunay, and every angle ≥ 20° except in the triangles refinement
+  // reports it left near small input angles.
+  r = box.run({"triangulate", input, "-o", "dr", "--method", "dr", "--min-angle", "20", "--quiet", "--json", "dr.json"});
+  ASSERT_EQ(r.exit_code, 0) << describe(r);
+  if (has_segments) {
+    EXPECT_TRUE(box.has("dr.poly"));  // (refinement may also mark hull edges of a point set)
+  }
+  r = box.run({"check", input, "dr", "--delaunay"});
+  EXPECT_EQ(r.exit_code, 0) << describe(r);
+  const auto dr = nlohmann::json::parse(box.get("dr.json"));
+  const std::string stop = dr.at("stop_reason").get<std::string>();
+  const std::size_t left = triangles_left(stop);
+  r = box.run({"check", input, "dr", "--min-angle", "20"});
+  if (left == 0) {
+    EXPECT_EQ(r.exit_code, 0) << "stop reason: " << stop << "\n" << describe(r);
+    EXPECT_GE(dr["min_angle"].get<double>(), 20.0 - 1e-9);
+  } else {
+    // Every violation is one of the triangles refinement says it left.
+    EXPECT_LE(r.err_lines().size(), left) << "stop reason: " << stop << "\n" << describe(r);
+  }
+  EXPECT_GE(dr["weight_interior"].get<double>(), 0.0);
+  EXPECT_NEAR(dr["weight_boundary"].get<double>(), dt["weight_boundary"].get<double>(),
+              1e-9 * dt["weight_boundary"].get<double>())
+      << "refinement splits boundary segments but keeps their total length";
+}
+
+INSTANTIATE_TEST_SUITE_P(Cli, DataSetTest, testing::ValuesIn(data_sets()),
+                         [](const testing::TestParamInfo<std::string>& p) {
+                           std::string s = p.param;
+                           for (char& c : s) {
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           }
+                           return s;
+                         });
+
+// ---- 4. check rejects corrupted meshes ----------------------------------------------------------
+
+struct MeshText {
+  std::string header;
+  std::vector<std::array<long, 4>> rows;  // index, a, b, c
+};
+
+MeshText read_ele(const std::string& text) {
+  MeshText m;
+  std::istringstream in(text);
+  std::getline(in, m.header);
+  for (std::array<long, 4> row; in >> row[0] >> row[1] >> row[2] >> row[3];) m.rows.push_back(row);
+  return m;
+}
+
+std::string write_ele(const MeshText& m, std::size_t count) {
+  std::string s = std::to_string(count) + " 3 0\n";
+  for (std::size_t i = 0; i < count; ++i) {
+    const auto& r = m.rows[i];
+    s += std::to_string(i + 1) + " " + std::to_string(r[1]) + " " + std::to_string(r[2]) + " " +
+         std::to_string(r[3]) + "\n";
+  }
+  return s;
+}
+
+void copy_mesh(const Sandbox& box, const std::string& from, const std::string& to) {
+  for (const char* ext : {".node", ".ele", ".poly"}) {
+    if (box.has(from + ext)) box.put(to + ext, box.get(from + ext));
+  }
+}
+
+TEST(Cli, CheckRejectsCorruptedMeshes) {
+  Sandbox box;
+  const std::string input = data("Random.poly");
+  ASSERT_EQ(box.run({"triangulate", input, "-o", "m", "-q"}).exit_code, 0);
+  ASSERT_EQ(box.run({"check", input, "m", "--delaunay"}).exit_code, 0);
+  const MeshText ele = read_ele(box.get("m.ele"));
+  ASSERT_GT(ele.rows.size(), 10u);
+
+  auto expect_rejected = [&](const std::string& prefix, const std::vector<std::string>& extra, const char* what) {
+    std::vector<std::string> args = {"check", input, prefix};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const Outcome r = box.run(args);
+    EXPECT_EQ(r.exit_code, 1) << what << "\n" << describe(r);
+    const auto lines = r.err_lines();
+    EXPECT_FALSE(lines.empty()) << what;
+    for (const auto& line : lines) EXPECT_EQ(line.rfind("mwst: " + prefix + ": ", 0), 0u) << what << ": " << line;
+  };
+
+  {  // A clockwise triangle.
+    MeshText bad = ele;
+    std::swap(bad.rows[3][1], bad.rows[3][2]);
+    copy_mesh(box, "m", "cw");
+    box.put("cw.ele", write_ele(bad, bad.rows.size()));
+    expect_rejected("cw", {}, "clockwise triangle");
+  }
+  {  // A missing triangle (a gap).
+    MeshText bad = ele;
+    std::swap(bad.rows[5], bad.rows.back());
+    copy_mesh(box, "m", "gap");
+    box.put("gap.ele", write_ele(bad, bad.rows.size() - 1));
+    expect_rejected("gap", {}, "missing triangle");
+  }
+  {  // An input vertex moved.
+    copy_mesh(box, "m", "moved");
+    std::string node = box.get("moved.node");
+    const std::size_t line2 = node.find('\n') + 1;             // vertex 1
+    const std::size_t line3 = node.find('\n', line2) + 1;     // vertex 2
+    std::istringstream row(node.substr(line2, line3 - line2));
+    long index;
+    double x, y;
+    row >> index >> x >> y;
+    node.replace(line2, line3 - line2, std::to_string(index) + " " + std::to_string(x * 0.5 + 0.25) + " " +
+                                           std::to_string(y * 0.5 + 0.25) + " 0\n");
+    box.put("moved.node", node);
+    expect_rejected("moved", {}, "moved vertex");
+  }
+  {  // A subsegment missing from the .poly.
+    copy_mesh(box, "m", "noseg");
+    std::string poly = box.get("noseg.poly");
+    std::istringstream in(poly);
+    std::string vertices_line, header;
+    std::getline(in, vertices_line);
+    std::getline(in, header);
+    std::istringstream h(header);
+    long n, markers;
+    h >> n >> markers;
+    std::string rest, line;
+    std::getline(in, line);  // drop the first subsegment
+    for (long i = 1; i < n; ++i) {
+      std::getline(in, line);
+      std::istringstream f(line);
+      long idx, a, b, mk;
+      f >> idx >> a >> b >> mk;
+      rest += std::to_string(i) + " " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(mk) + "\n";
+    }
+    box.put("noseg.poly", vertices_line + "\n" + std::to_string(n - 1) + " " + std::to_string(markers) + "\n" + rest + "0\n");
+    expect_rejected("noseg", {}, "missing subsegment");
+  }
+  {  // A flipped interior edge: still a valid triangulation, but not Delaunay.
+    const mwst::io::MeshFiles mesh = mwst::io::read_mesh(box.path("m"));
+    std::set<std::pair<std::uint32_t, std::uint32_t>> segments;
+    for (const auto& s : mesh.segments) segments.insert({std::min(s.a, s.b), std::max(s.a, s.b)});
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::pair<std::size_t, std::uint32_t>> directed;
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      for (unsigned k = 0; k < 3; ++k) {
+        directed[{mesh.triangles[t][k], mesh.triangles[t][(k + 1) % 3]}] = {t, mesh.triangles[t][(k + 2) % 3]};
+      }
+    }
+    bool flipped = false;
+    for (const auto& [edge, side] : directed) {
+      const auto [u, v] = edge;
+      const auto other = directed.find({v, u});
+      if (u > v || other == directed.end() || segments.count({std::min(u, v), std::max(u, v)})) continue;
+      const std::uint32_t c = side.second, d = other->second.second;
+      const auto& p = mesh.points;
+      // Strictly Delaunay edge in a strictly convex quadrilateral: flipping makes it non-Delaunay.
+      if (mwst::incircle(p[u], p[v], p[c], p[d]) >= 0) continue;
+      if (mwst::orient2d(p[c], p[d], p[u]) >= 0 || mwst::orient2d(p[c], p[d], p[v]) <= 0) continue;
+      auto tris = mesh.triangles;
+      tris[side.first] = {c, u, d};  // u→v with apex c, v→u with apex d become c→d / d→c
+      tris[other->second.first] = {d, v, c};
+      std::string s = std::to_string(tris.size()) + " 3 0\n";
+      for (std::size_t t = 0; t < tris.size(); ++t) {
+        s += std::to_string(t + 1) + " " + std::to_string(tris[t][0] + 1) + " " + std::to_string(tris[t][1] + 1) +
+             " " + std::to_string(tris[t][2] + 1) + "\n";
+      }
+      copy_mesh(box, "m", "flip");
+      box.put("flip.ele", s);
+      flipped = true;
+      break;
+    }
+    ASSERT_TRUE(flipped);
+    const Outcome ok = box.run({"check", input, "flip"});
+    EXPECT_EQ(ok.exit_code, 0) << "a flipped edge is still a valid triangulation\n" << describe(ok);
+    expect_rejected("flip", {"--delaunay"}, "flipped edge");
+  }
+}
+
+// ---- 5. the JSON report ------------------------------------------------------------------------
+
+TEST(Cli, JsonReportHasTheDocumentedKeys) {
+  Sandbox box;
+  const std::string input = data("Superior.poly");
+  const Outcome r = box.run({"triangulate", input, "-o", "m", "--method", "dr", "--min-angle", "15", "--json", "r.json"});
+  ASSERT_EQ(r.exit_code, 0) << describe(r);
+  const auto j = nlohmann::json::parse(box.get("r.json"));
+  for (const char* key : {"vertices", "triangles", "steiner", "weight_total", "weight_boundary", "weight_interior",
+                          "min_angle", "max_angle", "seconds", "stop_reason", "input", "method", "parameters",
+                          "duplicates", "crossings", "warnings"}) {
+    EXPECT_TRUE(j.contains(key)) << key;
+  }
+  EXPECT_EQ(j["method"], "dr");
+  EXPECT_EQ(j["parameters"]["min_angle"].get<double>(), 15.0);
+  EXPECT_TRUE(j["seconds"].is_object());
+  EXPECT_TRUE(j["seconds"].contains("total"));
+  EXPECT_TRUE(j["seconds"].contains("refine"));
+  EXPECT_NEAR(j["weight_total"].get<double>(), j["weight_boundary"].get<double>() + j["weight_interior"].get<double>(),
+              1e-9 * j["weight_total"].get<double>());
+  const mwst::io::MeshFiles mesh = mwst::io::read_mesh(box.path("m"));
+  EXPECT_EQ(j["triangles"].get<std::size_t>(), mesh.triangles.size());
+  std::set<std::uint32_t> used;
+  for (const auto& t : mesh.triangles) used.insert(t.begin(), t.end());
+  EXPECT_EQ(j["vertices"].get<std::size_t>(), used.size());
+  EXPECT_GT(j["steiner"].get<std::size_t>(), 0u);
+  EXPECT_LE(j["min_angle"].get<double>(), j["max_angle"].get<double>());
+  // The human summary names the method and the files written.
+  EXPECT_NE(r.out.find("dr"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("m.ele"), std::string::npos) << r.out;
+
+  // --json - prints the report, and nothing else, to stdout.
+  const Outcome s = box.run({"triangulate", input, "-o", "m2", "--json", "-"});
+  ASSERT_EQ(s.exit_code, 0) << describe(s);
+  const auto j2 = nlohmann::json::parse(s.out);
+  EXPECT_EQ(j2["method"], "dt");
+  EXPECT_FALSE(j2.contains("stop_reason"));
+  EXPECT_EQ(j2["steiner"].get<std::size_t>(), 0u);
+}
+
+TEST(Cli, WarningsGoToStderrUnlessQuiet) {
+  Sandbox box;
+  // Two crossing diagonals inside a square, and a duplicate point.
+  box.put("in.poly", "5 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n5 1 1\n6 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n5 1 3\n6 2 4\n0\n");
+  Outcome r = box.run({"triangulate", "in.poly", "--json", "r.json"});
+  ASSERT_EQ(r.exit_code, 0) << describe(r);
+  const auto lines = r.err_lines();
+  ASSERT_EQ(lines.size(), 2u) << describe(r);
+  for (const auto& line : lines) EXPECT_EQ(line.rfind("mwst: warning: ", 0), 0u) << line;
+  const auto j = nlohmann::json::parse(box.get("r.json"));
+  EXPECT_EQ(j["crossings"].get<std::size_t>(), 1u);
+  EXPECT_EQ(j["duplicates"].get<std::size_t>(), 1u);
+  EXPECT_EQ(j["warnings"].size(), 2u);
+  EXPECT_EQ(box.run({"check", "in.poly", "in.1", "--delaunay"}).exit_code, 0);
+  r = box.run({"triangulate", "in.poly", "--quiet"});
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_TRUE(r.err.empty() && r.out.empty()) << describe(r);
+}
+
+// ---- 6. default prefix -------------------------------------------------------------------------
+
+TEST(Cli, DefaultPrefixFollowsTriangle) {
+  Sandbox box;
+  box.put("shape.poly", kSquare + "4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n");
+  ASSERT_EQ(box.run({"triangulate", "shape.poly", "-q"}).exit_code, 0);
+  EXPECT_TRUE(box.has("shape.1.node") && box.has("shape.1.ele") && box.has("shape.1.poly"));
+  // Triangle increments an iteration number: shape.1.node → shape.2.*
+  ASSERT_EQ(box.run({"triangulate", "shape.1.node", "-q"}).exit_code, 0);
+  EXPECT_TRUE(box.has("shape.2.node") && box.has("shape.2.ele"));
+  EXPECT_FALSE(box.has("shape.2.poly")) << "a point set has no subsegments";
+  // A stale PREFIX.poly from an earlier run is removed when the new mesh has no subsegments.
+  box.put("pts.1.poly", "junk\n");
+  box.put("pts.node", kSquare);
+  ASSERT_EQ(box.run({"triangulate", "pts.node", "-q"}).exit_code, 0);
+  EXPECT_FALSE(box.has("pts.1.poly"));
+  EXPECT_EQ(box.run({"check", "pts.node", "pts.1", "--delaunay"}).exit_code, 0);
+}
+
+// ---- 7. generate -------------------------------------------------------------------------------
+
+TEST(Cli, GenerateIsDeterministicAndTriangulatesValidly) {
+  Sandbox box;
+  for (const std::string dist : {"uniform", "kuzmin", "ellipse", "grid", "circle"}) {
+    SCOPED_TRACE(dist);
+    ASSERT_EQ(box.run({"generate", dist, "500", "--seed", "7", "-o", "a.node"}).exit_code, 0);
+    ASSERT_EQ(box.run({"generate", dist, "500", "--seed", "7", "-o", "b.node"}).exit_code, 0);
+    ASSERT_EQ(box.run({"generate", dist, "500", "--seed", "8", "-o", "c.node"}).exit_code, 0);
+    EXPECT_EQ(box.get("a.node"), box.get("b.node"));
+    const bool random = dist == "uniform" || dist == "kuzmin";
+    EXPECT_EQ(box.get("a.node") != box.get("c.node"), random) << "the seed matters exactly for random sets";
+    const mwst::Pslg p = mwst::io::read_node(box.path("a.node"));
+    ASSERT_EQ(p.points.size(), 500u);
+    std::set<std::pair<double, double>> distinct;
+    for (const auto& q : p.points) distinct.insert({q.x, q.y});
+    EXPECT_EQ(distinct.size(), 500u);
+    Outcome r = box.run({"triangulate", "a.node", "-o", "t", "-q"});
+    ASSERT_EQ(r.exit_code, 0) << describe(r);
+    r = box.run({"check", "a.node", "t", "--delaunay"});
+    EXPECT_EQ(r.exit_code, 0) << describe(r);
+    if (dist != "circle") {  // refining 500 cocircular points to 20° is slow-ish and adds nothing
+      r = box.run({"triangulate", "a.node", "-o", "r", "-q", "--method", "dr"});
+      ASSERT_EQ(r.exit_code, 0) << describe(r);
+      r = box.run({"check", "a.node", "r", "--delaunay"});
+      EXPECT_EQ(r.exit_code, 0) << describe(r);
+    }
+  }
+}
+
+// ---- 8. determinism ----------------------------------------------------------------------------
+
+TEST(Cli, TwoRunsGiveIdenticalFiles) {
+  Sandbox box;
+  for (const std::string name : {"Kuzmin2K.node", "Superior.poly", "Plate.poly"}) {
+    for (const std::string method : {"dt", "dr"}) {
+      SCOPED_TRACE(name + " " + method);
+      const std::string input = data(name);
+      ASSERT_EQ(box.run({"triangulate", input, "-o", "one", "-q", "--method", method}).exit_code, 0);
+      ASSERT_EQ(box.run({"triangulate", input, "-o", "two", "-q", "--method", method}).exit_code, 0);
+      for (const char* ext : {".node", ".ele", ".poly"}) {
+        EXPECT_EQ(box.has(std::string("one") + ext), box.has(std::string("two") + ext));
+        if (box.has(std::string("one") + ext)) {
+          EXPECT_TRUE(box.get(std::string("one") + ext) == box.get(std::string("two") + ext)) << ext;
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
