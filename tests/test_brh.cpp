@@ -45,7 +45,9 @@ void check_brh(const std::string& file, BrhCase c) {
     EXPECT_LT(exact.per_triangle[t], o.bundle_k) << "skinny triangle " << t << " is in a K-bundle";
   }
   EXPECT_EQ(skinny, stats.skinny_left);
-  if (o.bundle_k >= default_bundle_k(c.angle)) EXPECT_LT(exact.bundle_number, o.bundle_k);
+  if (o.bundle_k >= default_bundle_k(c.angle)) {
+    EXPECT_LT(exact.bundle_number, o.bundle_k);
+  }
 }
 
 std::vector<std::string> data_sets() {
