@@ -3,7 +3,8 @@
 // fragment each other's heaps, and so that peak memory can be read per run.
 //
 // Algorithm-only runs: the child is forked from the benchmark (it inherits the input already in
-// memory); it resets its resident-set high-water mark (writing 5 to /proc/self/clear_refs, Linux
+// memory); it returns the free heap it inherited to the system (malloc_trim), resets its
+// resident-set high-water mark (writing 5 to /proc/self/clear_refs, Linux
 // ≥ 4.0), records VmRSS, runs the algorithm, and reports the seconds and VmHWM − VmRSS_before: the
 // memory the algorithm added at its peak, input excluded. Whole-process runs exec a fresh program
 // (the mwst command line, or this benchmark in a child mode) and report wall seconds and the
@@ -11,6 +12,7 @@
 // largest seen.
 #pragma once
 
+#include <malloc.h>
 #include <sys/resource.h>
 #include <sys/types.h>
 #include <sys/wait.h>
@@ -86,6 +88,9 @@ inline std::string hardware_line() {
 class Probe {
  public:
   void start() {
+    // Free heap memory inherited from the parent is resident; without trimming it, the run would
+    // reuse it without growing the resident set, and its peak would be underestimated.
+    malloc_trim(0);
     peak_reset_ = reset_peak_rss();
     rss_before_kib_ = status_kib("VmRSS");
     cpu0_ = process_cpu_seconds();
