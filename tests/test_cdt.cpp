@@ -612,7 +612,7 @@ TEST(Cdt, RandomSmallIntegerGraphsWithCrossings) {
     for (int i = 0; i < n; ++i) g.points.push_back({std::floor(u(rng) * 64.0), std::floor(u(rng) * 64.0)});
     for (int k = 0; k < 2 + trial % 4; ++k) {
       const auto a = static_cast<std::uint32_t>(rng() % n), b = static_cast<std::uint32_t>(rng() % n);
-      // Distinct endpoints and no segment twice (repeated crossed segments: see CdtKnownBugs).
+      // Distinct endpoints and no segment twice (repeated crossed segments: see CdtCrossingRegression).
       bool repeated = a == b;
       for (const auto& s : g.segments) repeated |= (s.a == a && s.b == b) || (s.a == b && s.b == a);
       if (!repeated) g.segments.push_back({a, b, k + 1});
@@ -649,11 +649,11 @@ TEST(CdtRegression, SegmentPassingAroundAVertexWhoseWholeStarItCrosses) {
   check_cdt(h, d.mesh, 0.0);
 }
 
-// ---- known bugs in crossing resolution (src/mesh/constrain.cpp, SegmentInserter::resolve_crossing) --
-// Reported to the lead; these fail until the crossing resolution restores the constrained Delaunay
-// property and terminates on near-coincident chains.
+// ---- crossing resolution regressions (src/mesh/constrain.cpp, SegmentInserter::resolve_crossing) ---
+// Both failed before the crossing resolution snapped to nearby endpoints and ended with a global
+// Lawson pass.
 
-TEST(CdtKnownBugs, CrossingResolutionLeavesAnEdgeNotLocallyDelaunay) {
+TEST(CdtCrossingRegression, CrossingResolutionLeavesAnEdgeNotLocallyDelaunay) {
   // Three mutually crossing segments on integer points; the second crossing point is rounded off
   // the subsegment it splits, the old subsegment is un-marked, and the edge 7–1 (Steiner 7) is left
   // not locally Delaunay.
@@ -682,7 +682,7 @@ TEST(CdtKnownBugs, CrossingResolutionLeavesAnEdgeNotLocallyDelaunay) {
   std::exit(validate(m, {.delaunay = true}).empty() && stats.crossings <= 2 ? 0 : 1);
 }
 
-TEST(CdtKnownBugsDeathTest, RepeatedSegmentCrossingAnotherTerminates) {
+TEST(CdtCrossingRegressionDeathTest, RepeatedSegmentCrossingAnotherTerminates) {
   GTEST_FLAG_SET(death_test_style, "threadsafe");
   EXPECT_EXIT(triangulate_repeated_crossed_segment(), ::testing::ExitedWithCode(0), "");
 }

@@ -64,7 +64,16 @@ inline int orient2d(const Point& a, const Point& b, const Point& c) {
 // For a, b, c in counter-clockwise order: +1 if d lies strictly inside their circumcircle, -1 if
 // strictly outside, 0 if the four points are cocircular. (The sign flips if a, b, c are clockwise;
 // it is 0 whenever a, b, c are collinear and d is on their line.) Exact.
-inline int incircle(const Point& a, const Point& b, const Point& c, const Point& d) {
+namespace detail {
+// The incircle determinant rounded to double, with Shewchuk's first-stage bound on its error: the
+// sign of `value` is exact whenever |value| > bound. (Shared by incircle and by the bundle sweep,
+// which also needs the value itself.)
+struct FilteredDeterminant {
+  double value;
+  double bound;
+};
+inline FilteredDeterminant incircle_determinant(const Point& a, const Point& b, const Point& c,
+                                                const Point& d) {
   const double adx = a.x - d.x, ady = a.y - d.y;
   const double bdx = b.x - d.x, bdy = b.y - d.y;
   const double cdx = c.x - d.x, cdy = c.y - d.y;
@@ -78,9 +87,14 @@ inline int incircle(const Point& a, const Point& b, const Point& c, const Point&
   const double permanent = (std::fabs(bdxcdy) + std::fabs(cdxbdy)) * alift +
                            (std::fabs(cdxady) + std::fabs(adxcdy)) * blift +
                            (std::fabs(adxbdy) + std::fabs(bdxady)) * clift;
-  const double bound = detail::kIncircleBound * permanent;
-  if (det > bound) return 1;
-  if (-det > bound) return -1;
+  return {det, kIncircleBound * permanent};
+}
+}  // namespace detail
+
+inline int incircle(const Point& a, const Point& b, const Point& c, const Point& d) {
+  const detail::FilteredDeterminant det = detail::incircle_determinant(a, b, c, d);
+  if (det.value > det.bound) return 1;
+  if (-det.value > det.bound) return -1;
   return detail::incircle_exact(a, b, c, d);
 }
 

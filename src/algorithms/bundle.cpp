@@ -63,7 +63,7 @@
 #include <utility>
 #include <vector>
 
-#include "algorithms/expansion.hpp"
+#include "geometry/expansion.hpp"
 #include "mwst/delaunay.hpp"
 #include "mwst/error.hpp"
 #include "mwst/pslg.hpp"
@@ -86,20 +86,8 @@ struct Approx {
 // counter-clockwise a, b, c), rounded, with Shewchuk's first-stage error bound. As a function of d
 // it equals orient(a, b, c) · (r² − |d − centre|²).
 Approx incircle_approx(const Point& a, const Point& b, const Point& c, const Point& d) {
-  const double adx = a.x - d.x, ady = a.y - d.y;
-  const double bdx = b.x - d.x, bdy = b.y - d.y;
-  const double cdx = c.x - d.x, cdy = c.y - d.y;
-  const double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
-  const double alift = adx * adx + ady * ady;
-  const double cdxady = cdx * ady, adxcdy = adx * cdy;
-  const double blift = bdx * bdx + bdy * bdy;
-  const double adxbdy = adx * bdy, bdxady = bdx * ady;
-  const double clift = cdx * cdx + cdy * cdy;
-  const double det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady);
-  const double permanent = (std::fabs(bdxcdy) + std::fabs(cdxbdy)) * alift +
-                           (std::fabs(cdxady) + std::fabs(adxcdy)) * blift +
-                           (std::fabs(adxbdy) + std::fabs(bdxady)) * clift;
-  return {det, detail::kIncircleBound * permanent};
+  const detail::FilteredDeterminant det = detail::incircle_determinant(a, b, c, d);
+  return {det.value, det.bound};
 }
 
 // The orient2d determinant of (a, b, c), rounded, with an error bound; recomputed exactly (and
