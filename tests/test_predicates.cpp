@@ -421,6 +421,31 @@ TEST(Incircle, NearCocircularRandom) {
   }
 }
 
+// The adaptive stages B and C of incircle_exact (predicates.cpp) decide near-cocircular points
+// whose coordinate differences round: points on a circle far from the origin compared with its
+// radius (so every difference has a roundoff tail), with d moved by 0-3 ulps in each coordinate
+// so the exact sign is sometimes 0-adjacent and sometimes decided only by the tails.
+TEST(Incircle, OffsetCirclesUlpPerturbations) {
+  const FailureScope scope;
+  Rng rng(2718);
+  for (int iter = 0; iter < 20000; ++iter) {
+    const int e = static_cast<int>(rng() % 200) - 100;
+    const double s = std::ldexp(1.0, e);
+    const double offset = uniform(rng, 1.0, 1e6) * s;
+    const Point center{offset * uniform(rng, 0.5, 1.0), -offset * uniform(rng, 0.5, 1.0)};
+    const double radius = uniform(rng, 1e-3, 1.0) * s;
+    auto on_circle = [&] {
+      const double th = uniform(rng, 0.0, 2.0 * std::numbers::pi);
+      return Point{center.x + radius * std::cos(th), center.y + radius * std::sin(th)};
+    };
+    const Point a = on_circle(), b = on_circle(), c = on_circle();
+    Point d = on_circle();
+    for (int k = static_cast<int>(rng() % 4); k > 0; --k) d.x = std::nextafter(d.x, 0.0);
+    for (int k = static_cast<int>(rng() % 4); k > 0; --k) d.y = std::nextafter(d.y, 1e300);
+    check_incircle(a, b, c, d);
+  }
+}
+
 TEST(Incircle, RandomWideExponents) {
   const FailureScope scope;
   Rng rng(8080);

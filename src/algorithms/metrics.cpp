@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -28,8 +29,14 @@ void triangle_angles_deg(const Mesh& mesh, TriangleId t, double out[3]) {
 Metrics measure(const Mesh& mesh) {
   Metrics r;
   std::vector<char> used(mesh.points.size(), 0);
-  r.min_angle_deg = 180.0;
-  r.max_angle_deg = 0.0;
+  // Angle extremes without a trigonometric call per triangle: a triangle's smallest angle is
+  // opposite its shortest edge and is at most 60°, so it is atan(|cross| / dot) with dot > 0 and
+  // the ratio is monotone in it; its largest angle is opposite its longest edge, and
+  // cot = dot / |cross| decreases with the angle on (0°, 180°). The extremes of the ratios are kept
+  // and converted to degrees once at the end.
+  double min_tan = std::numeric_limits<double>::infinity();
+  double max_cross = 0.0, max_dot = 1.0;  // the corner with the largest angle so far (0° at start)
+  double area2 = 0.0;                    // twice the area
   for (TriangleId t = 0; t < mesh.triangles.size(); ++t) {
     if (!mesh.in_domain(t)) continue;
     ++r.triangles;
@@ -45,16 +52,41 @@ Metrics measure(const Mesh& mesh) {
       r.weight_total += len;
       if (!other_in || mesh.is_segment(h)) r.weight_boundary += len;
     }
-    double ang[3];
-    triangle_angles_deg(mesh, t, ang);
-    for (double a : ang) {
-      r.min_angle_deg = std::min(r.min_angle_deg, a);
-      r.max_angle_deg = std::max(r.max_angle_deg, a);
+    const Point* p[3] = {&mesh.points[T.v[0]], &mesh.points[T.v[1]], &mesh.points[T.v[2]]};
+    // Squared length of the edge opposite corner k.
+    double opposite[3];
+    for (unsigned k = 0; k < 3; ++k) {
+      const Point& u = *p[next3(k)];
+      const Point& w = *p[prev3(k)];
+      opposite[k] = (u.x - w.x) * (u.x - w.x) + (u.y - w.y) * (u.y - w.y);
     }
-    const Point& a = mesh.points[T.v[0]];
-    r.area += signed_area(a, mesh.points[T.v[1]], mesh.points[T.v[2]]);
+    const unsigned smallest = static_cast<unsigned>(std::min_element(opposite, opposite + 3) - opposite);
+    const unsigned largest = static_cast<unsigned>(std::max_element(opposite, opposite + 3) - opposite);
+    auto corner = [&](unsigned k, double& cross, double& dot) {
+      const Point& c = *p[k];
+      const Point& u = *p[next3(k)];
+      const Point& w = *p[prev3(k)];
+      const double ux = u.x - c.x, uy = u.y - c.y, wx = w.x - c.x, wy = w.y - c.y;
+      cross = std::fabs(ux * wy - uy * wx);
+      dot = ux * wx + uy * wy;
+    };
+    double cross = 0.0, dot = 0.0;
+    corner(smallest, cross, dot);
+    if (dot > 0.0) min_tan = std::min(min_tan, cross / dot);
+    else if (cross == 0.0) min_tan = 0.0;  // a degenerate triangle (never in a valid mesh)
+    corner(largest, cross, dot);
+    // Is atan2(cross, dot) larger than atan2(max_cross, max_dot)? Both cross ≥ 0: compare by the
+    // sign of the 2×2 determinant (the rotation from the stored corner's direction to this one).
+    if (dot * max_cross - cross * max_dot < 0.0) {
+      max_cross = cross;
+      max_dot = dot;
+    }
+    const Point& a = *p[0];
+    area2 += (p[1]->x - a.x) * (p[2]->y - a.y) - (p[1]->y - a.y) * (p[2]->x - a.x);
   }
-  if (r.triangles == 0) r.min_angle_deg = 0.0;
+  r.area = 0.5 * area2;
+  r.min_angle_deg = r.triangles == 0 ? 0.0 : std::atan(min_tan) * 180.0 / std::numbers::pi;
+  r.max_angle_deg = r.triangles == 0 ? 0.0 : std::atan2(max_cross, max_dot) * 180.0 / std::numbers::pi;
   for (VertexId v = 0; v < used.size(); ++v) {
     if (!used[v]) continue;
     ++r.vertices;

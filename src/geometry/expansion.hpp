@@ -16,11 +16,19 @@
 
 namespace mwst::exact {
 
+// The routines are forced inline so that callers compiled for a richer instruction set (the
+// predicates' fused-multiply-add clones, predicates.cpp) get that instruction set in them too.
+#if defined(__GNUC__)
+#define MWST_EXACT_INLINE inline __attribute__((always_inline))
+#else
+#define MWST_EXACT_INLINE inline
+#endif
+
 
 // ---- error-free transformations ---------------------------------------------------------------
 
 // x + y == a + b exactly, x == fl(a + b). No precondition (Knuth's Two-Sum).
-inline void two_sum(double a, double b, double& x, double& y) {
+MWST_EXACT_INLINE void two_sum(double a, double b, double& x, double& y) {
   x = a + b;
   const double b_virtual = x - a;
   const double a_virtual = x - b_virtual;
@@ -30,14 +38,14 @@ inline void two_sum(double a, double b, double& x, double& y) {
 }
 
 // x + y == a + b exactly, x == fl(a + b). Precondition: |a| >= |b| (or a == 0) (Dekker).
-inline void fast_two_sum(double a, double b, double& x, double& y) {
+MWST_EXACT_INLINE void fast_two_sum(double a, double b, double& x, double& y) {
   x = a + b;
   const double b_virtual = x - a;
   y = b - b_virtual;
 }
 
 // x + y == a - b exactly, x == fl(a - b).
-inline void two_diff(double a, double b, double& x, double& y) {
+MWST_EXACT_INLINE void two_diff(double a, double b, double& x, double& y) {
   x = a - b;
   const double b_virtual = a - x;
   const double a_virtual = x + b_virtual;
@@ -52,14 +60,14 @@ inline void two_diff(double a, double b, double& x, double& y) {
 // instruction at run time when the CPU has it. Dekker's splitting is the portable alternative and
 // is used when MWST_DEKKER_PRODUCT is defined (kept for machines without fast fma).
 #if defined(MWST_DEKKER_PRODUCT)
-inline void split(double a, double& hi, double& lo) {
+MWST_EXACT_INLINE void split(double a, double& hi, double& lo) {
   constexpr double kSplitter = 134217729.0;  // 2^27 + 1
   const double c = kSplitter * a;
   const double a_big = c - a;
   hi = c - a_big;
   lo = a - hi;
 }
-inline void two_product(double a, double b, double& x, double& y) {
+MWST_EXACT_INLINE void two_product(double a, double b, double& x, double& y) {
   x = a * b;
   double ahi = 0.0, alo = 0.0, bhi = 0.0, blo = 0.0;
   split(a, ahi, alo);
@@ -70,7 +78,7 @@ inline void two_product(double a, double b, double& x, double& y) {
   y = alo * blo - err3;
 }
 #else
-inline void two_product(double a, double b, double& x, double& y) {
+MWST_EXACT_INLINE void two_product(double a, double b, double& x, double& y) {
   x = a * b;
   y = std::fma(a, b, -x);
 }
@@ -121,7 +129,7 @@ inline void negate(Expansion<N>& e) {
 }
 
 // h = e + b (Grow-Expansion, Shewchuk Theorem 10, with zero elimination). h may not alias e.
-inline int grow_expansion(const double* e, int n, double b, double* h) {
+MWST_EXACT_INLINE int grow_expansion(const double* e, int n, double b, double* h) {
   double q = b;
   int hn = 0;
   for (int i = 0; i < n; ++i) {
@@ -136,7 +144,7 @@ inline int grow_expansion(const double* e, int n, double b, double* h) {
 
 // h = e + f by merging the components by magnitude and running a Two-Sum chain through them
 // (Fast-Expansion-Sum, Shewchuk Theorem 13, with zero elimination). h may not alias e or f.
-inline int expansion_sum(const double* e, int n, const double* f, int m, double* h) {
+MWST_EXACT_INLINE int expansion_sum(const double* e, int n, const double* f, int m, double* h) {
   if (n == 0) {
     std::memcpy(h, f, sizeof(double) * static_cast<std::size_t>(m));
     return m;
@@ -190,7 +198,7 @@ inline int expansion_sum(const double* e, int n, const double* f, int m, double*
 }
 
 // h = e * b (Scale-Expansion, Shewchuk Theorem 19, with zero elimination). h may not alias e.
-inline int scale_expansion(const double* e, int n, double b, double* h) {
+MWST_EXACT_INLINE int scale_expansion(const double* e, int n, double b, double* h) {
   if (n == 0 || b == 0.0) return 0;
   int hn = 0;
   double q = 0.0, err = 0.0;

@@ -47,30 +47,146 @@ inline Expansion<16> orient2d_expansion(const Point& a, const Point& b, const Po
 
 }  // namespace
 
-namespace detail {
+// ---- the exact stages -----------------------------------------------------------------------------
+//
+// incircle after the inline filter (stage A, geometry.hpp) is adaptive, after Shewchuk's paper
+// (§4.5): each stage either decides the sign with a proven error bound or passes on.
+//   - Exact differences, exact doubles: if every coordinate difference is exact and no product or
+//     sum of the plain double evaluation rounds (grids, most exactly cocircular inputs), the double
+//     is the determinant.
+//   - Stage B: the determinant of the rounded differences in expansion arithmetic (fixed arrays,
+//     at most 96 components). Exact when the differences are; otherwise within iccerrboundB ·
+//     permanent of the true value.
+//   - Stage C: plus the first-order correction for the differences' roundoff tails, in doubles;
+//     within iccerrboundC · permanent + resulterrbound · |det|.
+//   - Stage D: everything exactly, with each difference a two-component expansion.
+// orient2d evaluates exactly at once: in at most 4 components when its differences are exact,
+// otherwise with two-component differences (its exact stage is short anyway).
+//
+// With GCC on x86-64 the exact stages are compiled twice: for CPUs with fused multiply-add
+// (Two-Product's error term is then one inline instruction) and for the baseline x86-64 (where
+// std::fma is the C library's correctly rounded fma, a call); the choice is made once at load time
+// (target_clones). The results are identical: both are exact.
 
-int orient2d_exact(const Point& a, const Point& b, const Point& c) {
-  return sign_of(orient2d_expansion(a, b, c));
+namespace {
+
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(MWST_DEKKER_PRODUCT)
+#define MWST_EXACT_CLONES __attribute__((target_clones("fma", "default")))
+#else
+#define MWST_EXACT_CLONES
+#endif
+
+// a·b − c·d exactly, as an expansion of at most four components.
+MWST_EXACT_INLINE Expansion<4> product_difference(double a, double b, double c, double d) {
+  double p = 0.0, pe = 0.0, q = 0.0, qe = 0.0;
+  two_product(a, b, p, pe);
+  two_product(c, d, q, qe);
+  Expansion<2> left, right;
+  left.push(pe);
+  left.push(p);
+  right.push(-qe);
+  right.push(-q);
+  Expansion<4> h;
+  h.n = expansion_sum(left.c, left.n, right.c, right.n, h.c);
+  return h;
 }
 
-double orient2d_value(const Point& a, const Point& b, const Point& c) {
-  return estimate(orient2d_expansion(a, b, c));
+// (x² + y²)·m exactly, for a minor m: x·(x·m) + y·(y·m), at most 32 components.
+MWST_EXACT_INLINE Expansion<32> lifted(double x, double y, const Expansion<4>& minor) {
+  Expansion<8> xm, ym;
+  xm.n = scale_expansion(minor.c, minor.n, x, xm.c);
+  ym.n = scale_expansion(minor.c, minor.n, y, ym.c);
+  Expansion<16> xxm, yym;
+  xxm.n = scale_expansion(xm.c, xm.n, x, xxm.c);
+  yym.n = scale_expansion(ym.c, ym.n, y, yym.c);
+  Expansion<32> h;
+  h.n = expansion_sum(xxm.c, xxm.n, yym.c, yym.n, h.c);
+  return h;
 }
 
-int incircle_exact(const Point& a, const Point& b, const Point& c, const Point& d) {
-  // det [[adx, ady, adx²+ady²], [bdx, bdy, ...], [cdx, cdy, ...]] with the differences kept exact
-  // as (at most) two-component expansions. When the differences are exact (the usual case for
-  // nearby points) every factor has one component and the expansions stay short.
-  const Expansion<2> adx = difference(a.x, d.x), ady = difference(a.y, d.y);
-  const Expansion<2> bdx = difference(b.x, d.x), bdy = difference(b.y, d.y);
-  const Expansion<2> cdx = difference(c.x, d.x), cdy = difference(c.y, d.y);
-
-  Expansion<16> bc = bdx * cdy - cdx * bdy;
-  Expansion<16> ca = cdx * ady - adx * cdy;
-  Expansion<16> ab = adx * bdy - bdx * ady;
-  Expansion<16> alift = adx * adx + ady * ady;
-  Expansion<16> blift = bdx * bdx + bdy * bdy;
-  Expansion<16> clift = cdx * cdx + cdy * cdy;
+MWST_EXACT_CLONES int incircle_sign_exact(const Point& a, const Point& b, const Point& c,
+                                          const Point& d) {
+  double adx = 0.0, ady = 0.0, bdx = 0.0, bdy = 0.0, cdx = 0.0, cdy = 0.0;
+  double adxt = 0.0, adyt = 0.0, bdxt = 0.0, bdyt = 0.0, cdxt = 0.0, cdyt = 0.0;
+  two_diff(a.x, d.x, adx, adxt);
+  two_diff(a.y, d.y, ady, adyt);
+  two_diff(b.x, d.x, bdx, bdxt);
+  two_diff(b.y, d.y, bdy, bdyt);
+  two_diff(c.x, d.x, cdx, cdxt);
+  two_diff(c.y, d.y, cdy, cdyt);
+  if (adxt == 0.0 && adyt == 0.0 && bdxt == 0.0 && bdyt == 0.0 && cdxt == 0.0 && cdyt == 0.0) {
+    // det = |a−d|²·(b−d)×(c−d) + |b−d|²·(c−d)×(a−d) + |c−d|²·(a−d)×(b−d), every factor exact.
+    // First in plain doubles, with every rounding error measured by an error-free transformation:
+    // if none rounded (integer grids, and most exactly cocircular inputs), the double is the exact
+    // determinant. (The errors are accumulated as a sum of magnitudes: zero iff all are zero.)
+    double rounding = 0.0;
+    auto mul = [&rounding](double x, double y) {
+      double p = 0.0, e = 0.0;
+      two_product(x, y, p, e);
+      rounding += std::fabs(e);
+      return p;
+    };
+    auto add = [&rounding](double x, double y) {
+      double s = 0.0, e = 0.0;
+      two_sum(x, y, s, e);
+      rounding += std::fabs(e);
+      return s;
+    };
+    const double bc = add(mul(bdx, cdy), -mul(cdx, bdy));
+    const double ca = add(mul(cdx, ady), -mul(adx, cdy));
+    const double ab = add(mul(adx, bdy), -mul(bdx, ady));
+    const double alift = add(mul(adx, adx), mul(ady, ady));
+    const double blift = add(mul(bdx, bdx), mul(bdy, bdy));
+    const double clift = add(mul(cdx, cdx), mul(cdy, cdy));
+    const double det = add(add(mul(alift, bc), mul(blift, ca)), mul(clift, ab));
+    if (rounding == 0.0) return (det > 0.0) - (det < 0.0);
+  }
+  // Stage B: the determinant of the rounded differences, exactly (at most 96 components). When the
+  // differences are exact this is the determinant itself. Otherwise the neglected tails change it
+  // by less than iccerrboundB · permanent (Shewchuk 1997, §4.5, incircle's stage B bound).
+  const Expansion<32> rounded_a = lifted(adx, ady, product_difference(bdx, cdy, cdx, bdy));
+  const Expansion<32> rounded_b = lifted(bdx, bdy, product_difference(cdx, ady, adx, cdy));
+  const Expansion<32> rounded_c = lifted(cdx, cdy, product_difference(adx, bdy, bdx, ady));
+  const Expansion<64> rounded_ab = rounded_a + rounded_b;
+  const Expansion<96> rounded_det = rounded_ab + rounded_c;
+  if (adxt == 0.0 && adyt == 0.0 && bdxt == 0.0 && bdyt == 0.0 && cdxt == 0.0 && cdyt == 0.0) {
+    return sign_of(rounded_det);
+  }
+  constexpr double kEps = detail::kEpsilon;
+  constexpr double kBoundB = (4.0 + 48.0 * kEps) * kEps;
+  constexpr double kBoundC = (44.0 + 576.0 * kEps) * kEps * kEps;
+  constexpr double kResultBound = (3.0 + 8.0 * kEps) * kEps;
+  const double permanent =
+      (std::fabs(bdx * cdy) + std::fabs(cdx * bdy)) * (adx * adx + ady * ady) +
+      (std::fabs(cdx * ady) + std::fabs(adx * cdy)) * (bdx * bdx + bdy * bdy) +
+      (std::fabs(adx * bdy) + std::fabs(bdx * ady)) * (cdx * cdx + cdy * cdy);
+  double det = estimate(rounded_det);
+  const double bound_b = kBoundB * permanent;
+  if (det > bound_b) return 1;
+  if (-det > bound_b) return -1;
+  // Stage C: add the first-order effect of the tails (the derivative of the determinant in each
+  // difference, times its tail), in doubles; what is left (second-order tail terms and the
+  // rounding of this correction) is below iccerrboundC · permanent plus the rounding of det
+  // (Shewchuk 1997, §4.5).
+  const double bound_c = kBoundC * permanent + kResultBound * std::fabs(det);
+  det += ((adx * adx + ady * ady) * ((bdx * cdyt + cdy * bdxt) - (bdy * cdxt + cdx * bdyt)) +
+          2.0 * (adx * adxt + ady * adyt) * (bdx * cdy - bdy * cdx)) +
+         ((bdx * bdx + bdy * bdy) * ((cdx * adyt + ady * cdxt) - (cdy * adxt + adx * cdyt)) +
+          2.0 * (bdx * bdxt + bdy * bdyt) * (cdx * ady - cdy * adx)) +
+         ((cdx * cdx + cdy * cdy) * ((adx * bdyt + bdy * adxt) - (ady * bdxt + bdx * adyt)) +
+          2.0 * (cdx * cdxt + cdy * cdyt) * (adx * bdy - ady * bdx));
+  if (det > bound_c) return 1;
+  if (-det > bound_c) return -1;
+  // Stage D, exactly: the differences as two-component expansions.
+  const Expansion<2> eadx = difference(a.x, d.x), eady = difference(a.y, d.y);
+  const Expansion<2> ebdx = difference(b.x, d.x), ebdy = difference(b.y, d.y);
+  const Expansion<2> ecdx = difference(c.x, d.x), ecdy = difference(c.y, d.y);
+  Expansion<16> bc = ebdx * ecdy - ecdx * ebdy;
+  Expansion<16> ca = ecdx * eady - eadx * ecdy;
+  Expansion<16> ab = eadx * ebdy - ebdx * eady;
+  Expansion<16> alift = eadx * eadx + eady * eady;
+  Expansion<16> blift = ebdx * ebdx + ebdy * ebdy;
+  Expansion<16> clift = ecdx * ecdx + ecdy * ecdy;
   // Renormalize the factors before the expensive products.
   compress(bc);
   compress(ca);
@@ -78,13 +194,40 @@ int incircle_exact(const Point& a, const Point& b, const Point& c, const Point& 
   compress(alift);
   compress(blift);
   compress(clift);
-
   const Expansion<512> aterm = alift * bc;
   const Expansion<512> bterm = blift * ca;
   const Expansion<512> cterm = clift * ab;
   const Expansion<1024> abterm = aterm + bterm;
-  const Expansion<1536> det = abterm + cterm;
-  return sign_of(det);
+  return sign_of(abterm + cterm);
+}
+
+MWST_EXACT_CLONES int orient2d_sign_exact(const Point& a, const Point& b, const Point& c) {
+  double acx = 0.0, acy = 0.0, bcx = 0.0, bcy = 0.0;
+  double acxt = 0.0, acyt = 0.0, bcxt = 0.0, bcyt = 0.0;
+  two_diff(a.x, c.x, acx, acxt);
+  two_diff(a.y, c.y, acy, acyt);
+  two_diff(b.x, c.x, bcx, bcxt);
+  two_diff(b.y, c.y, bcy, bcyt);
+  if (acxt == 0.0 && acyt == 0.0 && bcxt == 0.0 && bcyt == 0.0) {
+    return sign_of(product_difference(acx, bcy, acy, bcx));
+  }
+  return sign_of(orient2d_expansion(a, b, c));
+}
+
+}  // namespace
+
+namespace detail {
+
+int orient2d_exact(const Point& a, const Point& b, const Point& c) {
+  return orient2d_sign_exact(a, b, c);
+}
+
+double orient2d_value(const Point& a, const Point& b, const Point& c) {
+  return estimate(orient2d_expansion(a, b, c));
+}
+
+int incircle_exact(const Point& a, const Point& b, const Point& c, const Point& d) {
+  return incircle_sign_exact(a, b, c, d);
 }
 
 }  // namespace detail
