@@ -2,9 +2,11 @@
 // Gilbert 1994, the QTR method of Boyacı, Erten, Üngör).
 //
 //   bench_quadtree                    growth: uniform points in the unit square, n = 1e4 … 1e6;
-//                                     wall and CPU seconds, leaves, triangles, peak memory, and
-//                                     CPU time over n·log2(n) + triangles (constant if the run
-//                                     time is O(n log n + output), as BEG prove)
+//                                     CPU and wall seconds, leaves, triangles, triangles per CPU
+//                                     second, peak memory and bytes per triangle, and CPU time
+//                                     over n·log2(n) + triangles (constant if the run time is
+//                                     O(n log n + output), as BEG prove); CGAL's Delaunay
+//                                     triangulation of the same points as a reference row
 //   bench_quadtree --max N            stop the growth table at N points
 //   bench_quadtree --data DATA_DIR    the paper's data sets: Steiner points, triangles, interior
 //                                     weight relative to the (constrained) Delaunay triangulation
@@ -13,7 +15,8 @@
 // Every run happens in a forked child (as bench_common.hpp does): the input is made before the
 // clock starts; the child reports wall and CPU seconds and the memory it added at its peak. No
 // public quadtree mesher exists to run beside it (the paper used Tripoint, which is not
-// available); the CDT of the same input is timed as the reference in the data-set table.
+// available; CGAL has none): CGAL's Delaunay triangulation of the same points is the reference row
+// of the growth table, and the CDT of the same input the reference in the data-set table.
 #include <time.h>
 #include <unistd.h>
 
@@ -32,9 +35,14 @@
 #include "mwst/metrics.hpp"
 #include "mwst/quadtree.hpp"
 
+#include <CGAL/Delaunay_triangulation_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
 namespace {
 
 using namespace mwst;
+using CgalK = CGAL::Exact_predicates_inexact_constructions_kernel;
+using CgalDt = CGAL::Delaunay_triangulation_2<CgalK>;
 
 double cpu_now() {
   timespec ts{};
@@ -108,29 +116,52 @@ bool run_forked(const Pslg& g, int repeats, Run& best) {
   return true;
 }
 
+// CGAL's Delaunay triangulation of the same points (range insertion), the reference row: CGAL has no
+// quadtree mesher (its Mesh_2 is Delaunay refinement, bench_refine compares with it).
+bench::Measurement cgal_delaunay(const std::vector<Point>& pts, int repeats) {
+  return bench::measure_forked(
+      [&](bench::Probe& probe) {
+        std::vector<CgalK::Point_2> input;
+        input.reserve(pts.size());
+        for (const Point& p : pts) input.emplace_back(p.x, p.y);
+        probe.start();
+        CgalDt dt(input.begin(), input.end());
+        probe.stop();
+        probe.set_count(dt.number_of_faces());
+      },
+      repeats);
+}
+
 void growth(std::size_t max_n) {
   std::printf("Quadtree refinement of n uniform points in the unit square (%s)\n\n",
               bench::hardware_line().c_str());
-  std::printf("| n | wall s | CPU s | tree s | mesh s | leaves | triangles | Steiner | peak MiB | "
-              "CPU µs / (n log2 n + triangles) | relative |\n");
-  std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
-  double first = 0.0;
+  std::printf("| n | method | CPU s | wall s | tree s | mesh s | leaves | triangles | triangles / point | "
+              "triangles / CPU s | peak MiB | bytes / triangle | CPU µs / (n log2 n + triangles) |\n");
+  std::printf("|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const std::size_t n : {std::size_t{10000}, std::size_t{30000}, std::size_t{100000}, std::size_t{300000},
                               std::size_t{1000000}}) {
     if (n > max_n) break;
     Pslg g;
     g.points = bench::uniform_points(n, 42);
+    const int repeats = n >= 300000 ? 1 : 3;
     Run r;
-    if (!run_forked(g, n >= 300000 ? 1 : 2, r)) {
-      std::printf("| %zu | failed | | | | | | | | | |\n", n);
+    if (!run_forked(g, repeats, r)) {
+      std::printf("| %zu | mwst QTR | failed | | | | | | | | | | |\n", n);
       continue;
     }
-    const double work = static_cast<double>(n) * std::log2(static_cast<double>(n)) + r.triangles;
-    const double per = 1e6 * r.cpu / work;
-    if (first == 0.0) first = per;
-    std::printf("| %zu | %.3f | %.3f | %.3f | %.3f | %.0f | %.0f | %.0f | %.1f | %.4f | %.2f |%s\n", n, r.wall, r.cpu,
-                r.tree, r.mesh, r.leaves, r.triangles, r.steiner, r.peak_mib, per, per / first,
+    const double nd = static_cast<double>(n);
+    const double work = nd * std::log2(nd) + r.triangles;
+    std::printf("| %zu | mwst QTR | %.3f | %.3f | %.3f | %.3f | %.0f | %.0f | %.1f | %.3g | %.1f | %.0f | %.4f |%s\n",
+                n, r.cpu, r.wall, r.tree, r.mesh, r.leaves, r.triangles, r.triangles / nd, r.triangles / r.cpu,
+                r.peak_mib, r.peak_mib * 1048576.0 / r.triangles, 1e6 * r.cpu / work,
                 r.fallback != 0 ? " (fallback)" : "");
+    const bench::Measurement c = cgal_delaunay(g.points, repeats);
+    if (c.ok) {
+      const double t = static_cast<double>(c.count);
+      std::printf("| %zu | CGAL DT2 (reference) | %.3f | %.3f | | | | %.0f | %.1f | %.3g | %.1f | %.0f | %.4f |\n", n,
+                  c.best_cpu, c.best_seconds, t, t / nd, t / c.best_cpu, c.peak_mib, c.peak_mib * 1048576.0 / t,
+                  1e6 * c.best_cpu / (nd * std::log2(nd) + t));
+    }
     std::fflush(stdout);
   }
 }

@@ -8,12 +8,16 @@
 //  - Nodes live in one vector; the four children of a node are consecutive (SW, SE, NW, NE, i.e.
 //    Morton order), each node knows its parent. A node is addressed by (level, ix, iy); the integer
 //    coordinates map to the plane through the root's corner and side 2^e, so every cell corner is
-//    the same double however it is reached. Neighbours are found by climbing to the first ancestor
-//    that covers the wanted cell and descending again (Samet), O(1) on average.
-//  - Each leaf keeps the list of features (vertex ids, and segment indices offset by the number of
-//    vertices) meeting its closed extended cell B(C). Children filter their parent's list: a vertex
-//    sits in at most 9 lists per level and a segment in those of the cells along it (output), so
-//    the build costs O(n log n + output).
+//    the same double however it is reached. Each node keeps, per edge direction, a hint: a node
+//    covering its same-size neighbour cell, set from its parent's when it is created (or its
+//    sibling); nodes are never removed, so the neighbour is found by descending from the hint, a
+//    step or two, without climbing. Other cells are found by climbing to the first ancestor that
+//    covers the wanted cell and descending again (Samet), O(1) on average.
+//  - Each leaf keeps the list of features (vertices as their ranks in Morton order, whose points
+//    the tree copies in that order so that the lists are scanned with few cache misses, and
+//    segment indices offset by the number of vertices) meeting its closed extended cell B(C).
+//    Children filter their parent's list: a vertex sits in at most 9 lists per level and a segment
+//    in those of the cells along it (output), so the build costs O(n log n + output).
 //  - Vertices of the subdivision (leaf corners and the side midpoints smaller neighbours create)
 //    are owned by the leaf for which they are the lower-left corner or a midpoint of the left or
 //    bottom side (plus the root's top and right border), so ids come from one pass over the leaves
@@ -303,6 +307,31 @@ class Tree {
     }
     exponent_ = e;
     for (unsigned l = 0; l < step_.size(); ++l) step_[l] = std::ldexp(1.0, e - static_cast<int>(l));
+    // Vertex features are ranks in Morton order of the root's 2^16 × 2^16 grid, with their points
+    // copied in that order: the feature lists are scanned once per level, and input order would
+    // make every point a cache miss.
+    const double scale = 65536.0 / step_[0];
+    auto cell = [&](double v, double origin) {
+      return static_cast<std::uint64_t>(std::clamp(std::floor((v - origin) * scale), 0.0, 65535.0));
+    };
+    auto spread = [](std::uint64_t v) {
+      v = (v | (v << 8)) & 0x00FF00FFu;
+      v = (v | (v << 4)) & 0x0F0F0F0Fu;
+      v = (v | (v << 2)) & 0x33333333u;
+      return (v | (v << 1)) & 0x55555555u;
+    };
+    std::vector<std::pair<std::uint64_t, VertexId>> order;
+    order.reserve(in.vertices.size());
+    for (VertexId v : in.vertices) {
+      order.emplace_back((spread(cell(pts_[v].y, y0_)) << 1) | spread(cell(pts_[v].x, x0_)), v);
+    }
+    std::sort(order.begin(), order.end());
+    rank_id_.resize(order.size());
+    rank_point_.resize(order.size());
+    for (std::size_t r = 0; r < order.size(); ++r) {
+      rank_id_[r] = order[r].second;
+      rank_point_[r] = pts_[order[r].second];
+    }
   }
 
   // Plane coordinates of grid line i at a level (i may lie one or two cells outside the root).
@@ -328,7 +357,7 @@ class Tree {
   // x, y and the segment's normal, the last decided by orient2d at the box corners).
   bool meets(std::uint32_t f, const Box& b) const {
     if (is_vertex(f)) {
-      const Point& q = pts_[f];
+      const Point& q = rank_point_[f];
       return b.x1 <= q.x && q.x <= b.x2 && b.y1 <= q.y && q.y <= b.y2;
     }
     const FeatureSegment& s = segment(f);
@@ -350,7 +379,7 @@ class Tree {
     for (std::size_t i = 0; i < count; ++i) {
       if (!is_vertex(list[i])) continue;
       if (vertex != kNone) return false;
-      vertex = list[i];
+      vertex = rank_id_[list[i]];
     }
     // Without a vertex, several segments are still "one vertex and its segments" if they share an
     // endpoint (lying outside B(C)): they are incident features and do not lower the local
@@ -402,7 +431,7 @@ class Tree {
     for (std::size_t i = 0; i < count; ++i) {
       const std::uint32_t f = list[i];
       if (is_vertex(f)) {
-        const Point& q = pts_[f];
+        const Point& q = rank_point_[f];
         const bool col0 = xa1 <= q.x && q.x <= xa2, col1 = xb1 <= q.x && q.x <= xb2;
         const bool row0 = ya1 <= q.y && q.y <= ya2, row1 = yb1 <= q.y && q.y <= yb2;
         if (col0 && row0) out[0].push_back(f);
@@ -420,10 +449,17 @@ class Tree {
   // First build: breadth first, splitting by the feature rule.
   void build() {
     nodes.clear();
+    // Room for what a uniform point set needs (about 19 nodes and 29 list entries per point), so
+    // that the big arrays are not copied while they grow; unused room is never touched.
+    const std::size_t feature_count = rank_id_.size() + in_.segments.size();
+    nodes.reserve(20 * feature_count + 64);
+    hint_.reserve(20 * feature_count + 64);
+    features.reserve(30 * feature_count + 64);
     nodes.push_back(Node{});
+    hint_.assign(1, {kNone, kNone, kNone, kNone});
     std::vector<std::uint32_t> pool, next_pool;
     pool.reserve(in_.vertices.size() + in_.segments.size());
-    for (VertexId v : in_.vertices) pool.push_back(v);
+    for (std::uint32_t r = 0; r < rank_id_.size(); ++r) pool.push_back(r);
     for (std::uint32_t s = 0; s < in_.segments.size(); ++s) pool.push_back(nv_ + s);
     struct Item {
       std::uint32_t node, begin, count;
@@ -461,6 +497,7 @@ class Tree {
                           static_cast<std::uint32_t>(lists[k].size())});
           next_pool.insert(next_pool.end(), lists[k].begin(), lists[k].end());
         }
+        set_child_hints(item.node);
       }
       frontier.swap(next);
       pool.swap(next_pool);
@@ -487,14 +524,51 @@ class Tree {
 
   bool is_leaf(std::uint32_t a) const { return nodes[a].child == kNone; }
 
+  // Edge directions: 0 east, 1 north, 2 west, 3 south.
+  static constexpr int kDirX[4] = {1, 0, -1, 0};
+  static constexpr int kDirY[4] = {0, 1, 0, -1};
+
+  // The node covering the same-size cell next to node a in direction d (what find(a, level,
+  // ix + dx, iy + dy) returns), without climbing: each node keeps a hint, a node covering that
+  // cell when the hint was set. Nodes are never removed, so a hint stays an ancestor of (or equal
+  // to) the answer, and descending from it finds the answer in a step or two.
+  std::uint32_t neighbour(std::uint32_t a, unsigned d) const {
+    std::uint32_t h = hint_[a][d];
+    if (h == kNone) return kNone;
+    const Node& n = nodes[a];
+    const unsigned l = n.level;
+    const std::int64_t tx = n.ix + kDirX[d], ty = n.iy + kDirY[d];
+    while (nodes[h].level < l && nodes[h].child != kNone) {
+      const unsigned shift = l - nodes[h].level - 1u;
+      h = nodes[h].child + static_cast<std::uint32_t>(((tx >> shift) & 1) + 2 * ((ty >> shift) & 1));
+    }
+    return h;
+  }
+
+  // Sets the hints of the four new children of p (p's own hints are set).
+  void set_child_hints(std::uint32_t p) {
+    const std::uint32_t c = nodes[p].child;
+    if (hint_.size() < nodes.size()) hint_.resize(nodes.size());
+    std::array<std::uint32_t, 4> outer{};
+    for (unsigned d = 0; d < 4; ++d) outer[d] = neighbour(p, d);
+    for (std::uint32_t k = 0; k < 4; ++k) {
+      const std::uint32_t kx = k & 1u, ky = k >> 1;
+      auto& h = hint_[c + k];
+      h[0] = kx == 0 ? c + k + 1 : outer[0];
+      h[2] = kx == 1 ? c + k - 1 : outer[2];
+      h[1] = ky == 0 ? c + k + 2 : outer[1];
+      h[3] = ky == 1 ? c + k - 2 : outer[3];
+    }
+  }
+
   // The input vertex in the half-open leaf [x1, x2) × [y1, y2), if any.
   std::uint32_t vertex_in(const Node& n) const {
     const Box b = box(n);
     for (std::uint32_t i = 0; i < n.feat_count; ++i) {
       const std::uint32_t f = features[n.feat_begin + i];
       if (!is_vertex(f)) continue;
-      const Point& q = pts_[f];
-      if (b.x1 <= q.x && q.x < b.x2 && b.y1 <= q.y && q.y < b.y2) return f;
+      const Point& q = rank_point_[f];
+      if (b.x1 <= q.x && q.x < b.x2 && b.y1 <= q.y && q.y < b.y2) return rank_id_[f];
     }
     return kNone;
   }
@@ -509,7 +583,8 @@ class Tree {
   void split(std::uint32_t a) {
     const Node n = nodes[a];
     scratch_.assign(features.begin() + n.feat_begin, features.begin() + n.feat_begin + n.feat_count);
-    std::array<std::vector<std::uint32_t>, 4> lists;
+    auto& lists = lists_;
+    for (auto& list : lists) list.clear();
     filter_children(n, scratch_.data(), scratch_.size(), lists);
     const auto first = static_cast<std::uint32_t>(nodes.size());
     nodes[a].child = first;
@@ -527,11 +602,18 @@ class Tree {
       nodes.push_back(c);
       work_.push_back(first + k);
     }
-    // Leaves around a may now break balance or the warp rule: look at them again.
-    for (int dy = -1; dy <= 1; ++dy) {
-      for (int dx = -1; dx <= 1; ++dx) {
-        if (dx == 0 && dy == 0) continue;
-        const std::uint32_t b = find(a, n.level, n.ix + dx, n.iy + dy);
+    set_child_hints(a);
+    // Leaves around a may now break balance or the warp rule: look at them again (the edge
+    // neighbours, then the diagonal ones, found from the east and west neighbours).
+    for (unsigned d = 0; d < 4; ++d) {
+      const std::uint32_t b = neighbour(a, d);
+      if (b != kNone && is_leaf(b)) work_.push_back(b);
+    }
+    for (const int dx : {1, -1}) {
+      const std::uint32_t side = neighbour(a, dx > 0 ? 0u : 2u);
+      if (side == kNone) continue;
+      for (const int dy : {1, -1}) {
+        const std::uint32_t b = find(side, n.level, n.ix + dx, n.iy + dy);
         if (b != kNone && is_leaf(b)) work_.push_back(b);
       }
     }
@@ -553,9 +635,8 @@ class Tree {
     }
     bool changed = false;
     // Balance: an edge neighbour more than one level coarser is split.
-    static constexpr int kDir[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
-    for (const auto& d : kDir) {
-      const std::uint32_t b = find(a, l, nodes[a].ix + d[0], nodes[a].iy + d[1]);
+    for (unsigned d = 0; d < 4; ++d) {
+      const std::uint32_t b = neighbour(a, d);
       if (b != kNone && nodes[b].level + 1u < l) {
         ++stats_.splits_balance;
         split(b);
@@ -630,6 +711,11 @@ class Tree {
       for (std::uint32_t k = 4; k-- > 0;) stack.emplace_back(c + k, first + k);
     }
     nodes.swap(out);
+    // Parents precede their children in the new order: the hints follow top down.
+    hint_.assign(nodes.size(), {kNone, kNone, kNone, kNone});
+    for (std::uint32_t a = 0; a < nodes.size(); ++a) {
+      if (!is_leaf(a)) set_child_hints(a);
+    }
   }
 
   // Leaves at the deepest level that still break the feature rule or the warp rule.
@@ -686,6 +772,10 @@ class Tree {
   std::array<double, 64> step_{};  // cell size at each level
   std::vector<std::uint32_t> work_;
   std::vector<std::uint32_t> scratch_;
+  std::array<std::vector<std::uint32_t>, 4> lists_;  // split(): the children's feature lists
+  std::vector<std::array<std::uint32_t, 4>> hint_;   // per node: see neighbour()
+  std::vector<VertexId> rank_id_;                    // vertex feature (Morton rank) → vertex id
+  std::vector<Point> rank_point_;                    // vertex feature → its point
 };
 
 // ---- from the quadtree to the mesh ----------------------------------------------------------------
@@ -735,12 +825,45 @@ class Builder {
   }
 
   void number_vertices();
-  void build_loops();
+  void build_loops();  // then own_base_ and own_mask_ are released
   void warp();
   void segments_pass();
   void triangulate_cells(Mesh& mesh);
   void link_cells(Mesh& mesh);
   void mark_segments(Mesh& mesh);
+
+  // Calls visit(k, slot, u, w, s, a, b) for every edge u→w of the loop of a leaf k in `near` (from
+  // `slot` to the next present slot) that segment s = ab of k's feature list crosses properly: u
+  // and w strictly on opposite sides of ab and a, b strictly on opposite sides of uw (exact); edges
+  // with an end already on s only touch it. Positions are read when the edge is visited, so the
+  // callback may move corners or append vertices.
+  template <class Visit>
+  void for_each_crossed_edge(const std::vector<std::uint32_t>& near, Visit&& visit) {
+    const std::uint32_t nv = tree_.vertex_count();
+    for (const std::uint32_t k : near) {
+      const Node& n = tree_.nodes[leaves_[k]];
+      const std::uint32_t* loop = &loops_[8 * std::size_t{k}];
+      for (std::uint32_t i = 0; i < n.feat_count; ++i) {
+        const std::uint32_t f = tree_.features[n.feat_begin + i];
+        if (f < nv) continue;
+        const std::uint32_t s = f - nv;
+        const Point a = pts_[in_.segments[s].a];
+        const Point b = pts_[in_.segments[s].b];
+        for (unsigned slot = 0; slot < 8; ++slot) {
+          const std::uint32_t u = loop[slot];
+          if (u == kNone) continue;
+          unsigned next = (slot + 1) % 8;
+          while (loop[next] == kNone) next = (next + 1) % 8;
+          const std::uint32_t w = loop[next];
+          if (on_segment(u, s) || on_segment(w, s)) continue;
+          const Point pu = gpos_[u], pw = gpos_[w];
+          if (orient2d(a, b, pu) * orient2d(a, b, pw) >= 0) continue;
+          if (orient2d(pu, pw, a) * orient2d(pu, pw, b) >= 0) continue;
+          visit(k, slot, u, w, s, a, b);
+        }
+      }
+    }
+  }
 
   bool in_chain(std::uint32_t g) const { return g < gseg_.size() && (gseg_[g] != kNone || gwarp_[g] != kNone); }
 
@@ -774,8 +897,17 @@ class Builder {
     std::uint32_t leaf, slot, vertex;
   };
   std::vector<EdgeCrossing> crossings_;
-  // Subsegment chains: neighbours of a vertex along segments.
-  std::unordered_map<std::uint32_t, std::vector<std::pair<std::uint32_t, std::uint32_t>>> chain_;
+  // Subsegment chains: the neighbours of each vertex along segments, as (other vertex, segment),
+  // grouped by vertex (chain_begin_ indexed by vertex; vertices made later have none).
+  struct ChainLink {
+    std::uint32_t vertex, other, segment;
+  };
+  std::vector<ChainLink> chain_links_;
+  std::vector<std::uint32_t> chain_begin_;
+  std::pair<const ChainLink*, const ChainLink*> chain_of(std::uint32_t g) const {
+    if (std::size_t{g} + 1 >= chain_begin_.size()) return {nullptr, nullptr};
+    return {chain_links_.data() + chain_begin_[g], chain_links_.data() + chain_begin_[g + 1]};
+  }
   std::size_t subsegment_count_ = 0;
   // Final ids and the cells' boundary edges.
   std::vector<VertexId> final_id_;
@@ -801,12 +933,12 @@ void Builder::number_vertices() {
     const std::int64_t side = std::int64_t{1} << l, ix = n.ix, iy = n.iy;
     unsigned mask = 1u << kOwnLL;
     gpos_.push_back({tree_.X(ix, l), tree_.Y(iy, l)});
-    const std::uint32_t w = tree_.find(a, l, ix - 1, iy);
+    const std::uint32_t w = tree_.neighbour(a, 2);
     if (w != kNone && tree_.nodes[w].level == l && !tree_.is_leaf(w)) {
       mask |= 1u << kOwnLeftMid;
       gpos_.push_back({tree_.X(ix, l), tree_.Y(2 * iy + 1, l + 1)});
     }
-    const std::uint32_t s = tree_.find(a, l, ix, iy - 1);
+    const std::uint32_t s = tree_.neighbour(a, 3);
     if (s != kNone && tree_.nodes[s].level == l && !tree_.is_leaf(s)) {
       mask |= 1u << kOwnBottomMid;
       gpos_.push_back({tree_.X(2 * ix + 1, l + 1), tree_.Y(iy, l)});
@@ -845,24 +977,24 @@ void Builder::build_loops() {
     loop[kBL] = own(k, kOwnLL);
     if ((own_mask_[k] >> kOwnBottomMid) & 1u) loop[kBottom] = own(k, kOwnBottomMid);
     if ((own_mask_[k] >> kOwnLeftMid) & 1u) loop[kLeft] = own(k, kOwnLeftMid);
-    loop[kBR] = right ? own(k, kOwnLR) : vertex_at(leaf_sw(a, l, ix + 1, iy), l, ix + 1, iy);
+    loop[kBR] = right ? own(k, kOwnLR) : vertex_at(leaf_sw(tree_.neighbour(a, 0), l, ix + 1, iy), l, ix + 1, iy);
     if (top && right) {
       loop[kTR] = own(k, kOwnUR);
     } else if (top) {
       // The leaf to the east along the root's top border: (xR, yT) is its upper-left corner.
-      std::uint32_t d = tree_.find(a, l, ix + 1, iy);
+      std::uint32_t d = tree_.neighbour(a, 0);
       while (!tree_.is_leaf(d)) d = tree_.nodes[d].child + 2;
       loop[kTR] = own(leaf_of(d), kOwnUL);
     } else if (right) {
-      std::uint32_t d = tree_.find(a, l, ix, iy + 1);
+      std::uint32_t d = tree_.neighbour(a, 1);
       while (!tree_.is_leaf(d)) d = tree_.nodes[d].child + 1;
       loop[kTR] = own(leaf_of(d), kOwnLR);
     } else {
-      loop[kTR] = vertex_at(leaf_sw(a, l, ix + 1, iy + 1), l, ix + 1, iy + 1);
+      loop[kTR] = vertex_at(leaf_sw(tree_.neighbour(a, 0), l, ix + 1, iy + 1), l, ix + 1, iy + 1);
     }
-    loop[kTL] = top ? own(k, kOwnUL) : vertex_at(leaf_sw(a, l, ix, iy + 1), l, ix, iy + 1);
+    loop[kTL] = top ? own(k, kOwnUL) : vertex_at(leaf_sw(tree_.neighbour(a, 1), l, ix, iy + 1), l, ix, iy + 1);
     if (!right) {
-      const std::uint32_t r = tree_.find(a, l, ix + 1, iy);
+      const std::uint32_t r = tree_.neighbour(a, 0);
       if (tree_.nodes[r].level == l && !tree_.is_leaf(r)) {
         const std::uint32_t nw = tree_.nodes[r].child + 2;
         if (!tree_.is_leaf(nw)) throw RouteFailure{"unbalanced quadtree"};
@@ -870,7 +1002,7 @@ void Builder::build_loops() {
       }
     }
     if (!top) {
-      const std::uint32_t t = tree_.find(a, l, ix, iy + 1);
+      const std::uint32_t t = tree_.neighbour(a, 1);
       if (tree_.nodes[t].level == l && !tree_.is_leaf(t)) {
         const std::uint32_t se = tree_.nodes[t].child + 1;
         if (!tree_.is_leaf(se)) throw RouteFailure{"unbalanced quadtree"};
@@ -883,6 +1015,8 @@ void Builder::build_loops() {
       gtop_[loop[s]] = std::min(gtop_[loop[s]], static_cast<std::uint8_t>(l));
     }
   }
+  std::vector<std::uint32_t>().swap(own_base_);
+  std::vector<std::uint8_t>().swap(own_mask_);
 }
 
 void Builder::warp() {
@@ -978,38 +1112,18 @@ void Builder::segments_pass() {
   for (int round = 0; round < 4; ++round) {
     choice.clear();
     // 2a. Crossings.
-    for (const std::uint32_t k : near) {
-      const Node& n = tree_.nodes[leaves_[k]];
-      const std::uint32_t* loop = &loops_[8 * std::size_t{k}];
-      for (std::uint32_t i = 0; i < n.feat_count; ++i) {
-        const std::uint32_t f = tree_.features[n.feat_begin + i];
-        if (f < nv) continue;
-        const std::uint32_t s = f - nv;
-        const Point& a = pts_[in_.segments[s].a];
-        const Point& b = pts_[in_.segments[s].b];
-        for (unsigned slot = 0; slot < 8; ++slot) {
-          const std::uint32_t u = loop[slot];
-          if (u == kNone) continue;
-          unsigned next = (slot + 1) % 8;
-          while (loop[next] == kNone) next = (next + 1) % 8;
-          const std::uint32_t w = loop[next];
-          if (on_segment(u, s) || on_segment(w, s)) continue;
-          const Point& pu = gpos_[u];
-          const Point& pw = gpos_[w];
-          if (orient2d(a, b, pu) * orient2d(a, b, pw) >= 0) continue;
-          if (orient2d(pu, pw, a) * orient2d(pu, pw, b) >= 0) continue;
-          const Point x = segment_intersection(gpos_[std::min(u, w)], gpos_[std::max(u, w)], a, b);
-          const double length = distance(pu, pw);
-          const double size = tree_.cell_size(n.level);
-          for (const std::uint32_t c : {u, w}) {
-            if (gwarp_[c] != kNone || gseg_[c] != kNone) continue;
-            const double along = distance(gpos_[c], x);
-            if (!(along < options_.snap_fraction * size) || !(along < 0.5 * length)) continue;
-            offer(c, {s, along / size, x});
-          }
-        }
+    for_each_crossed_edge(near, [&](std::uint32_t k, unsigned, std::uint32_t u, std::uint32_t w, std::uint32_t s,
+                                    const Point& a, const Point& b) {
+      const Point x = segment_intersection(gpos_[std::min(u, w)], gpos_[std::max(u, w)], a, b);
+      const double length = distance(gpos_[u], gpos_[w]);
+      const double size = tree_.cell_size(tree_.nodes[leaves_[k]].level);
+      for (const std::uint32_t c : {u, w}) {
+        if (gwarp_[c] != kNone || gseg_[c] != kNone) continue;
+        const double along = distance(gpos_[c], x);
+        if (!(along < options_.snap_fraction * size) || !(along < 0.5 * length)) continue;
+        offer(c, {s, along / size, x});
       }
-    }
+    });
     // 2b. Projections.
     for (const std::uint32_t k : near) {
       const Node& n = tree_.nodes[leaves_[k]];
@@ -1048,47 +1162,27 @@ void Builder::segments_pass() {
   // 2. Crossing points: every leaf edge properly crossed by a segment of the leaf's list (edges
   //    ending on that segment only touch it). One vertex per (edge, segment), shared by both sides.
   std::unordered_map<std::uint64_t, std::vector<std::pair<std::uint32_t, std::uint32_t>>> made;
-  for (const std::uint32_t k : near) {
-    const Node& n = tree_.nodes[leaves_[k]];
-    const std::uint32_t* loop = &loops_[8 * std::size_t{k}];
-    for (std::uint32_t i = 0; i < n.feat_count; ++i) {
-      const std::uint32_t f = tree_.features[n.feat_begin + i];
-      if (f < nv) continue;
-      const std::uint32_t s = f - nv;
-      const Point& a = pts_[in_.segments[s].a];
-      const Point& b = pts_[in_.segments[s].b];
-      for (unsigned slot = 0; slot < 8; ++slot) {
-        const std::uint32_t u = loop[slot];
-        if (u == kNone) continue;
-        unsigned next = (slot + 1) % 8;
-        while (loop[next] == kNone) next = (next + 1) % 8;
-        const std::uint32_t w = loop[next];
-        if (on_segment(u, s) || on_segment(w, s)) continue;
-        const Point& pu = gpos_[u];
-        const Point& pw = gpos_[w];
-        if (orient2d(a, b, pu) * orient2d(a, b, pw) >= 0) continue;
-        if (orient2d(pu, pw, a) * orient2d(pu, pw, b) >= 0) continue;
-        const std::uint64_t key = (std::uint64_t{std::min(u, w)} << 32) | std::max(u, w);
-        auto& list = made[key];
-        std::uint32_t x = kNone;
-        for (const auto& [seg, vertex] : list) {
-          if (seg == s) x = vertex;
-        }
-        if (x == kNone) {
-          x = static_cast<std::uint32_t>(gpos_.size());
-          const Point& lo = gpos_[std::min(u, w)];
-          const Point& hi = gpos_[std::max(u, w)];
-          gpos_.push_back(segment_intersection(lo, hi, a, b));
-          gseg_.push_back(s);
-          gwarp_.push_back(kNone);
-          gmoved_.push_back(1);
-          list.emplace_back(s, x);
-          ++stats_.crossings;
-        }
-        crossings_.push_back({k, slot, x});
-      }
+  for_each_crossed_edge(near, [&](std::uint32_t k, unsigned slot, std::uint32_t u, std::uint32_t w, std::uint32_t s,
+                                  const Point& a, const Point& b) {
+    const std::uint64_t key = (std::uint64_t{std::min(u, w)} << 32) | std::max(u, w);
+    auto& list = made[key];
+    std::uint32_t x = kNone;
+    for (const auto& [seg, vertex] : list) {
+      if (seg == s) x = vertex;
     }
-  }
+    if (x == kNone) {
+      x = static_cast<std::uint32_t>(gpos_.size());
+      const Point& lo = gpos_[std::min(u, w)];
+      const Point& hi = gpos_[std::max(u, w)];
+      gpos_.push_back(segment_intersection(lo, hi, a, b));
+      gseg_.push_back(s);
+      gwarp_.push_back(kNone);
+      gmoved_.push_back(1);
+      list.emplace_back(s, x);
+      ++stats_.crossings;
+    }
+    crossings_.push_back({k, slot, x});
+  });
   std::sort(crossings_.begin(), crossings_.end(), [](const EdgeCrossing& p, const EdgeCrossing& q) {
     return p.leaf != q.leaf ? p.leaf < q.leaf : p.slot != q.slot ? p.slot < q.slot : p.vertex < q.vertex;
   });
@@ -1117,11 +1211,16 @@ void Builder::segments_pass() {
       if (!(param(list[i]) < param(list[i + 1]))) {
         throw RouteFailure{"two vertices at the same place on a segment"};
       }
-      chain_[list[i]].emplace_back(list[i + 1], s);
-      chain_[list[i + 1]].emplace_back(list[i], s);
+      chain_links_.push_back({list[i], list[i + 1], s});
+      chain_links_.push_back({list[i + 1], list[i], s});
       ++subsegment_count_;
     }
   }
+  std::stable_sort(chain_links_.begin(), chain_links_.end(),
+                   [](const ChainLink& p, const ChainLink& q) { return p.vertex < q.vertex; });
+  chain_begin_.assign(gpos_.size() + 1, 0);
+  for (const ChainLink& link : chain_links_) ++chain_begin_[link.vertex + 1];
+  for (std::size_t g = 0; g < gpos_.size(); ++g) chain_begin_[g + 1] += chain_begin_[g];
 }
 
 // The case table with its adjacency: for each midpoint mask, the triangles over polygon positions
@@ -1171,6 +1270,8 @@ const std::array<PlainCell, 16>& plain_cells() {
 }
 
 void Builder::triangulate_cells(Mesh& mesh) {
+  // Vertex positions are read from the mesh (run() has released gpos_).
+  auto pos = [&](std::uint32_t g) -> const Point& { return mesh.points[final_id_[g]]; };
   const auto& plain = plain_cells();
   bound_begin_.resize(leaves_.size() + 1);
   bound_sides_.resize(leaves_.size());
@@ -1249,9 +1350,9 @@ void Builder::triangulate_cells(Mesh& mesh) {
         if (crossings_[c].slot == s) poly.push_back(crossings_[c].vertex);
       }
       if (poly.size() - before > 1) {
-        const Point origin = gpos_[loop[s]];
+        const Point origin = pos(loop[s]);
         std::sort(poly.begin() + static_cast<std::ptrdiff_t>(before), poly.end(), [&](std::uint32_t p, std::uint32_t q) {
-          return squared_distance(origin, gpos_[p]) < squared_distance(origin, gpos_[q]);
+          return squared_distance(origin, pos(p)) < squared_distance(origin, pos(q));
         });
       }
     }
@@ -1264,9 +1365,9 @@ void Builder::triangulate_cells(Mesh& mesh) {
       const std::size_t m = poly.size();
       for (std::size_t i = 0; i < m; ++i) {
         if (!in_chain(poly[i])) continue;
-        const auto it = chain_.find(poly[i]);
-        if (it == chain_.end()) continue;
-        for (const auto& [other, s] : it->second) {
+        const auto [links_begin, links_end] = chain_of(poly[i]);
+        for (const ChainLink* link = links_begin; link != links_end; ++link) {
+          const std::uint32_t other = link->other, s = link->segment;
           for (std::size_t j = i + 1; j < m; ++j) {
             if (poly[j] != other) continue;
             const bool adjacent = j == i + 1 || (i == 0 && j == m - 1);
@@ -1278,7 +1379,7 @@ void Builder::triangulate_cells(Mesh& mesh) {
       // Triangulates one piece, given as polygon indices (counter-clockwise).
       auto triangulate = [&](const std::uint32_t* index, std::size_t count) {
         sub_points.clear();
-        for (std::size_t i = 0; i < count; ++i) sub_points.push_back(gpos_[poly[index[i]]]);
+        for (std::size_t i = 0; i < count; ++i) sub_points.push_back(pos(poly[index[i]]));
         local.clear();
         Point centre;
         bool used_centre = false;
@@ -1288,7 +1389,6 @@ void Builder::triangulate_cells(Mesh& mesh) {
         if (used_centre) {
           // BEG add such points to distorted cells; it lifts the worst warped point-set cell from
           // 13.4° to 18.3° (tests/test_quadtree.cpp enumerates the configurations).
-          gpos_.push_back(centre);
           gwarp_.push_back(kNone);
           gmoved_.push_back(1);
           if (!gseg_.empty()) gseg_.push_back(kNone);
@@ -1298,7 +1398,7 @@ void Builder::triangulate_cells(Mesh& mesh) {
         for (const auto& t : local) {
           std::uint32_t v[3];
           for (unsigned c = 0; c < 3; ++c) {
-            v[c] = t[c] == count ? static_cast<std::uint32_t>(gpos_.size() - 1) : poly[index[t[c]]];
+            v[c] = t[c] == count ? static_cast<std::uint32_t>(final_id_.size() - 1) : poly[index[t[c]]];
           }
           tris.push_back({v[0], v[1], v[2]});
         }
@@ -1403,15 +1503,14 @@ void Builder::triangulate_cells(Mesh& mesh) {
     bound_sides_[k] = static_cast<std::uint32_t>(side_index[1]) | (static_cast<std::uint32_t>(side_index[2]) << 8) |
                       (static_cast<std::uint32_t>(side_index[3]) << 16);
     // Segment edges: chords and boundary edges between consecutive chain vertices.
-    if (special && !chain_.empty()) {
+    if (special && !chain_links_.empty()) {
       for (TriangleId i = 0; i < count; ++i) {
         for (unsigned e = 0; e < 3; ++e) {
           const std::uint32_t from = tris[i][next3(e)], to = tris[i][prev3(e)];
           if (!in_chain(from)) continue;
-          const auto it = chain_.find(from);
-          if (it == chain_.end()) continue;
-          for (const auto& [other, s] : it->second) {
-            if (other == to) segment_edges_.emplace_back(make_handle(first + i, e), s);
+          const auto [links_begin, links_end] = chain_of(from);
+          for (const ChainLink* link = links_begin; link != links_end; ++link) {
+            if (link->other == to) segment_edges_.emplace_back(make_handle(first + i, e), link->segment);
           }
         }
       }
@@ -1449,8 +1548,8 @@ void Builder::link_cells(Mesh& mesh) {
     const Node& n = tree_.nodes[a];
     const unsigned l = n.level;
     for (unsigned side = 0; side < 4; ++side) {
-      static constexpr int kStep[4][2] = {{0, -1}, {1, 0}, {0, 1}, {-1, 0}};
-      const std::uint32_t r = tree_.find(a, l, n.ix + kStep[side][0], n.iy + kStep[side][1]);
+      static constexpr unsigned kDirection[4] = {3, 0, 1, 2};  // side (bottom, right, top, left) → direction
+      const std::uint32_t r = tree_.neighbour(a, kDirection[side]);
       const auto [begin, end] = side_range(k, side);
       if (r == kNone) {
         for (std::uint32_t q = begin; q < end; ++q) {
@@ -1618,9 +1717,19 @@ Mesh Builder::run(const std::vector<Point>& holes) {
     }
     final_id_[g] = mesh.add_vertex(gpos_[g], kind, marker);
   }
-  triangulate_cells(mesh);
-  link_cells(mesh);
-  mark_segments(mesh);
+  // The positions now live in the mesh: release the grid copies while the triangles are made (the
+  // largest arrays then), and restore the positions if the route fails (fallback_points()).
+  std::vector<Point>().swap(gpos_);
+  std::vector<std::uint8_t>().swap(gtop_);
+  try {
+    triangulate_cells(mesh);
+    link_cells(mesh);
+    mark_segments(mesh);
+  } catch (...) {
+    gpos_.resize(final_id_.size());
+    for (std::size_t g = 0; g < final_id_.size(); ++g) gpos_[g] = mesh.points[final_id_[g]];
+    throw;
+  }
   stats_.seconds_mesh = seconds_since(t0);
   const auto t1 = Clock::now();
   // Carve as the CDT does: flood from the root's border and from the hole seeds across every edge

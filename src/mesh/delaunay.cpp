@@ -64,8 +64,16 @@ inline std::uint32_t hilbert_index16(std::uint32_t x, std::uint32_t y) {
 // so the order adapts to any distribution (an adaptive variant of the multiscale sort of
 // Amenta–Choi–Rote and CGAL's spatial_sort).
 void hilbert_sort(const Point* pts, std::uint32_t* idx, std::size_t count,
-                  std::vector<std::uint64_t>& words, std::vector<std::uint64_t>& buffer, int depth) {
-  if (count < 2) return;
+                  std::vector<std::uint64_t>& words, std::vector<std::uint64_t>& buffer, int depth);
+
+// The grid of the sort keys: 65536² cells over the bounding box of the points.
+struct KeyGrid {
+  double xmin = 0.0, ymin = 0.0, scale = 0.0;
+};
+constexpr double kGridCells = 65535.0;
+
+// The key grid of idx[0, count)'s points; false if all points coincide.
+bool key_grid(const Point* pts, const std::uint32_t* idx, std::size_t count, KeyGrid& grid) {
   double xmin = pts[idx[0]].x, xmax = xmin, ymin = pts[idx[0]].y, ymax = ymin;
   for (std::size_t i = 1; i < count; ++i) {
     const Point& p = pts[idx[i]];
@@ -76,21 +84,31 @@ void hilbert_sort(const Point* pts, std::uint32_t* idx, std::size_t count,
   }
   // Halving before subtracting keeps the extent finite near the coordinate range limit.
   const double extent = std::max(xmax * 0.5 - xmin * 0.5, ymax * 0.5 - ymin * 0.5);
-  if (!(extent > 0.0)) return;  // all points coincide
-  const double cells = 65535.0;
-  const double scale = cells / extent * 0.5;
-  words.resize(count);
-  buffer.resize(count);
-  for (std::size_t i = 0; i < count; ++i) {
+  if (!(extent > 0.0)) return false;
+  grid = {xmin, ymin, kGridCells / extent * 0.5};
+  return true;
+}
+
+// The sort key of idx[i] for i in [begin, end): its Hilbert index on the grid (high 32 bits) and
+// its index (low 32 bits).
+void fill_keys(const Point* pts, const std::uint32_t* idx, std::size_t begin, std::size_t end,
+               const KeyGrid& grid, std::uint64_t* words) {
+  for (std::size_t i = begin; i < end; ++i) {
     const Point& p = pts[idx[i]];
-    const double fx = (p.x * 0.5 - xmin * 0.5) * scale;
-    const double fy = (p.y * 0.5 - ymin * 0.5) * scale;
-    const auto gx = static_cast<std::uint32_t>(std::min(cells, std::max(0.0, fx)));
-    const auto gy = static_cast<std::uint32_t>(std::min(cells, std::max(0.0, fy)));
+    const double fx = (p.x * 0.5 - grid.xmin * 0.5) * grid.scale;
+    const double fy = (p.y * 0.5 - grid.ymin * 0.5) * grid.scale;
+    const auto gx = static_cast<std::uint32_t>(std::min(kGridCells, std::max(0.0, fx)));
+    const auto gy = static_cast<std::uint32_t>(std::min(kGridCells, std::max(0.0, fy)));
     words[i] = (static_cast<std::uint64_t>(hilbert_index16(gx, gy)) << 32) | idx[i];
   }
+}
+
+// Sorts words[0, count) (keys of fill_keys; buffer is scratch of the same size), writes the
+// order to idx, and re-sorts crowded cells inside their own bounding box.
+void sort_keys_and_refine(const Point* pts, std::uint32_t* idx, std::size_t count, std::uint64_t* words,
+                          std::uint64_t* buffer, int depth) {
   if (count < (std::size_t{1} << 14)) {
-    std::sort(words.begin(), words.begin() + static_cast<std::ptrdiff_t>(count));
+    std::sort(words, words + count);
   } else {
     // LSD radix sort on the 32-bit key, 16 bits per pass (stable: ties keep index order).
     std::vector<std::uint32_t> count_lo(1u << 16, 0u), count_hi(1u << 16, 0u);
@@ -121,10 +139,25 @@ void hilbert_sort(const Point* pts, std::uint32_t* idx, std::size_t count,
     if (j - i > kCrowded) runs.emplace_back(i, j - i);
     i = j;
   }
+  std::vector<std::uint64_t> run_words, run_buffer;
   for (const auto& [start, length] : runs) {
-    hilbert_sort(pts, idx + start, length, words, buffer, depth + 1);
+    hilbert_sort(pts, idx + start, length, run_words, run_buffer, depth + 1);
   }
 }
+
+void hilbert_sort(const Point* pts, std::uint32_t* idx, std::size_t count,
+                  std::vector<std::uint64_t>& words, std::vector<std::uint64_t>& buffer, int depth) {
+  if (count < 2) return;
+  words.resize(count);
+  buffer.resize(count);
+  KeyGrid grid;
+  if (!key_grid(pts, idx, count, grid)) return;  // all points coincide
+  fill_keys(pts, idx, 0, count, grid, words.data());
+  sort_keys_and_refine(pts, idx, count, words.data(), buffer.data(), depth);
+}
+
+// Inputs of at least this many points are sorted and triangulated in two halves on two threads.
+constexpr std::size_t kParallelThreshold = 1u << 15;
 
 // Returns the input indices in adaptive Hilbert-curve order. The curve's first half covers exactly
 // the points whose grid column is in the left half of the bounding box (the curve visits the
@@ -133,8 +166,31 @@ void hilbert_sort(const Point* pts, std::uint32_t* idx, std::size_t count,
 std::vector<std::uint32_t> hilbert_order(const std::vector<Point>& points, std::size_t* left_count) {
   std::vector<std::uint32_t> order(points.size());
   std::iota(order.begin(), order.end(), 0u);
-  std::vector<std::uint64_t> words, buffer;
-  hilbert_sort(points.data(), order.data(), order.size(), words, buffer, 0);
+  if (order.size() >= kParallelThreshold) {
+    // The curve's first half is the keys whose top bit is 0 (the two left quadrants): split the
+    // keys stably by that bit and sort the halves on two threads. Same order as one sort.
+    std::vector<std::uint64_t> words(order.size()), buffer(order.size());
+    KeyGrid grid;
+    if (key_grid(points.data(), order.data(), order.size(), grid)) {
+      const std::size_t n = order.size(), half = n / 2;
+      std::thread key_worker([&] { fill_keys(points.data(), order.data(), half, n, grid, buffer.data()); });
+      fill_keys(points.data(), order.data(), 0, half, grid, buffer.data());
+      key_worker.join();
+      std::size_t left = 0;
+      for (const std::uint64_t w : buffer) left += (w >> 63) == 0 ? 1 : 0;
+      std::size_t l = 0, r = left;
+      for (const std::uint64_t w : buffer) words[(w >> 63) == 0 ? l++ : r++] = w;
+      std::thread worker([&] {
+        sort_keys_and_refine(points.data(), order.data() + left, order.size() - left, words.data() + left,
+                             buffer.data() + left, 0);
+      });
+      sort_keys_and_refine(points.data(), order.data(), left, words.data(), buffer.data(), 0);
+      worker.join();
+    }
+  } else {
+    std::vector<std::uint64_t> words, buffer;
+    hilbert_sort(points.data(), order.data(), order.size(), words, buffer, 0);
+  }
   // The left half: grid column below the middle, i.e. x below the bounding box's middle as the
   // sort computed it (same arithmetic, so the prefix is exact).
   double xmin = points[0].x, xmax = xmin, ymin = points[0].y, ymax = ymin;
@@ -434,7 +490,6 @@ Mesh delaunay(std::vector<Point> points, DelaunayStats* stats) {
   // Work on copies in curve order (vertex id i here = order[i] in the input). Large inputs are
   // split into the two x-separated halves of the curve, triangulated on two threads and merged;
   // the split depends only on the input (never on the machine), so output is deterministic.
-  constexpr std::size_t kParallelThreshold = 1u << 15;
   Mesh m;
   std::vector<VertexId> kept;
   bool done = false;
@@ -476,11 +531,21 @@ Mesh delaunay(std::vector<Point> points, DelaunayStats* stats) {
   }
   const auto t2 = Clock::now();
 
-  // Map the ids back to the input numbering.
-  for (Triangle& t : m.triangles) {
-    for (VertexId& v : t.v) {
-      if (v != kInfinite) v = order[v];
+  // Map the ids back to the input numbering (two threads for large meshes).
+  auto map_back = [&](std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t) {
+      for (VertexId& v : m.triangles[t].v) {
+        if (v != kInfinite) v = order[v];
+      }
     }
+  };
+  const std::size_t triangle_count = m.triangles.size();
+  if (n >= kParallelThreshold) {
+    std::thread worker(map_back, triangle_count / 2, triangle_count);
+    map_back(0, triangle_count / 2);
+    worker.join();
+  } else {
+    map_back(0, triangle_count);
   }
   m.points = std::move(points);
   m.vertex_kind.assign(n, VertexKind::kInput);
