@@ -31,6 +31,7 @@
 #include <string>
 #include <string_view>
 #include <system_error>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -671,21 +672,37 @@ void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index) {
   const std::int64_t base = first_index;
   const std::size_t nv = mesh.points.size();
 
-  // PREFIX.node: every vertex, with its boundary marker.
+  // PREFIX.node: every vertex, with its boundary marker. Formatted on a second thread for large
+  // meshes while this one formats the triangles (the text is the same either way).
   std::string node;
-  node.reserve(64 + nv * 48);
-  append_int(node, static_cast<std::int64_t>(nv));
-  node += " 2 0 1\n";
-  for (std::size_t i = 0; i < nv; ++i) {
-    append_int(node, static_cast<std::int64_t>(i) + base);
-    node += ' ';
-    append_double(node, mesh.points[i].x);
-    node += ' ';
-    append_double(node, mesh.points[i].y);
-    node += ' ';
-    append_int(node, i < mesh.vertex_marker.size() ? mesh.vertex_marker[i] : 0);
-    node += '\n';
+  auto format_nodes = [&] {
+    node.reserve(64 + nv * 48);
+    append_int(node, static_cast<std::int64_t>(nv));
+    node += " 2 0 1\n";
+    for (std::size_t i = 0; i < nv; ++i) {
+      append_int(node, static_cast<std::int64_t>(i) + base);
+      node += ' ';
+      append_double(node, mesh.points[i].x);
+      node += ' ';
+      append_double(node, mesh.points[i].y);
+      node += ' ';
+      append_int(node, i < mesh.vertex_marker.size() ? mesh.vertex_marker[i] : 0);
+      node += '\n';
+    }
+  };
+  std::thread node_worker;
+  if (nv >= (std::size_t{1} << 15)) {
+    node_worker = std::thread(format_nodes);
+  } else {
+    format_nodes();
   }
+  // Joins the node thread on every way out of this function (a throw below included).
+  struct JoinOnExit {
+    std::thread& thread;
+    ~JoinOnExit() {
+      if (thread.joinable()) thread.join();
+    }
+  } join_node_worker{node_worker};
 
   // PREFIX.ele: the live, finite, in-domain triangles, corners counter-clockwise.
   const std::size_t slots = mesh.triangles.size();
@@ -743,6 +760,7 @@ void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index) {
     poly += "0\n";
   }
 
+  if (node_worker.joinable()) node_worker.join();
   // Each file is atomic; if a later one fails, the earlier ones are removed again so that a
   // failure leaves no partial mesh behind.
   const std::string paths[3] = {prefix + ".node", prefix + ".ele", prefix + ".poly"};
