@@ -62,7 +62,9 @@ std::vector<std::string> data_sets() {
 class BrhDataSet : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(BrhDataSet, SkinnyTrianglesLeftAreInNoKBundle) {
-  for (const BrhCase c : {BrhCase{10.0, 8}, BrhCase{20.0, 15}, BrhCase{20.0, 0}, BrhCase{30.0, 12}}) {
+  // K = 5 at 20°: small K, where most skinny triangles are in K-bundles (every data set stops
+  // normally there; at K = 3 and 4 some stop at a small input angle, which the MPW rule protects).
+  for (const BrhCase c : {BrhCase{10.0, 8}, BrhCase{20.0, 15}, BrhCase{20.0, 0}, BrhCase{30.0, 12}, BrhCase{20.0, 5}}) {
     check_brh(GetParam(), c);
   }
 }

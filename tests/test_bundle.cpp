@@ -35,6 +35,7 @@
 #include <optional>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -44,6 +45,7 @@
 #include "mwst/error.hpp"
 #include "mwst/io.hpp"
 #include "mwst/mesh.hpp"
+#include "mwst/metrics.hpp"
 #include "mwst/refine.hpp"
 
 namespace mwst {
@@ -602,6 +604,66 @@ TEST(Bundle, ThreadsAndPruningDoNotChangeTheResult) {
     EXPECT_EQ(cheap1, cheap2);
     for (TriangleId t = 0; t < m.triangle_slots(); ++t) EXPECT_LE(cheap1[t], per.per_triangle[t]);
   }
+}
+
+// in_k_bundle (what BRH asks) answers exactly per_triangle[t] >= k, for every in-domain triangle
+// queried, on Delaunay, flipped (non-Delaunay), carved (holes, concavities), lattice (ties) and
+// refined meshes, for k from 3 to past the bundle number, for many queries and for a few (the
+// local path); on one thread and on two.
+TEST(Bundle, InKBundleAgreesWithPerTriangleValues) {
+  std::mt19937_64 rng(11);
+  std::vector<std::pair<std::string, Mesh>> meshes;
+  meshes.emplace_back("random", delaunay(random_points(3000, rng)));
+  Mesh flipped = delaunay(random_points(3000, rng));
+  random_flips(flipped, 6000, rng);
+  meshes.emplace_back("flipped", std::move(flipped));
+  meshes.emplace_back("grid", delaunay(grid(30, 20)));
+  meshes.emplace_back("Superior", constrained_delaunay(io::read_poly(std::string(MWST_DATA_DIR) + "/Superior.poly")));
+  Mesh refined = constrained_delaunay(io::read_poly(std::string(MWST_DATA_DIR) + "/Africa.poly"));
+  RefineOptions ro;
+  ro.min_angle_deg = 10.0;
+  refine(refined, ro);
+  meshes.emplace_back("Africa refined 10deg", std::move(refined));
+  Mesh large_refined = constrained_delaunay(io::read_poly(std::string(MWST_DATA_DIR) + "/Superior.poly"));
+  ro.min_angle_deg = 20.0;
+  ro.max_area = 1e-4 * measure(large_refined).area;
+  refine(large_refined, ro);
+  meshes.emplace_back("Superior refined 20deg", std::move(large_refined));
+  std::size_t local_answers = 0;
+  for (const auto& [name, m] : meshes) {
+    SCOPED_TRACE(name);
+    ASSERT_TRUE(validate(m).empty());
+    const BundleResult per = bundle_number(m, {.per_triangle = true});
+    std::vector<TriangleId> queries;
+    for (TriangleId t = 0; t < m.triangle_slots(); ++t) {
+      if (m.in_domain(t)) queries.push_back(t);
+    }
+    ASSERT_FALSE(queries.empty());
+    std::shuffle(queries.begin(), queries.end(), rng);
+    queries.resize(std::min<std::size_t>(queries.size(), 1500));
+    queries.push_back(queries.front());  // repeats are answered too
+    // Few queries take the local path (the Delaunay triangulation of the vertices near them).
+    const std::vector<TriangleId> few(queries.begin(), queries.begin() + std::min<std::size_t>(queries.size(), 6));
+    const std::uint32_t b = per.bundle_number;
+    for (const std::uint32_t k : {3u, 5u, 7u, b - 1, b, b + 1}) {
+      for (const unsigned threads : {1u, 2u}) {
+        for (const std::vector<TriangleId>* asked : {&std::as_const(queries), &few}) {
+          KBundleStats stats;
+          const std::vector<std::uint8_t> in = in_k_bundle(m, k, *asked, &stats, threads);
+          ASSERT_EQ(in.size(), asked->size());
+          std::size_t yes = 0;
+          for (std::size_t i = 0; i < asked->size(); ++i) {
+            const TriangleId t = (*asked)[i];
+            EXPECT_EQ(in[i] != 0, per.per_triangle[t] >= k) << "k " << k << " triangle " << t << " local " << stats.local;
+            yes += in[i];
+          }
+          EXPECT_EQ(yes, stats.decided_by_circumdisks + stats.decided_by_pencils);
+          local_answers += stats.local;
+        }
+      }
+    }
+  }
+  EXPECT_GT(local_answers, 0u);
 }
 
 // A Delaunay-refined mesh (20°): the paper's lemma bounds its bundle number by 4π/α + 3 = 39.

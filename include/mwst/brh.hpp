@@ -18,8 +18,8 @@ struct BrhOptions {
 };
 
 struct BrhStats {
-  std::size_t rounds = 0;             // refinement rounds (each re-evaluates the bundles)
-  std::size_t exact_evaluations = 0;  // rounds that needed the exact pencil sweep
+  std::size_t rounds = 0;             // refinement passes
+  std::size_t exact_evaluations = 0;  // exact tests (in_k_bundle) between passes
   std::size_t steiner_inserted = 0;
   std::size_t segment_splits = 0;
   std::size_t skinny_left = 0;        // skinny triangles left: each in no K-bundle
@@ -30,11 +30,14 @@ struct BrhStats {
 
 // Refines the carved CDT like Delaunay refinement, but splits a skinny triangle only if it belongs
 // to a K-bundle: some vertex-empty open disk meeting its interior meets the interiors of at least K
-// triangles. Rounds: the cheap circumdisk count (a lower bound on each triangle's largest bundle)
-// marks triangles that are certainly in a K-bundle; when it marks none, the exact pencil sweep
-// decides (bundle.hpp); the marked skinny triangles are refined by the DR engine; repeat until the
-// exact sweep finds no skinny triangle in a K-bundle. Guarantees on a normal stop: every triangle
-// left with an angle below A is in no K-bundle; when K ≥ ⌈4π/A⌉ + 3 the mesh is K-bundle-free.
+// triangles. Passes of the DR engine: inside a pass a skinny triangle is split when a local test
+// finds it in a K-bundle (the circumdisk of it or of a neighbour is vertex-empty and meets ≥ K
+// triangles) or when the last exact test marked it; between passes the exact test (in_k_bundle,
+// bundle.hpp: circumdisks, then pencil sweeps, only around the skinny triangles) marks the skinny
+// triangles in K-bundles; BRH stops when it marks none. Guarantees on a normal stop ("bound
+// reached"): every triangle left with an angle below A is in no K-bundle; when K ≥ ⌈4π/A⌉ + 3 the
+// mesh is K-bundle-free. Cost: 2.9× DR's CPU time at the default K on a 1M-triangle input, more
+// for small K (bench/README.md, "Bundle removal (BRH)").
 BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options);
 
 }  // namespace mwst

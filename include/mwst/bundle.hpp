@@ -102,4 +102,28 @@ BundleResult bundle_number(const std::vector<Point>& points,
 // circle are decided exactly).
 std::vector<std::uint32_t> circumdisk_bundle_per_triangle(const Mesh& mesh, unsigned threads = 0);
 
+// What in_k_bundle did.
+struct KBundleStats {
+  std::size_t flooded = 0;                 // Delaunay triangles whose candidate lists were built
+  std::size_t decided_by_circumdisks = 0;  // queries met by a circumdisk meeting ≥ k triangles
+  std::size_t decided_by_bound = 0;        // queries no pencil of which could reach k candidates
+  std::size_t decided_by_pencils = 0;      // queries found in a k-bundle by the pencil sweep
+  std::size_t pencils_swept = 0;
+  bool local = false;  // answered from the Delaunay triangulation of the vertices near the queries
+};
+
+// For each in-domain triangle slot in `queries`: does it belong to a k-bundle (some vertex-empty
+// open disk meeting it meets at least k in-domain triangles)? 1 or 0, in the order of `queries`
+// (0 for slots not in the domain). Exactly as BundleResult::per_triangle[t] >= k, but it looks only
+// near the queries: the Delaunay triangles whose circumdisks meet a query (S(t)) and their
+// neighbours are flooded; a circumdisk meeting k triangles decides cheaply; otherwise only the
+// pencils of edges of S(t) whose two candidate lists hold at least k triangles are swept. With few
+// queries (fewer than 1/256 of the triangle slots) it first tries the Delaunay triangulation of
+// the vertices within 12 rings of mesh triangles around them instead of DT(V), and uses it only if
+// every Delaunay triangle it needs has a vertex-empty circumdisk (so is one of DT(V)); otherwise
+// it builds DT(V). The answer is the same either way. What bundle removal (BRH) asks of its
+// skinny triangles.
+std::vector<std::uint8_t> in_k_bundle(const Mesh& mesh, std::uint32_t k, const std::vector<TriangleId>& queries,
+                                      KBundleStats* stats = nullptr, unsigned threads = 0);
+
 }  // namespace mwst

@@ -6,17 +6,23 @@
 // triangles of K-bundles leaves a K-bundle-free mesh with fewer Steiner points — and less weight —
 // than DR at the same A.
 //
-// Which triangles are in a K-bundle changes with every insertion, so we work in rounds. Each round
-// marks skinny triangles certainly in a K-bundle by the circumdisk count (cheap, a lower bound:
-// circumdisks of Delaunay triangles of all vertices are vertex-empty) and refines exactly those
-// with the DR engine (its pluggable bad-triangle test). When the cheap test marks nothing, the exact
-// pencil sweep (bundle.cpp) decides; BRH stops when it too marks nothing.
+// Which triangles are in a K-bundle changes with every insertion. The DR engine (its pluggable
+// bad-triangle test) refines with a local test decided when a triangle is made: a skinny triangle
+// is bad if the circumdisk of it or of a neighbour is vertex-empty (checked by the same flood that
+// counts) and meets at least K triangles — a witness that it is in a K-bundle, found in time
+// proportional to the disk's triangles, so the refinement runs like DR, in one pass. When no
+// skinny triangle passes the local test, the exact test (in_k_bundle, bundle.cpp: circumdisks,
+// then pencil sweeps, only near the skinny triangles) decides; the triangles it finds are
+// refined in another pass; BRH stops when it finds none. So the guarantee rests on the exact test
+// alone; the local one (whose edge crossings are decided in floating point) only makes the
+// refinement fast, and a triangle it wrongly called bad would only cost a Steiner point.
 #include "mwst/brh.hpp"
 
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <numbers>
 #include <unordered_set>
 #include <vector>
 
@@ -42,11 +48,149 @@ std::array<VertexId, 3> sorted_triple(const Mesh& m, TriangleId t) {
   return v;
 }
 
-bool is_skinny(const Mesh& m, TriangleId t, double min_angle_deg) {
-  double angles[3];
-  triangle_angles_deg(m, t, angles);
-  return std::min({angles[0], angles[1], angles[2]}) < min_angle_deg;
-}
+// Has t an angle below A (in degrees, as triangle_angles_deg measures it)? The angle at a corner
+// is atan2(|cross|, dot) of the two edges leaving it; below A < 90° iff dot > 0 and
+// |cross| < tan(A)·dot. That comparison decides unless the two sides agree to 1e-9 relatively;
+// then (and for A ≥ 90°) the angle itself is computed, so the answer is always the one
+// triangle_angles_deg gives. Called for every triangle the refinement makes: no atan2 on the way.
+class SkinnyTest {
+ public:
+  explicit SkinnyTest(double min_angle_deg)
+      : a_(min_angle_deg), tan_a_(std::tan(min_angle_deg * std::numbers::pi / 180.0)), fast_(min_angle_deg < 89.0) {}
+
+  bool operator()(const Mesh& m, TriangleId t) const {
+    const auto& v = m.triangles[t].v;
+    const Point* p[3] = {&m.points[v[0]], &m.points[v[1]], &m.points[v[2]]};
+    for (int i = 0; i < 3; ++i) {
+      const Point& o = *p[i];
+      const Point& q = *p[(i + 1) % 3];
+      const Point& r = *p[(i + 2) % 3];
+      const double ux = q.x - o.x, uy = q.y - o.y, vx = r.x - o.x, vy = r.y - o.y;
+      const double cross = std::fabs(ux * vy - uy * vx), dot = ux * vx + uy * vy;
+      if (fast_) {
+        if (dot <= 0.0) continue;  // a right or obtuse angle
+        const double bound = tan_a_ * dot;
+        if (cross < bound * (1.0 - 1e-9)) return true;
+        if (cross > bound * (1.0 + 1e-9)) continue;
+      }
+      if (std::atan2(cross, dot) * 180.0 / std::numbers::pi < a_) return true;
+    }
+    return false;
+  }
+
+ private:
+  double a_, tan_a_;
+  bool fast_;
+};
+
+// The local test: is the open circumdisk of t, or of a (live, finite) neighbour of t, free of
+// vertices and meeting at least K in-domain triangles? Such a disk meets t (t's own circumdisk
+// holds t; a neighbour's holds the shared edge's interior, hence points of t), so t is then in a
+// K-bundle (up to the floating-point edge crossings of the flood). Results are cached per slot
+// and corner triple until clear().
+class LocalBundleTest {
+ public:
+  explicit LocalBundleTest(std::uint32_t k) : k_(k), cap_(8 * static_cast<std::size_t>(k) + 64) {}
+
+  void clear() { std::fill(cache_.begin(), cache_.end(), Cached{}); }
+
+  bool in_bundle(const Mesh& m, TriangleId t) {
+    if (cache_.size() < m.triangle_slots()) cache_.resize(m.triangle_slots() + m.triangle_slots() / 4 + 64);
+    Cached& c = cache_[t];
+    if (c.value != 0 && c.v == m.triangles[t].v) return c.value == 2;
+    bool found = circumdisk_count(m, t) >= k_;
+    for (unsigned e = 0; e < 3 && !found; ++e) {
+      const TriangleId n = triangle_of(m.triangles[t].n[e]);
+      if (!m.is_ghost(n) && !m.is_dead(n)) found = circumdisk_count(m, n) >= k_;
+    }
+    c.v = m.triangles[t].v;
+    c.value = found ? 2 : 1;
+    return found;
+  }
+
+ private:
+  struct Cached {
+    std::array<VertexId, 3> v{kNone, kNone, kNone};
+    std::uint8_t value = 0;  // 0 unknown, 1 no, 2 yes
+  };
+
+  // The number of in-domain triangles meeting the open circumdisk of c, by a flood across the
+  // edges meeting it; 0 if a vertex lies strictly inside the disk (exact incircle), or if the
+  // flood grows past cap_ (unknown: the exact test will decide).
+  std::uint32_t circumdisk_count(const Mesh& m, TriangleId c) {
+    if (++stamp_ == 0) {
+      std::fill(tri_stamp_.begin(), tri_stamp_.end(), 0);
+      std::fill(vertex_stamp_.begin(), vertex_stamp_.end(), 0);
+      stamp_ = 1;
+    }
+    if (tri_stamp_.size() < m.triangle_slots()) tri_stamp_.resize(m.triangle_slots() + m.triangle_slots() / 4 + 64, 0);
+    if (vertex_stamp_.size() < m.points.size()) vertex_stamp_.resize(m.points.size() + m.points.size() / 4 + 64, 0);
+    const auto& cv = m.triangles[c].v;
+    const Point& a = m.points[cv[0]];
+    const Point& b = m.points[cv[1]];
+    const Point& d = m.points[cv[2]];
+    const double orient = (a.x - d.x) * (b.y - d.y) - (a.y - d.y) * (b.x - d.x);
+    for (const VertexId v : cv) {
+      vertex_stamp_[v] = stamp_;
+      value_[v % kValueCache] = {v, 0.0};
+    }
+    auto value_at = [&](VertexId v) {
+      ValueSlot& s = value_[v % kValueCache];
+      if (s.v != v || vertex_stamp_[v] != stamp_) return detail::incircle_determinant(a, b, d, m.points[v]).value;
+      return s.value;
+    };
+    stack_.clear();
+    stack_.push_back(c);
+    tri_stamp_[c] = stamp_;
+    std::uint32_t count = 0;
+    std::size_t visited = 0;
+    while (!stack_.empty()) {
+      const TriangleId t = stack_.back();
+      stack_.pop_back();
+      if (++visited > cap_) return 0;
+      if (m.in_domain(t)) ++count;
+      for (unsigned e = 0; e < 3; ++e) {
+        const Handle h = make_handle(t, e);
+        const Handle across = m.sym(h);
+        const TriangleId n = triangle_of(across);
+        if (tri_stamp_[n] == stamp_ || m.is_ghost(n)) continue;
+        const VertexId u = m.org(h), w = m.dest(h);
+        // The incircle value along the edge is a concave quadratic: its maximum on [0, 1].
+        const double gu = value_at(u), gw = value_at(w);
+        const Point& pu = m.points[u];
+        const Point& pw = m.points[w];
+        const double ex = pw.x - pu.x, ey = pw.y - pu.y;
+        const double quad = orient * (ex * ex + ey * ey);
+        const double slope = gw - gu + quad;
+        const double lambda = quad > 0.0 ? std::clamp(slope / (2.0 * quad), 0.0, 1.0) : 0.0;
+        if (!(gu + lambda * (slope - quad * lambda) > 0.0)) continue;
+        tri_stamp_[n] = stamp_;
+        const VertexId x = m.apex(across);
+        if (vertex_stamp_[x] != stamp_) {
+          vertex_stamp_[x] = stamp_;
+          if (incircle(a, b, d, m.points[x]) > 0) return 0;  // the disk is not vertex-empty
+          value_[x % kValueCache] = {x, detail::incircle_determinant(a, b, d, m.points[x]).value};
+        }
+        stack_.push_back(n);
+      }
+    }
+    return count;
+  }
+
+  struct ValueSlot {
+    VertexId v = kNone;
+    double value = 0.0;
+  };
+  static constexpr std::size_t kValueCache = 256;
+
+  std::uint32_t k_;
+  std::size_t cap_;
+  std::uint32_t stamp_ = 0;
+  std::vector<std::uint32_t> tri_stamp_, vertex_stamp_;
+  std::vector<TriangleId> stack_;
+  std::array<ValueSlot, kValueCache> value_{};
+  std::vector<Cached> cache_;
+};
 
 }  // namespace
 
@@ -55,13 +199,19 @@ BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
   BrhStats stats;
   const double A = options.min_angle_deg;
   const std::uint32_t K = static_cast<std::uint32_t>(options.bundle_k);
-  std::unordered_set<std::array<VertexId, 3>, TripleHash> marked;
+  std::unordered_set<std::array<VertexId, 3>, TripleHash> marked;  // found by the exact test
+  LocalBundleTest local(K);
+  const SkinnyTest is_skinny(A);
   RefineOptions ro = options.refine;
   ro.min_angle_deg = A;
   ro.is_bad = [&](const Mesh& m, TriangleId t) {
-    return marked.count(sorted_triple(m, t)) != 0 && is_skinny(m, t, A);
+    if (!is_skinny(m, t)) return false;
+    return (!marked.empty() && marked.count(sorted_triple(m, t)) != 0) || local.in_bundle(m, t);
   };
   std::size_t steiner_budget = options.refine.max_steiner;
+  // Set when a pass driven by the local test alone inserted nothing (its triangles sit at small
+  // input angles): the next pass asks the exact test, so that no triangle it would find is missed.
+  bool force_exact = false;
   stats.stop_reason = "bound reached";
   for (stats.rounds = 0; stats.rounds < options.max_rounds;) {
     if (options.refine.time_budget_seconds > 0.0 &&
@@ -73,24 +223,30 @@ BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
     // Skinny triangles of the domain.
     std::vector<TriangleId> skinny;
     for (TriangleId t = 0; t < mesh.triangles.size(); ++t) {
-      if (mesh.in_domain(t) && is_skinny(mesh, t, A)) skinny.push_back(t);
+      if (mesh.in_domain(t) && is_skinny(mesh, t)) skinny.push_back(t);
     }
     if (skinny.empty()) break;
     marked.clear();
-    const std::vector<std::uint32_t> cheap = circumdisk_bundle_per_triangle(mesh);
-    for (const TriangleId t : skinny) {
-      if (t < cheap.size() && cheap[t] >= K) marked.insert(sorted_triple(mesh, t));
+    local.clear();
+    // First pass: any skinny triangle the local test finds starts the refinement. With many
+    // skinny triangles only a sample is tried: when none of it is found, the exact test (whose
+    // first, circumdisk stage finds what the local test would) is cheaper than testing them all.
+    // Later passes go to the exact test directly: after a refinement few skinny triangles are
+    // left, the exact test on few triangles is local (in_k_bundle), and a refinement pass costs a
+    // sweep over the whole mesh, so passes that the local test alone would start cost more.
+    bool any_local = false;
+    const std::size_t sample = stats.rounds > 0 ? 0 : std::min<std::size_t>(skinny.size(), 256);
+    for (std::size_t i = 0; i < sample && !any_local && !force_exact; ++i) {
+      any_local = local.in_bundle(mesh, skinny[i * (skinny.size() / sample)]);
     }
-    if (marked.empty()) {
-      BundleOptions bo;
-      bo.per_triangle = true;
-      const BundleResult exact = bundle_number(mesh, bo);
+    if (!any_local || force_exact) {
+      const std::vector<std::uint8_t> exact = in_k_bundle(mesh, K, skinny);
       ++stats.exact_evaluations;
-      for (const TriangleId t : skinny) {
-        if (t < exact.per_triangle.size() && exact.per_triangle[t] >= K) marked.insert(sorted_triple(mesh, t));
+      for (std::size_t i = 0; i < skinny.size(); ++i) {
+        if (exact[i]) marked.insert(sorted_triple(mesh, skinny[i]));
       }
+      if (marked.empty()) break;  // no skinny triangle is in a K-bundle
     }
-    if (marked.empty()) break;  // no skinny triangle is in a K-bundle
     ++stats.rounds;
     ro.max_steiner = steiner_budget;
     const RefineStats rs = refine(mesh, ro);
@@ -103,6 +259,11 @@ BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
       break;
     }
     if (steiner_budget != static_cast<std::size_t>(-1)) steiner_budget -= std::min(steiner_budget, added);
+    if (added == 0 && marked.empty()) {
+      force_exact = true;
+      continue;
+    }
+    force_exact = false;
     if (added == 0) {
       // Nothing could be split (the marked triangles sit at small input angles): stop honestly.
       stats.stop_reason = std::to_string(rs.left_small_angle) + " triangles left near small input angles";
@@ -111,7 +272,7 @@ BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
   }
   if (stats.rounds >= options.max_rounds) stats.stop_reason = "round limit";
   for (TriangleId t = 0; t < mesh.triangles.size(); ++t) {
-    if (mesh.in_domain(t) && is_skinny(mesh, t, A)) ++stats.skinny_left;
+    if (mesh.in_domain(t) && is_skinny(mesh, t)) ++stats.skinny_left;
   }
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return stats;

@@ -347,8 +347,11 @@ struct Shared {
     return v[0] == kInfinite || v[1] == kInfinite || v[2] == kInfinite;
   }
 
-  // Renumbers, builds DT(V) and lists the pencils. False if T has no triangle.
-  bool build() {
+  // Renumbers, builds DT(V) and (if asked) lists the pencils. False if T has no triangle. With a
+  // `subset` (flags by mesh vertex id), `dt` is the Delaunay triangulation of the vertices of T in
+  // the subset only (ids below `used`); the other vertices of T follow them (in_k_bundle's local
+  // attempt, which checks that the Delaunay triangles it uses are Delaunay triangles of V).
+  bool build(bool list_pencils = true, const std::vector<std::uint8_t>* subset = nullptr) {
     const std::size_t nv = m.points.size();
     std::vector<std::uint8_t> state(nv, 0);  // 1: corner of a live triangle, 2: vertex of T
     bool any = false;
@@ -361,6 +364,14 @@ struct Shared {
       }
     }
     if (!any) return false;
+    if (subset) {
+      bool some = false;
+      for (VertexId v = 0; v < nv; ++v) {
+        if (state[v] == 2 && !(*subset)[v]) state[v] = 1;
+        some = some || state[v] == 2;
+      }
+      if (!some) return false;
+    }
     double x0 = kInf, y0 = kInf, x1 = -kInf, y1 = -kInf;
     for (VertexId v = 0; v < nv; ++v) {
       if (state[v] == 0) continue;
@@ -373,13 +384,22 @@ struct Shared {
     const double scale = extent > 0.0 ? 16383.0 / extent : 0.0;  // extent is half the range
     // Vertices of T first (they are the DT ids), each group in Morton order: group in bit 62,
     // the 30-bit key in bits 32..61, the old id below.
+    // (With a subset the DT is small and the sweeps few: the groups in id order, without a sort.)
     std::vector<std::uint64_t> order;
-    for (VertexId v = 0; v < nv; ++v) {
-      if (state[v] == 0) continue;
-      const std::uint64_t group = state[v] == 2 ? 0 : 1;
-      order.push_back((group << 62) | (std::uint64_t{morton_key(m.points[v], x0, y0, scale)} << 32) | v);
+    if (subset) {
+      for (const int group : {2, 1}) {
+        for (VertexId v = 0; v < nv; ++v) {
+          if (state[v] == group) order.push_back(std::uint64_t{group == 2 ? 0u : 1u} << 62 | v);
+        }
+      }
+    } else {
+      for (VertexId v = 0; v < nv; ++v) {
+        if (state[v] == 0) continue;
+        const std::uint64_t group = state[v] == 2 ? 0 : 1;
+        order.push_back((group << 62) | (std::uint64_t{morton_key(m.points[v], x0, y0, scale)} << 32) | v);
+      }
+      std::sort(order.begin(), order.end());
     }
-    std::sort(order.begin(), order.end());
     std::vector<VertexId> renumber(nv, kInfinite);
     pts.resize(order.size());
     for (std::size_t i = 0; i < order.size(); ++i) {
@@ -405,6 +425,7 @@ struct Shared {
     }
     dt = delaunay(std::vector<Point>(pts.begin(), pts.begin() + used));
     if (!dt.duplicates.empty()) throw InternalError("bundle: two vertices of the mesh coincide");
+    if (!list_pencils) return true;
     for (TriangleId t = 0; t < dt.triangle_slots(); ++t) {
       if (dt.is_dead(t) || dt.is_ghost(t)) continue;
       for (unsigned e = 0; e < 3; ++e) {
@@ -466,6 +487,7 @@ class Worker {
   std::vector<TriangleId> best_triangles;
   std::uint32_t circumdisk_best = 0;
   std::size_t pencils = 0, candidate_pairs = 0, exact_comparisons = 0;
+  std::uint32_t min_candidates = 0;  // pencils with fewer candidates are not swept
   std::vector<std::uint32_t>& per_triangle() { return per_triangle_; }
 
   // ---- floods ----
@@ -555,6 +577,9 @@ class Worker {
     gather(triangle_of(h));
     if (rv != kInfinite) gather(triangle_of(hs));
     candidate_pairs += candidates_.size();
+    // No disk of this pencil meets more triangles than it has candidates: below the count asked
+    // for (in_k_bundle), the pencil cannot matter.
+    if (candidates_.size() < min_candidates) return;
     // No disk of this pencil meets more triangles than it has candidates. Its two circumdisks
     // are still counted (directly, when their lists could beat the best circumdisk so far).
     if (prune_ && candidates_.size() <= best_count) {
@@ -1053,8 +1078,10 @@ void for_ranges(std::vector<std::unique_ptr<Worker>>& workers, std::size_t n, Bo
   }
 }
 
-// Fills sh.list / sh.list_begin: the candidates of every Delaunay triangle, by floods.
-void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers) {
+// Fills sh.list / sh.list_begin: the candidates of every Delaunay triangle (or of those flagged in
+// `needed`; the others get empty lists), by floods.
+void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers,
+                 const std::vector<std::uint8_t>* needed = nullptr) {
   const std::size_t slots = sh.dt.triangle_slots();
   std::vector<std::vector<TriangleId>> parts(workers.size());
   std::vector<std::uint32_t> local_begin(slots + 1, 0);
@@ -1065,7 +1092,7 @@ void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers) {
     for (std::size_t t = begin; t < end; ++t) {
       local_begin[t] = static_cast<std::uint32_t>(part.size());
       const auto dtt = static_cast<TriangleId>(t);
-      if (sh.dt.is_dead(dtt) || sh.dt.is_ghost(dtt)) continue;
+      if (sh.dt.is_dead(dtt) || sh.dt.is_ghost(dtt) || (needed && (*needed)[t] == 0)) continue;
       w.flood(dtt, one);
       part.insert(part.end(), one.begin(), one.end());
     }
@@ -1162,6 +1189,285 @@ std::vector<std::uint32_t> circumdisk_bundle_per_triangle(const Mesh& mesh, unsi
     for (std::size_t t = 0; t < best.size(); ++t) best[t] = std::max(best[t], mine[t]);
   }
   return best;
+}
+
+namespace {
+
+// Permissive: true whenever the open circumdisk of the counter-clockwise a, b, c might meet the
+// interior of the triangle x[0], x[1], x[2] (never false when it does). If it meets the interior
+// and holds no corner, it meets an edge (a disk cannot lie inside a mesh triangle with its three
+// defining vertices on the triangle's boundary, and a convex corner meeting the disk near a corner
+// on the circle has an edge entering it); along an edge the incircle value is a concave
+// quadratic, bounded as in Worker::edge_may_meet.
+bool circumdisk_may_meet(const Point& a, const Point& b, const Point& c, const Point* const x[3]) {
+  Approx g[3];
+  for (int i = 0; i < 3; ++i) {
+    g[i] = incircle_approx(a, b, c, *x[i]);
+    if (g[i].value > -g[i].error) return true;
+  }
+  const Approx o = orient_approx(a, b, c);
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3;
+    const double ex = x[j]->x - x[i]->x, ey = x[j]->y - x[i]->y;
+    const double e2 = ex * ex + ey * ey;
+    const double quad = o.value * e2;
+    const double quad_error = (o.error + 4.0 * kEps * o.value) * e2;
+    const double slope = g[j].value - g[i].value + quad;
+    const double lambda = quad > 0.0 ? std::clamp(slope / (2.0 * quad), 0.0, 1.0) : 0.0;
+    const double gmax = g[i].value + lambda * (slope - quad * lambda);
+    const double slack = 2.0 * (g[i].error + g[j].error + quad_error +
+                                8.0 * kEps * (std::fabs(g[i].value) + std::fabs(g[j].value) + quad));
+    if (gmax > -slack) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+namespace {
+
+// in_k_bundle with DT(V) (subset null), or with the Delaunay triangulation of a subset W of the
+// vertices around the queries. A triangle of DT(W) whose open circumdisk holds no vertex of V is a
+// triangle of DT(V) (a Delaunay triangulation of V; with cocircular vertices any one serves: the
+// empty disks are the same). The local attempt checks that of every DT(W) triangle it uses — the
+// fan around the flood's starting corner, S(t) and the neighbours across its edges — and that none
+// of those lies on the hull of DT(W) except along hull edges of the mesh; then the floods over
+// DT(W) are the floods over DT(V) and the answer is exact. Otherwise it gives up (false).
+bool in_k_bundle_attempt(const Mesh& mesh, std::uint32_t k, const std::vector<TriangleId>& queries,
+                         KBundleStats& st, unsigned threads_requested, const std::vector<std::uint8_t>* subset,
+                         std::vector<std::uint8_t>& answer) {
+  answer.assign(queries.size(), 0);
+  st = {};
+  Shared sh(mesh);
+  if (!sh.build(false, subset)) return subset == nullptr;
+  const Mesh& dt = sh.dt;
+  const std::size_t dt_slots = dt.triangle_slots();
+  // A Delaunay edge leaving every vertex of V (DT ids are the renumbered ids below `used`).
+  std::vector<Handle> dt_vertex_edge(sh.used, kNone);
+  for (TriangleId t = 0; t < dt_slots; ++t) {
+    if (dt.is_dead(t) || dt.is_ghost(t)) continue;
+    for (unsigned e = 0; e < 3; ++e) {
+      const VertexId o = dt.org(make_handle(t, e));
+      if (dt_vertex_edge[o] == kNone) dt_vertex_edge[o] = make_handle(t, e);
+    }
+  }
+  // S(t): the Delaunay triangles whose open circumdisk meets query t. Every pencil disk meeting t
+  // lies in the union of the circumdisks of the two Delaunay triangles on its edge, so one of them
+  // is in S(t). S(t) is connected across Delaunay edges (for a point x the triangles whose
+  // circumdisks hold x form the connected Bowyer–Watson cavity of x, and the cavities of nearby
+  // points share triangles), and it holds a triangle around each corner of t (the one overlapping
+  // t's corner): a flood with the permissive test from the triangles around one corner finds it.
+  std::vector<std::uint32_t> s_begin(queries.size() + 1, 0);
+  std::vector<TriangleId> s_list, stack, fan;
+  std::vector<std::uint32_t> dt_stamp(dt_slots, 0);
+  std::vector<std::uint8_t> needed(dt_slots, 0);  // 1: in some S(t); 2: a partner across an edge
+  std::vector<std::uint8_t> is_query(mesh.triangle_slots(), 0);
+  for (std::size_t qi = 0; qi < queries.size(); ++qi) {
+    const TriangleId t = queries[qi];
+    s_begin[qi] = static_cast<std::uint32_t>(s_list.size());
+    if (!mesh.in_domain(t)) continue;
+    is_query[t] = 1;
+    const auto& tv = sh.slots[t].v;
+    const Point* const corners[3] = {&sh.pts[tv[0]], &sh.pts[tv[1]], &sh.pts[tv[2]]};
+    const auto stamp = static_cast<std::uint32_t>(qi + 1);
+    auto consider = [&](TriangleId d) {
+      if (dt_stamp[d] == stamp || dt.is_ghost(d)) return;
+      dt_stamp[d] = stamp;
+      const auto& dv = dt.triangles[d].v;
+      if (!circumdisk_may_meet(sh.pts[dv[0]], sh.pts[dv[1]], sh.pts[dv[2]], corners)) return;
+      stack.push_back(d);
+      s_list.push_back(d);
+    };
+    // The seed corner: with a subset, one whose fan in DT(W) has no ghost (a corner on the hull
+    // of V has ghosts around it in any Delaunay triangulation; another corner serves as well).
+    unsigned corner = 0;
+    if (subset) {
+      corner = 3;
+      for (unsigned c = 0; c < 3 && corner == 3; ++c) {
+        if (tv[c] >= sh.used) return false;  // a corner outside W
+        const Handle first = dt_vertex_edge[tv[c]];
+        Handle g = first;
+        bool ghost = false;
+        do {
+          ghost = ghost || dt.is_ghost(triangle_of(g));
+          g = dt.onext(g);
+        } while (g != first);
+        if (!ghost) corner = c;
+      }
+      if (corner == 3) return false;
+    }
+    const Handle start = dt_vertex_edge[tv[corner]];
+    Handle h = start;
+    do {
+      if (subset) fan.push_back(triangle_of(h));
+      consider(triangle_of(h));
+      h = dt.onext(h);
+    } while (h != start);
+    while (!stack.empty()) {
+      const TriangleId d = stack.back();
+      stack.pop_back();
+      for (unsigned e = 0; e < 3; ++e) consider(triangle_of(dt.sym(make_handle(d, e))));
+    }
+  }
+  s_begin[queries.size()] = static_cast<std::uint32_t>(s_list.size());
+  for (const TriangleId d : s_list) {
+    needed[d] = 1;
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle h = make_handle(d, e);
+      const TriangleId n = triangle_of(dt.sym(h));
+      if (!dt.is_ghost(n) && needed[n] == 0) needed[n] = 2;
+      if (subset && dt.is_ghost(n)) {
+        // A hull edge of DT(W) is one of DT(V) if it is a hull edge of the mesh (whose hull holds V).
+        const VertexId a = dt.org(h), b = dt.dest(h);
+        const Handle first = sh.vertex_edge[a];
+        Handle g = first;
+        bool hull = false;
+        for (std::size_t turn = 0; turn < sh.slots.size(); ++turn) {
+          if (sh.dest(g) == b) {
+            hull = sh.is_ghost(triangle_of(sh.sym(g))) && !sh.is_ghost(triangle_of(g));
+            break;
+          }
+          g = sh.onext(g);
+          if (g == first) break;
+        }
+        if (!hull) return false;
+      }
+    }
+  }
+  for (const TriangleId d : fan) {
+    if (needed[d] == 0) needed[d] = 2;
+  }
+  std::vector<TriangleId> cover;  // the Delaunay triangles in some S(t)
+  for (TriangleId d = 0; d < dt_slots; ++d) {
+    if (needed[d] != 0) ++st.flooded;
+    if (needed[d] == 1) cover.push_back(d);
+  }
+  const unsigned threads = thread_count(threads_requested, st.flooded);
+  auto workers = make_workers(sh, threads, true, false);
+  build_lists(sh, workers, &needed);
+  auto list_size = [&](TriangleId d) { return dt.is_ghost(d) ? 0u : sh.list_begin[d + 1] - sh.list_begin[d]; };
+  if (subset) {
+    // Each DT(W) triangle used must have a vertex-empty circumdisk: a vertex of V strictly inside
+    // would be a corner of an in-domain triangle meeting the disk, hence of its candidate list.
+    for (TriangleId d = 0; d < dt_slots; ++d) {
+      if (needed[d] == 0) continue;
+      const auto& dv = dt.triangles[d].v;
+      const Point& a = sh.pts[dv[0]];
+      const Point& b = sh.pts[dv[1]];
+      const Point& c = sh.pts[dv[2]];
+      for (std::uint32_t i = sh.list_begin[d]; i < sh.list_begin[d + 1]; ++i) {
+        for (const VertexId v : sh.slots[sh.list[i]].v) {
+          if (v != dv[0] && v != dv[1] && v != dv[2] && incircle(a, b, c, sh.pts[v]) > 0) return false;
+        }
+      }
+    }
+  }
+
+  // Cheap first: a circumdisk (an empty disk) meeting at least k triangles, the query among them.
+  std::vector<std::vector<TriangleId>> hits(workers.size());
+  for_ranges(workers, cover.size(), [&](Worker& w, std::size_t begin, std::size_t end, std::size_t part) {
+    std::vector<TriangleId> met;
+    for (std::size_t i = begin; i < end; ++i) {
+      const TriangleId d = cover[i];
+      const std::uint32_t size = list_size(d);
+      if (size < k) continue;
+      met.clear();
+      if (w.circumdisk_count(d, sh.list.data() + sh.list_begin[d], size, &met) < k) continue;
+      for (const TriangleId c : met) {
+        if (is_query[c]) hits[part].push_back(c);
+      }
+    }
+  });
+  std::vector<std::uint8_t> inside(mesh.triangle_slots(), 0);
+  for (const auto& part : hits) {
+    for (const TriangleId c : part) inside[c] = 1;
+  }
+  // The rest: pencils of the edges of S(t) whose two candidate lists together reach k (the only
+  // ones whose disks can meet t and k triangles), swept exactly.
+  std::vector<Handle> pencils;
+  for (std::size_t qi = 0; qi < queries.size(); ++qi) {
+    const TriangleId t = queries[qi];
+    if (!mesh.in_domain(t)) continue;
+    if (inside[t]) {
+      answer[qi] = 1;
+      ++st.decided_by_circumdisks;
+      continue;
+    }
+    bool any = false;
+    for (std::uint32_t i = s_begin[qi]; i < s_begin[qi + 1]; ++i) {
+      const TriangleId d = s_list[i];
+      for (unsigned e = 0; e < 3; ++e) {
+        const Handle h = make_handle(d, e);
+        const TriangleId n = triangle_of(dt.sym(h));
+        if (list_size(d) + list_size(n) < k) continue;
+        any = true;
+        pencils.push_back(dt.is_ghost(n) || d < n ? h : dt.sym(h));
+      }
+    }
+    if (!any) ++st.decided_by_bound;
+  }
+  std::sort(pencils.begin(), pencils.end());
+  pencils.erase(std::unique(pencils.begin(), pencils.end()), pencils.end());
+  st.pencils_swept = pencils.size();
+  if (!pencils.empty()) {
+    sh.pencils = std::move(pencils);
+    for (auto& w : workers) w->min_candidates = k;
+    for_ranges(workers, sh.pencils.size(), [&](Worker& w, std::size_t begin, std::size_t end, std::size_t) {
+      for (std::size_t i = begin; i < end; ++i) w.sweep(i);
+    });
+    for (std::size_t qi = 0; qi < queries.size(); ++qi) {
+      const TriangleId t = queries[qi];
+      if (!mesh.in_domain(t) || answer[qi]) continue;
+      for (const auto& w : workers) {
+        if (w->per_triangle()[t] >= k) answer[qi] = 1;
+      }
+      if (answer[qi]) ++st.decided_by_pencils;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> in_k_bundle(const Mesh& mesh, std::uint32_t k, const std::vector<TriangleId>& queries,
+                                      KBundleStats* stats, unsigned threads) {
+  std::vector<std::uint8_t> answer(queries.size(), 0);
+  KBundleStats local_stats;
+  KBundleStats& st = stats ? *stats : local_stats;
+  st = {};
+  if (queries.empty()) return answer;
+  // Few queries in a large mesh: try the Delaunay triangulation of the vertices within a few
+  // rings of mesh triangles around them (verified, see in_k_bundle_attempt) before DT(V).
+  if (queries.size() * 256 < mesh.triangle_slots()) {
+    std::vector<std::uint8_t> subset(mesh.points.size(), 0);
+    std::vector<std::uint32_t> depth(mesh.triangle_slots(), kNone);
+    std::vector<TriangleId> frontier, next;
+    for (const TriangleId t : queries) {
+      if (t < mesh.triangle_slots() && !mesh.is_dead(t) && !mesh.is_ghost(t) && depth[t] == kNone) {
+        depth[t] = 0;
+        frontier.push_back(t);
+      }
+    }
+    for (std::uint32_t ring = 0; ring < 12 && !frontier.empty(); ++ring) {
+      next.clear();
+      for (const TriangleId t : frontier) {
+        for (const VertexId v : mesh.triangles[t].v) subset[v] = 1;
+        for (unsigned e = 0; e < 3; ++e) {
+          const TriangleId n = triangle_of(mesh.triangles[t].n[e]);
+          if (mesh.is_ghost(n) || mesh.is_dead(n) || depth[n] != kNone) continue;
+          depth[n] = ring + 1;
+          next.push_back(n);
+        }
+      }
+      frontier.swap(next);
+    }
+    if (in_k_bundle_attempt(mesh, k, queries, st, threads, &subset, answer)) {
+      st.local = true;
+      return answer;
+    }
+  }
+  in_k_bundle_attempt(mesh, k, queries, st, threads, nullptr, answer);
+  return answer;
 }
 
 BundleResult bundle_number(const std::vector<Point>& points,
