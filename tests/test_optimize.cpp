@@ -48,6 +48,7 @@ TEST(PolygonMwt, MatchesExhaustiveSearchOnConvexPolygons) {
     const double rx = 0.5 + u(rng), ry = 0.5 + u(rng);
     for (double a : angles) P.push_back({rx * std::cos(a), ry * std::sin(a)});
     std::vector<std::array<std::uint32_t, 3>> tris;
+    EXPECT_TRUE(is_strictly_convex(P));
     const double w = polygon_mwt(P, &tris);
     ASSERT_TRUE(std::isfinite(w));
     EXPECT_NEAR(w, brute_force_convex_mwt(P), 1e-12);
@@ -65,6 +66,11 @@ TEST(PolygonMwt, MatchesExhaustiveSearchOnConvexPolygons) {
 TEST(PolygonMwt, NonConvexPolygonUsesOnlyInteriorDiagonals) {
   // An arrow: the reflex vertex (2,1) must not be cut off by an outside diagonal.
   const std::vector<Point> P{{0, 0}, {4, 0}, {4, 4}, {2, 1}, {0, 4}};
+  EXPECT_FALSE(is_strictly_convex(P));
+  // A pentagram's corners all turn left, but it winds twice: not convex.
+  std::vector<Point> star;
+  for (int i = 0; i < 5; ++i) star.push_back({std::cos(4 * M_PI * i / 5), std::sin(4 * M_PI * i / 5)});
+  EXPECT_FALSE(is_strictly_convex(star));
   std::vector<std::array<std::uint32_t, 3>> tris;
   const double w = polygon_mwt(P, &tris);
   ASSERT_TRUE(std::isfinite(w));
@@ -174,6 +180,62 @@ TEST(Optimize, RandomPolygonsWithHoles) {
     EXPECT_TRUE(validate(m).empty());
     EXPECT_TRUE(check_mesh(g, m).ok());
     EXPECT_LE(measure(m).weight_total, before);
+  }
+}
+
+// On a simple polygon without Steiner points the optimiser starts from the polygon's exact minimum
+// weight triangulation: with insertions and kicks off nothing can beat it, so the result weighs
+// exactly the perimeter plus the dynamic programme's diagonals.
+TEST(Optimize, SimplePolygonGetsItsExactMwt) {
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int trial = 0; trial < 8; ++trial) {
+    Pslg g;
+    g.is_poly = true;
+    const std::size_t n = 12 + 9 * static_cast<std::size_t>(trial);
+    std::vector<Point> polygon;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double a = 2 * M_PI * static_cast<double>(i) / static_cast<double>(n);
+      const double r = 1.0 + 0.8 * u(rng);
+      polygon.push_back({r * std::cos(a), r * std::sin(a)});
+      g.points.push_back(polygon.back());
+      g.segments.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>((i + 1) % n), 1});
+    }
+    double perimeter = 0.0;
+    for (std::size_t i = 0; i < n; ++i) perimeter += distance(polygon[i], polygon[(i + 1) % n]);
+    const double mwt = polygon_mwt(polygon, nullptr);
+    ASSERT_TRUE(std::isfinite(mwt));
+    Mesh m = constrained_delaunay(g);
+    const double cdt = measure(m).weight_total;
+    OptimizeOptions o;
+    o.insert = false;
+    o.kick_passes = 0;
+    const OptimizeStats stats = optimize(m, o);
+    EXPECT_TRUE(validate(m).empty());
+    EXPECT_TRUE(check_mesh(g, m).ok());
+    EXPECT_NEAR(measure(m).weight_total, perimeter + mwt, 1e-12 * (perimeter + mwt));
+    EXPECT_EQ(stats.whole_polygon_mwt, cdt > perimeter + mwt * (1 + 1e-12) ? 1u : 0u);
+  }
+}
+
+// Kicks only ever keep a lighter mesh: the search with kicks is never heavier than without, and
+// stays valid and conforming.
+TEST(Optimize, KicksNeverHurt) {
+  for (const char* name : {"Africa.poly", "Plate.poly"}) {
+    const Pslg g = io::read_input(std::string(MWST_DATA_DIR) + "/" + name);
+    Mesh start = constrained_delaunay(g);
+    RefineOptions r;
+    r.min_angle_deg = 10.0;
+    refine(start, r);
+    Mesh plain = start, kicked = start;
+    OptimizeOptions no_kicks;
+    no_kicks.kick_passes = 0;
+    optimize(plain, no_kicks);
+    const OptimizeStats stats = optimize(kicked);
+    EXPECT_TRUE(validate(kicked).empty()) << name;
+    EXPECT_TRUE(check_mesh(g, kicked).ok()) << name;
+    EXPECT_LE(measure(kicked).weight_total, measure(plain).weight_total) << name;
+    EXPECT_EQ(stats.weight_after, measure(kicked).weight_total) << name;
   }
 }
 

@@ -15,6 +15,11 @@ struct OptimizeOptions {
   bool remove = true;              // remove Steiner vertices whose star re-triangulates lighter
   bool insert = true;              // try Steiner points at the Fermat points of heavy triangles
   double min_relative_gain = 1e-9; // stop when a round gains less than this fraction of weight
+  std::size_t kick_passes = 2;         // rounds of kicks (trial insertions/removals), 0 = none
+  std::size_t max_kick_trials = 200000;  // total trial budget (deterministic, not a time limit)
+  double kick_min_relative_gain = 1e-12; // a kick is kept if it lowers the weight by this fraction
+  std::size_t max_exact_polygon = 400;   // whole-domain MWT by dynamic programming up to this size
+  std::size_t max_exact_convex_polygon = 2000;  // ... and up to this size if the domain is convex
 };
 
 struct OptimizeStats {
@@ -24,15 +29,22 @@ struct OptimizeStats {
   std::size_t insertions = 0;
   std::size_t region_retriangulations = 0;  // small regions re-triangulated by their MWT
   std::size_t flips = 0;
+  std::size_t kick_insertions = 0;  // trial insertions kept after their local re-optimisation
+  std::size_t kick_removals = 0;    // trial removals kept
+  std::size_t whole_polygon_mwt = 0;  // 1 if the domain was replaced by its exact MWT
   double weight_before = 0.0;
   double weight_after = 0.0;
   double seconds = 0.0;
 };
 
-// Improves the weight of a carved mesh in place. Input vertices and segments never change (a
-// Steiner point on a segment only slides along its subsegment line or is removed, merging its two
-// subsegments); every move keeps the mesh valid and strictly lowers the total weight, so the
-// search terminates; results are deterministic. Removed vertices are dropped (mwst::compact).
+// Improves the weight of a carved mesh in place: the exact MWT of the domain when it is one small
+// polygon without interior vertices, the local search above, then kicks (trial insertions of free
+// and on-segment Steiner points and trial removals, each kept only if flips and relocations around
+// it bring the weight below where it was) alternating with the local search while they pay.
+// Input vertices and segments never change (a Steiner point on a segment only slides along its
+// subsegment line or is removed, merging its two subsegments); every kept move keeps the mesh
+// valid and strictly lowers the total weight, so the search terminates; results are deterministic
+// (the kick budget counts trials, not seconds). Removed vertices are dropped (mwst::compact).
 OptimizeStats optimize(Mesh& mesh, const OptimizeOptions& options = {});
 
 // Minimum weight triangulation of a simple polygon (vertices counter-clockwise) by dynamic
@@ -41,5 +53,9 @@ OptimizeStats optimize(Mesh& mesh, const OptimizeOptions& options = {});
 // appends its triangles (indices into the polygon) to `triangles`.
 double polygon_mwt(const std::vector<Point>& polygon,
                    std::vector<std::array<std::uint32_t, 3>>* triangles);
+
+// True if the closed polygon (counter-clockwise) is simple and strictly convex: every corner turns
+// left and the fan from the first vertex turns left throughout (exact orientation tests).
+bool is_strictly_convex(const std::vector<Point>& polygon);
 
 }  // namespace mwst

@@ -13,14 +13,26 @@
 //             lighter than the region's interior edges. Such regions are where long edges stack up
 //             over a small area — the k-bundles of Boyacı, Erten and Üngör — and a point there
 //             replaces k long edges by short spokes (their lemma: bundle-free meshes are light).
-// Rounds repeat until a round gains less than a relative threshold. Everything is sequential and
-// ordered by ids, so results are deterministic.
+// Rounds repeat until a round gains less than a relative threshold. Before the rounds, a domain
+// that is one polygon without interior vertices (a simple polygon's CDT) is replaced by its exact
+// minimum weight triangulation. After them come kicks, moves that first raise the weight and are
+// kept only if a local re-optimisation brings it below where it was (an iterated local search):
+//   kick insert    a free Steiner vertex at the centroid of each triangle (heaviest first), then
+//                  weight-reducing flips around it alternating with moving it to the geometric
+//                  median of its neighbours;
+//   segment insert a Steiner vertex on a subsegment at the foot of the perpendicular from the
+//                  opposite corner, then flips and slides along the segment;
+//   kick remove    a free Steiner vertex whose star's MWT is heavier than its spokes, followed by
+//                  flips around the hole.
+// Kicks and rounds alternate while kicks pay, within a deterministic budget of trials. Everything
+// is sequential and ordered by ids or by weight, so results are deterministic.
 #include "mwst/optimize.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <tuple>
 #include <unordered_map>
 #include <vector>
 
@@ -66,16 +78,33 @@ bool in_cone(const std::vector<Point>& P, std::size_t i, std::size_t j) {
 
 }  // namespace
 
+bool is_strictly_convex(const std::vector<Point>& P) {
+  const std::size_t d = P.size();
+  if (d < 3) return false;
+  // Every corner turns left, and the fan from P[0] turns left throughout (so the boundary winds
+  // once: a simple convex polygon).
+  for (std::size_t i = 0; i < d; ++i) {
+    if (orient2d(P[(i + d - 1) % d], P[i], P[(i + 1) % d]) <= 0) return false;
+  }
+  for (std::size_t i = 1; i + 1 < d; ++i) {
+    if (orient2d(P[0], P[i], P[i + 1]) <= 0) return false;
+  }
+  return true;
+}
+
 double polygon_mwt(const std::vector<Point>& P, std::vector<std::array<std::uint32_t, 3>>* triangles) {
   const std::size_t d = P.size();
   constexpr double kInf = std::numeric_limits<double>::infinity();
   if (d < 3) return kInf;
-  // valid[i][j]: the chord ij is a polygon edge or a diagonal lying inside the polygon.
+  // valid[i][j]: the chord ij is a polygon edge or a diagonal lying inside the polygon. In a
+  // strictly convex polygon every chord is (O(d) test instead of O(d³)).
   std::vector<char> valid(d * d, 0);
   for (std::size_t i = 0; i < d; ++i) {
     valid[i * d + (i + 1) % d] = valid[((i + 1) % d) * d + i] = 1;
   }
-  for (std::size_t i = 0; i < d; ++i) {
+  const bool convex = is_strictly_convex(P);
+  if (convex) std::fill(valid.begin(), valid.end(), 1);
+  for (std::size_t i = 0; i < d && !convex; ++i) {
     for (std::size_t j = i + 2; j < d; ++j) {
       if (i == 0 && j == d - 1) continue;
       bool ok = in_cone(P, i, j) && in_cone(P, j, i);
@@ -106,7 +135,7 @@ double polygon_mwt(const std::vector<Point>& P, std::vector<std::array<std::uint
       for (std::size_t k = i + 1; k < j; ++k) {
         if (!valid[i * d + k] || !valid[k * d + j]) continue;
         if (W[i * d + k] == kInf || W[k * d + j] == kInf) continue;
-        if (orient2d(P[i], P[k], P[j]) <= 0) continue;
+        if (!convex && orient2d(P[i], P[k], P[j]) <= 0) continue;
         const double w = W[i * d + k] + W[k * d + j] + chord(i, k) + chord(k, j);
         if (w < best) {
           best = w;
@@ -147,7 +176,9 @@ struct Region {
 
 // Replaces the region's triangles by `tris` (vertex triples, counter-clockwise, covering the same
 // polygon, using only boundary vertices and possibly one new vertex), reusing slots.
-void replace_region(Mesh& m, const Region& r, const std::vector<std::array<VertexId, 3>>& tris) {
+// `flags`, when given, holds each new triangle's flag (kOutside or 0) instead of r.outside_flag.
+void replace_region(Mesh& m, const Region& r, const std::vector<std::array<VertexId, 3>>& tris,
+                    const std::vector<std::uint8_t>* flags = nullptr) {
   std::vector<TriangleId> slots = r.triangles;
   while (slots.size() < tris.size()) slots.push_back(m.new_triangle());
   for (std::size_t i = tris.size(); i < slots.size(); ++i) m.kill_triangle(slots[i]);
@@ -159,7 +190,7 @@ void replace_region(Mesh& m, const Region& r, const std::vector<std::array<Verte
   }
   for (std::size_t i = 0; i < tris.size(); ++i) {
     m.triangles[slots[i]].v = tris[i];
-    m.flags[slots[i]] = r.outside_flag;
+    m.flags[slots[i]] = flags ? (*flags)[i] : r.outside_flag;
   }
   std::unordered_map<std::uint64_t, Handle> open;
   for (std::size_t i = 0; i < tris.size(); ++i) {
@@ -236,11 +267,21 @@ Point geometric_median(Point p, const std::vector<Point>& nb) {
   return p;
 }
 
-// Is p strictly inside the kernel of the closed polygon (all fan triangles counter-clockwise)?
+// Is p strictly inside the kernel of the closed polygon (all fan triangles counter-clockwise), and
+// clear of every polygon edge's line by a margin far above the rounding of constructed points?
+// (A free Steiner point a few ulps from a segment would be taken for a point on it by any
+// tolerant checker, and makes needle triangles.)
 bool in_kernel(const Point& p, const std::vector<Point>& polygon) {
   const std::size_t d = polygon.size();
+  constexpr double kMargin = 1e-9;  // times the coordinate magnitude
   for (std::size_t i = 0; i < d; ++i) {
-    if (orient2d(p, polygon[i], polygon[(i + 1) % d]) <= 0) return false;
+    const Point& a = polygon[i];
+    const Point& b = polygon[(i + 1) % d];
+    if (orient2d(p, a, b) <= 0) return false;
+    const double scale = std::max({std::fabs(a.x), std::fabs(a.y), std::fabs(b.x), std::fabs(b.y), std::fabs(p.x),
+                                   std::fabs(p.y)});
+    const double dx = b.x - a.x, dy = b.y - a.y;
+    if (dx * (p.y - a.y) - dy * (p.x - a.x) <= kMargin * scale * std::hypot(dx, dy)) return false;
   }
   return true;
 }
@@ -250,9 +291,27 @@ class Optimizer {
   Optimizer(Mesh& m, const OptimizeOptions& o, OptimizeStats& s) : m_(m), opt_(o), stats_(s) {}
 
   void run() {
+    const double start_weight = measure(m_).weight_total;
+    stats_.weight_before = start_weight;
+    whole_domain_mwt();
+    local_search();
+    // Kicks: trial insertions and removals, each followed by a local re-optimisation and kept only
+    // if the total weight drops; then the local search again, while the kicks pay.
+    for (std::size_t pass = 0; pass < opt_.kick_passes; ++pass) {
+      const std::size_t accepted =
+          kick_insertions() + kick_edge_splits() + kick_segment_insertions() + kick_removals() +
+          kick_segment_removals();
+      if (accepted == 0) break;
+      local_search();
+    }
+    compact(m_);
+    stats_.weight_after = measure(m_).weight_total;
+  }
+
+ private:
+  void local_search() {
     double weight = measure(m_).weight_total;
-    stats_.weight_before = weight;
-    for (stats_.rounds = 0; stats_.rounds < opt_.max_rounds;) {
+    for (std::size_t round = 0; round < opt_.max_rounds; ++round) {
       ++stats_.rounds;
       const FlipStats f = flip_to_local_minimum(m_);
       stats_.flips += f.flips;
@@ -279,11 +338,494 @@ class Optimizer {
     }
     const FlipStats f = flip_to_local_minimum(m_);
     stats_.flips += f.flips;
-    compact(m_);
-    stats_.weight_after = measure(m_).weight_total;
   }
 
- private:
+  // ---- kicks: moves that first raise the weight, then re-optimise locally ---------------------
+
+  double edge_length(Handle h) const { return distance(m_.points[m_.org(h)], m_.points[m_.dest(h)]); }
+
+  // Weight-reducing flips from the edges on `flip_stack_` (and the edges they expose); returns the
+  // change in weight (≤ 0). Each flip lowers the weight strictly (exact test), so it terminates.
+  double local_flips() {
+    double delta = 0.0;
+    while (!flip_stack_.empty()) {
+      const Handle h = flip_stack_.back();
+      flip_stack_.pop_back();
+      if (m_.is_dead(h >> 2) || !is_weight_reducing_flip(m_, h)) continue;
+      const double before = edge_length(h);
+      const Handle diag = m_.flip(h);
+      delta += edge_length(diag) - before;
+      const Handle other = m_.sym(diag);
+      for (const Handle g : {Mesh::lnext(diag), Mesh::lprev(diag), Mesh::lnext(other), Mesh::lprev(other)}) {
+        flip_stack_.push_back(g);
+      }
+    }
+    return delta;
+  }
+
+  // A handle with org v, found by walking from `near`.
+  Handle handle_near(VertexId v, Handle near) const {
+    const Location loc = m_.locate(m_.points[v], near);
+    if (loc.kind != Location::Kind::kOnVertex || m_.org(loc.handle) != v) return kNone;
+    return loc.handle;
+  }
+
+  // Pushes v's spokes and the edges of its star polygon onto flip_stack_.
+  void push_star(Handle h) {
+    const Handle start = h;
+    std::size_t guard = 0;
+    do {
+      flip_stack_.push_back(h);
+      flip_stack_.push_back(Mesh::lnext(h));
+      h = m_.onext(h);
+    } while (h != start && ++guard < 4096);
+  }
+
+  // Polishes a new free Steiner vertex v: flips around it and moves it to the geometric median of
+  // its neighbours, alternately. Returns the weight change.
+  double polish_vertex(VertexId v, Handle near) {
+    double delta = 0.0;
+    for (int it = 0; it < 4; ++it) {
+      Handle h = handle_near(v, near);
+      if (h == kNone) return delta;
+      push_star(h);
+      delta += local_flips();
+      h = handle_near(v, h);
+      if (h == kNone || !star_of(m_, h, region_) || !star_in_domain(region_)) return delta;
+      polygon_.clear();
+      for (const VertexId u : region_.boundary) polygon_.push_back(m_.points[u]);
+      const Point p = m_.points[v];
+      const double before = spoke_sum(p, polygon_);
+      Point q = geometric_median(p, polygon_);
+      bool moved = false;
+      for (int halving = 0; halving < 30 && !moved; ++halving) {
+        q = {snap_to_range(q.x), snap_to_range(q.y)};
+        if (in_supported_range(q) && in_kernel(q, polygon_)) {
+          const double after = spoke_sum(q, polygon_);
+          if (after < before) {
+            m_.points[v] = q;
+            delta += after - before;
+            moved = true;
+            break;
+          }
+        }
+        q = {0.5 * (p.x + q.x), 0.5 * (p.y + q.y)};
+        if (q == p) break;
+      }
+      near = h;
+      if (!moved) {
+        push_star(h);
+        delta += local_flips();
+        break;
+      }
+    }
+    return delta;
+  }
+
+  // Tries a free Steiner vertex at p inside domain triangle t: split t, polish, keep if lighter.
+  bool kick_insert(TriangleId t, const Point& p, double weight) {
+    const Triangle& T = m_.triangles[t];
+    // Copies: add_vertex below may reallocate m_.points.
+    const Point a = m_.points[T.v[0]];
+    const Point b = m_.points[T.v[1]];
+    const Point c = m_.points[T.v[2]];
+    if (!in_supported_range(p) || orient2d(a, b, p) <= 0 || orient2d(b, c, p) <= 0 || orient2d(c, a, p) <= 0) {
+      return false;
+    }
+    backup_ = m_;
+    const VertexId v = m_.add_vertex(p, VertexKind::kSteiner, 0);
+    double delta = distance(p, a) + distance(p, b) + distance(p, c);
+    const auto opposite = m_.split_triangle(t, v);
+    delta += polish_vertex(v, opposite[0]);
+    if (delta < -opt_.kick_min_relative_gain * weight) {
+      ++stats_.kick_insertions;
+      return true;
+    }
+    m_ = backup_;
+    return false;
+  }
+
+  std::size_t kick_insertions() {
+    const double weight = measure(m_).weight_total;
+    // Candidates: the centroids of the domain triangles, heaviest (longest perimeter) first.
+    std::vector<std::pair<double, TriangleId>> order;
+    for (TriangleId t = 0; t < m_.triangles.size(); ++t) {
+      if (!m_.in_domain(t)) continue;
+      const Triangle& T = m_.triangles[t];
+      const double perimeter = distance(m_.points[T.v[0]], m_.points[T.v[1]]) +
+                               distance(m_.points[T.v[1]], m_.points[T.v[2]]) +
+                               distance(m_.points[T.v[2]], m_.points[T.v[0]]);
+      order.emplace_back(-perimeter, t);
+    }
+    std::sort(order.begin(), order.end());
+    std::vector<Point> candidates;
+    for (const auto& [key, t] : order) {
+      (void)key;
+      const Triangle& T = m_.triangles[t];
+      const Point& a = m_.points[T.v[0]];
+      const Point& b = m_.points[T.v[1]];
+      const Point& c = m_.points[T.v[2]];
+      candidates.push_back({(a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0});
+    }
+    std::size_t accepted = 0;
+    Handle near = m_.any_live_handle();
+    for (const Point& p : candidates) {
+      if (kick_trials_ >= opt_.max_kick_trials) break;
+      const Location loc = m_.locate(p, near);
+      if (loc.kind != Location::Kind::kInTriangle) continue;
+      const TriangleId t = loc.handle >> 2;
+      near = loc.handle;
+      if (!m_.in_domain(t)) continue;
+      ++kick_trials_;
+      if (kick_insert(t, p, weight)) ++accepted;
+      near = m_.any_live_handle();
+    }
+    return accepted;
+  }
+
+  // Tries a free Steiner vertex at the midpoint of each interior edge (longest first): the edge
+  // and its two triangles split in four (or, when the rounded midpoint misses the edge, the
+  // triangle holding it in three), then polished; kept only if the weight drops.
+  std::size_t kick_edge_splits() {
+    const double weight = measure(m_).weight_total;
+    std::vector<std::tuple<double, VertexId, VertexId>> edges;
+    for (TriangleId t = 0; t < m_.triangles.size(); ++t) {
+      if (!m_.in_domain(t)) continue;
+      for (unsigned e = 0; e < 3; ++e) {
+        const Handle h = make_handle(t, e);
+        const TriangleId u = m_.sym(h) >> 2;
+        if (m_.is_segment(h) || !m_.in_domain(u) || u < t) continue;
+        edges.emplace_back(-edge_length(h), m_.org(h), m_.dest(h));
+      }
+    }
+    std::sort(edges.begin(), edges.end());
+    std::size_t accepted = 0;
+    for (const auto& [key, ia, ib] : edges) {
+      (void)key;
+      if (kick_trials_ >= opt_.max_kick_trials) break;
+      Handle h = handle_near(ia, m_.any_live_handle());
+      if (h == kNone) continue;
+      {
+        const Handle first = h;
+        std::size_t guard = 0;
+        while (m_.dest(h) != ib && ++guard < 4096) {
+          h = m_.onext(h);
+          if (h == first) break;
+        }
+      }
+      if (m_.dest(h) != ib || m_.is_segment(h) || !m_.in_domain(h >> 2) || !m_.in_domain(m_.sym(h) >> 2)) continue;
+      const Point a = m_.points[ia], b = m_.points[ib];
+      const Point c = m_.points[m_.apex(h)], d = m_.points[m_.apex(m_.sym(h))];
+      const Point q{0.5 * (a.x + b.x), 0.5 * (a.y + b.y)};
+      if (!in_supported_range(q)) continue;
+      const int side = orient2d(a, b, q);
+      // The triangle that must hold q strictly inside (or both, on the edge).
+      if (side >= 0 && (orient2d(b, c, q) <= 0 || orient2d(c, a, q) <= 0)) continue;
+      if (side <= 0 && (orient2d(a, d, q) <= 0 || orient2d(d, b, q) <= 0)) continue;
+      ++kick_trials_;
+      backup_ = m_;
+      const VertexId v = m_.add_vertex(q, VertexKind::kSteiner, 0);
+      double delta = distance(q, a) + distance(q, b);
+      Handle near = kNone;
+      if (side == 0) {
+        delta += distance(q, c) + distance(q, d) - distance(a, b);
+        near = m_.split_edge(h, v)[0];
+      } else if (side > 0) {
+        delta += distance(q, c);
+        near = m_.split_triangle(h >> 2, v)[0];
+      } else {
+        delta += distance(q, d);
+        near = m_.split_triangle(m_.sym(h) >> 2, v)[0];
+      }
+      delta += polish_vertex(v, near);
+      if (delta < -opt_.kick_min_relative_gain * weight) {
+        ++stats_.kick_insertions;
+        ++accepted;
+      } else {
+        m_ = backup_;
+      }
+    }
+    return accepted;
+  }
+
+  // If the domain is one polygon without interior vertices (a simple polygon with its CDT), and
+  // small enough for the O(d³) dynamic programme, replaces it by its exact minimum weight
+  // triangulation (Gilbert 1979; Klincsek 1980): the best mesh on these vertices.
+  void whole_domain_mwt() {
+    std::vector<TriangleId> tris;
+    for (TriangleId t = 0; t < m_.triangles.size(); ++t) {
+      if (m_.in_domain(t)) tris.push_back(t);
+    }
+    const std::size_t corners = tris.size() + 2;  // if it is one polygon without interior vertices
+    if (tris.empty() || corners > std::max(opt_.max_exact_polygon, opt_.max_exact_convex_polygon)) return;
+    if (corners > opt_.max_exact_polygon) {
+      // Only a convex polygon this large (its chords need no visibility test).
+      if (!region_from(tris, region_)) return;
+      polygon_.clear();
+      for (const VertexId u : region_.boundary) polygon_.push_back(m_.points[u]);
+      if (!is_strictly_convex(polygon_)) return;
+    }
+    // Only the MWT: a star from one point is not what a whole polygon wants.
+    if (try_region(tris, /*allow_star=*/false)) ++stats_.whole_polygon_mwt;
+  }
+
+  // Tries a Steiner vertex on each subsegment at the foot of the perpendicular from the opposite
+  // domain corner, then flips and slides; kept only if the total weight drops.
+  std::size_t kick_segment_insertions() {
+    double weight = measure(m_).weight_total;
+    struct Candidate {
+      VertexId a, b;
+      Point foot;
+    };
+    std::vector<Candidate> candidates;
+    for (TriangleId t = 0; t < m_.triangles.size(); ++t) {
+      if (!m_.in_domain(t)) continue;
+      for (unsigned e = 0; e < 3; ++e) {
+        const Handle h = make_handle(t, e);
+        if (!m_.is_segment(h)) continue;
+        const Point& a = m_.points[m_.org(h)];
+        const Point& b = m_.points[m_.dest(h)];
+        const Point& c = m_.points[m_.apex(h)];
+        const double dx = b.x - a.x, dy = b.y - a.y;
+        const double u = ((c.x - a.x) * dx + (c.y - a.y) * dy) / (dx * dx + dy * dy);
+        if (!(u > 0.02 && u < 0.98)) continue;
+        candidates.push_back({m_.org(h), m_.dest(h), Point{a.x + u * dx, a.y + u * dy}});
+      }
+    }
+    std::size_t accepted = 0;
+    for (const Candidate& cand : candidates) {
+      if (kick_trials_ >= opt_.max_kick_trials) break;
+      // The subsegment a→b, if it still exists.
+      Handle h = handle_near(cand.a, m_.any_live_handle());
+      if (h == kNone) continue;
+      {
+        const Handle first = h;
+        std::size_t guard = 0;
+        while (m_.dest(h) != cand.b && ++guard < 4096) {
+          h = m_.onext(h);
+          if (h == first) break;
+        }
+        if (m_.dest(h) != cand.b || !m_.is_segment(h) || !m_.in_domain(h >> 2)) continue;
+      }
+      const Point& a = m_.points[cand.a];
+      const Point& b = m_.points[cand.b];
+      const VertexId c = m_.apex(h), d = m_.apex(m_.sym(h));
+      auto splits = [&](const Point& q) {
+        if (!in_supported_range(q) || orient2d(a, b, q) != 0) return false;
+        if (orient2d(a, q, m_.points[c]) <= 0 || orient2d(q, b, m_.points[c]) <= 0) return false;
+        if (d != kInfinite && (orient2d(b, q, m_.points[d]) <= 0 || orient2d(q, a, m_.points[d]) <= 0)) return false;
+        // Strictly between a and b (collinear): also catches the ghost side.
+        return (q.x - a.x) * (b.x - a.x) + (q.y - a.y) * (b.y - a.y) > 0 &&
+               (q.x - b.x) * (a.x - b.x) + (q.y - b.y) * (a.y - b.y) > 0;
+      };
+      Point q = cand.foot;
+      bool found = false;
+      for (int i = 0; i < 9 && !found; ++i) {
+        const int dx = i % 3 - 1, dy = i / 3 - 1;
+        Point r = cand.foot;
+        if (dx) r.x = std::nextafter(r.x, dx > 0 ? std::numeric_limits<double>::infinity()
+                                                 : -std::numeric_limits<double>::infinity());
+        if (dy) r.y = std::nextafter(r.y, dy > 0 ? std::numeric_limits<double>::infinity()
+                                                 : -std::numeric_limits<double>::infinity());
+        if (splits(r)) {
+          q = r;
+          found = true;
+        }
+      }
+      if (!found) continue;
+      ++kick_trials_;
+      backup_ = m_;
+      const std::size_t relocations = stats_.relocations;
+      const VertexId v = m_.add_vertex(q, VertexKind::kSteinerOnSegment, m_.marker(h));
+      vertex_handle_.resize(m_.points.size(), kNone);
+      const auto opposite = m_.split_edge(h, v);
+      Handle near = opposite[0];
+      for (int it = 0; it < 4; ++it) {
+        const Handle hv = handle_near(v, near);
+        if (hv == kNone) break;
+        push_star(hv);
+        local_flips();
+        near = hv;
+        vertex_handle_[v] = kNone;
+        if (!try_slide(v)) break;
+      }
+      const double now = measure(m_).weight_total;
+      if (now < weight * (1.0 - opt_.kick_min_relative_gain)) {
+        weight = now;
+        ++stats_.kick_insertions;
+        ++accepted;
+      } else {
+        m_ = backup_;
+        stats_.relocations = relocations;
+      }
+    }
+    rebuild_vertex_handles();
+    return accepted;
+  }
+
+  // Removes Steiner vertices on segments: v between its segment neighbours a and b goes, the two
+  // subsegments merge into ab, and each side of ab is re-triangulated by its MWT, then flips
+  // around; kept only if the weight drops. (Not on the convex hull: the ghost triangles there
+  // would need merging too.)
+  std::size_t kick_segment_removals() {
+    const double weight = measure(m_).weight_total;
+    std::size_t accepted = 0;
+    std::vector<std::array<VertexId, 3>> tris;
+    std::vector<std::uint8_t> flags;
+    for (VertexId v = m_.input_vertex_count; v < m_.points.size(); ++v) {
+      if (m_.vertex_kind[v] != VertexKind::kSteinerOnSegment && m_.vertex_kind[v] != VertexKind::kSteiner) continue;
+      if (kick_trials_ >= opt_.max_kick_trials) break;
+      const Handle h = handle_near(v, m_.any_live_handle());
+      if (h == kNone || !star_of(m_, h, region_)) continue;  // star_of refuses ghosts
+      const std::size_t d = region_.boundary.size();
+      // The segment spokes, in star order: region_.boundary[i] is the i-th neighbour and
+      // region_.triangles[i] the triangle between spokes i and i+1.
+      std::size_t ends[2] = {0, 0};
+      int count = 0;
+      std::int32_t marker = 0;
+      {
+        Handle s = h;
+        for (std::size_t i = 0; i < d; ++i) {
+          if (m_.dest(s) != region_.boundary[i]) throw InternalError("optimize: star order");
+          if (m_.is_segment(s)) {
+            if (count < 2) ends[count] = i;
+            ++count;
+            marker = m_.marker(s);
+          }
+          s = m_.onext(s);
+        }
+      }
+      if (count != 2) continue;
+      const VertexId a = region_.boundary[ends[0]], b = region_.boundary[ends[1]];
+      if (orient2d(m_.points[a], m_.points[b], m_.points[v]) != 0) continue;
+      // The two sides: neighbours ends[0] .. ends[1] and ends[1] .. ends[0] (cyclically).
+      double delta = 0.0;
+      tris.clear();
+      flags.clear();
+      bool ok = true;
+      for (int side = 0; side < 2 && ok; ++side) {
+        const std::size_t from = ends[side], to = ends[1 - side];
+        polygon_.clear();
+        std::vector<VertexId> ids;
+        for (std::size_t i = from;; i = (i + 1) % d) {
+          polygon_.push_back(m_.points[region_.boundary[i]]);
+          ids.push_back(region_.boundary[i]);
+          if (i == to) break;
+        }
+        const TriangleId first = region_.triangles[from];
+        const bool inside = m_.in_domain(first);
+        const std::uint8_t flag = m_.flags[first] & kOutside;
+        for (std::size_t i = from; i != to; i = (i + 1) % d) {
+          if (m_.in_domain(region_.triangles[i]) != inside) ok = false;
+        }
+        if (!ok) break;
+        if (polygon_.size() == 2) {
+          ok = false;  // cannot happen for a valid star (each side holds a triangle)
+          break;
+        }
+        local_.clear();
+        const double diagonals = polygon_.size() == 3 ? 0.0 : polygon_mwt(polygon_, &local_);
+        if (polygon_.size() == 3) local_.push_back({0, 1, 2});
+        if (!std::isfinite(diagonals)) {
+          ok = false;
+          break;
+        }
+        if (inside) {
+          double spokes = 0.0;
+          for (std::size_t i = 1; i + 1 < ids.size(); ++i) spokes += distance(m_.points[v], m_.points[ids[i]]);
+          delta += diagonals - spokes;
+        }
+        for (const auto& tri : local_) {
+          tris.push_back({ids[tri[0]], ids[tri[1]], ids[tri[2]]});
+          flags.push_back(flag);
+        }
+      }
+      if (!ok) continue;
+      ++kick_trials_;
+      backup_ = m_;
+      replace_region(m_, region_, tris, &flags);
+      // The merged segment ab.
+      Handle ab = handle_near(a, m_.any_live_handle());
+      {
+        const Handle first = ab;
+        std::size_t guard = 0;
+        while (ab != kNone && m_.dest(ab) != b && ++guard < 4096) {
+          ab = m_.onext(ab);
+          if (ab == first) break;
+        }
+      }
+      if (ab == kNone || m_.dest(ab) != b) {
+        m_ = backup_;
+        continue;
+      }
+      m_.set_segment(ab, marker);
+      for (const TriangleId t : region_.triangles) {
+        if (m_.is_dead(t)) continue;
+        for (unsigned e = 0; e < 3; ++e) flip_stack_.push_back(make_handle(t, e));
+      }
+      delta += local_flips();
+      if (delta < -opt_.kick_min_relative_gain * weight) {
+        m_.vertex_kind[v] = VertexKind::kRemoved;
+        ++stats_.kick_removals;
+        ++accepted;
+      } else {
+        m_ = backup_;
+      }
+    }
+    rebuild_vertex_handles();
+    return accepted;
+  }
+
+  // Removes free Steiner vertices whose removal (star re-triangulated by its MWT) followed by
+  // flips around the hole lowers the weight, even when the MWT alone is heavier than the spokes.
+  std::size_t kick_removals() {
+    const double weight = measure(m_).weight_total;
+    std::size_t accepted = 0;
+    for (VertexId v = m_.input_vertex_count; v < m_.points.size(); ++v) {
+      if (m_.vertex_kind[v] != VertexKind::kSteiner) continue;
+      if (kick_trials_ >= opt_.max_kick_trials) break;
+      const Handle h = handle_near(v, m_.any_live_handle());
+      if (h == kNone || !star_of(m_, h, region_) || !star_in_domain(region_)) continue;
+      bool on_segment = false;
+      {
+        Handle s = h;
+        std::size_t guard = 0;
+        do {
+          on_segment = on_segment || m_.is_segment(s);
+          s = m_.onext(s);
+        } while (s != h && ++guard < 4096);
+      }
+      if (on_segment) continue;
+      polygon_.clear();
+      for (const VertexId u : region_.boundary) polygon_.push_back(m_.points[u]);
+      local_.clear();
+      const double diagonals = polygon_mwt(polygon_, &local_);
+      if (!std::isfinite(diagonals)) continue;
+      ++kick_trials_;
+      backup_ = m_;
+      double delta = diagonals - spoke_sum(m_.points[v], polygon_);
+      std::vector<std::array<VertexId, 3>> tris;
+      for (const auto& tri : local_) {
+        tris.push_back({region_.boundary[tri[0]], region_.boundary[tri[1]], region_.boundary[tri[2]]});
+      }
+      region_.outside_flag = 0;
+      replace_region(m_, region_, tris);
+      for (const TriangleId t : region_.triangles) {
+        if (m_.is_dead(t)) continue;
+        for (unsigned e = 0; e < 3; ++e) flip_stack_.push_back(make_handle(t, e));
+      }
+      delta += local_flips();
+      if (delta < -opt_.kick_min_relative_gain * weight) {
+        m_.vertex_kind[v] = VertexKind::kRemoved;
+        ++stats_.kick_removals;
+        ++accepted;
+      } else {
+        m_ = backup_;
+      }
+    }
+    return accepted;
+  }
+
   void rebuild_vertex_handles() {
     vertex_handle_.assign(m_.points.size(), kNone);
     for (TriangleId t = 0; t < m_.triangles.size(); ++t) {
@@ -380,34 +922,44 @@ class Optimizer {
     return false;
   }
 
-  // A Steiner vertex on a segment slides along the line through its two segment neighbours.
+  // A Steiner vertex on a segment slides along the line through its two segment neighbours, to
+  // the point of the open subsegment that minimises its in-domain spokes (a convex function of
+  // the position: golden-section search), as far as every finite triangle around it stays
+  // counter-clockwise. Works on hull segments too (the ghost triangles around v only need q to
+  // stay on the hull line, which it does).
   bool try_slide(VertexId v) {
     const Handle h = handle_of(v);
-    if (h == kNone || !star_of(m_, h, region_)) return false;
-    // The segment neighbours are the boundary vertices reached by subsegment spokes.
+    if (h == kNone) return false;
     VertexId ends[2] = {kNone, kNone};
     int count = 0;
+    slide_spokes_.clear();
+    slide_triangles_.clear();
     Handle s = h;
-    std::vector<char> spoke_in_domain;
+    std::size_t guard = 0;
     do {
-      if (m_.is_segment(s)) {
-        if (count < 2) ends[count] = m_.dest(s);
-        ++count;
+      const TriangleId t = s >> 2;
+      if (m_.is_dead(t)) return false;
+      const VertexId u = m_.dest(s);
+      if (!m_.is_ghost(t)) slide_triangles_.push_back({u, m_.apex(s)});  // triangle (v, u, apex)
+      if (u != kInfinite) {
+        if (m_.is_segment(s)) {
+          if (count < 2) ends[count] = u;
+          ++count;
+        }
+        // A spoke counts towards the weight if either of its triangles is in the domain.
+        if (m_.in_domain(t) || m_.in_domain(m_.sym(s) >> 2)) slide_spokes_.push_back(m_.points[u]);
       }
-      // A spoke counts towards the weight if either of its triangles is in the domain.
-      spoke_in_domain.push_back(m_.in_domain(s >> 2) || m_.in_domain(m_.sym(s) >> 2));
       s = m_.onext(s);
-    } while (s != h);
-    if (count != 2) return false;
-    polygon_.clear();
-    for (const VertexId u : region_.boundary) polygon_.push_back(m_.points[u]);
+    } while (s != h && ++guard < 4096);
+    if (s != h || count != 2) return false;
     const Point a = m_.points[ends[0]], b = m_.points[ends[1]];
-    auto weight_at = [&](const Point& p) {
-      double w = 0.0;
-      for (std::size_t i = 0; i < polygon_.size(); ++i) {
-        if (spoke_in_domain[i]) w += distance(p, polygon_[i]);
+    auto weight_at = [&](const Point& p) { return spoke_sum(p, slide_spokes_); };
+    auto valid_at = [&](const Point& q) {
+      if (!in_supported_range(q) || orient2d(a, b, q) != 0) return false;
+      for (const auto& [u, w] : slide_triangles_) {
+        if (orient2d(q, m_.points[u], m_.points[w]) <= 0) return false;
       }
-      return w;
+      return true;
     };
     const Point p = m_.points[v];
     const double before = weight_at(p);
@@ -435,10 +987,7 @@ class Optimizer {
     Point q = at(0.5 * (lo + hi));
     for (int halving = 0; halving < 40; ++halving) {
       q = {snap_to_range(q.x), snap_to_range(q.y)};
-      // The whole star (inside and outside the domain) must stay valid, and q must stay on the
-      // open subsegment: strictly between a and b, collinear with them.
-      if (in_supported_range(q) && in_kernel(q, polygon_) && orient2d(a, b, q) == 0 &&
-          weight_at(q) < before) {
+      if (valid_at(q) && weight_at(q) < before) {
         m_.points[v] = q;
         ++stats_.relocations;
         return true;
@@ -508,7 +1057,7 @@ class Optimizer {
   // Re-triangulates the region (no interior vertex) by whichever is lightest: its minimum weight
   // triangulation (a many-edge flip), or a star from a new Steiner vertex at the geometric median
   // of its corners. Returns true if the region changed.
-  bool try_region(const std::vector<TriangleId>& tris) {
+  bool try_region(const std::vector<TriangleId>& tris, bool allow_star = true) {
     if (!region_from(tris, region_)) return false;
     polygon_.clear();
     Point centroid{0.0, 0.0};
@@ -522,7 +1071,7 @@ class Optimizer {
     const double mwt = polygon_mwt(polygon_, &local_);
     double star_weight = std::numeric_limits<double>::infinity();
     Point q{0.0, 0.0};
-    if (opt_.insert) {
+    if (opt_.insert && allow_star) {
       centroid.x /= static_cast<double>(polygon_.size());
       centroid.y /= static_cast<double>(polygon_.size());
       q = geometric_median(centroid, polygon_);
@@ -596,6 +1145,11 @@ class Optimizer {
   std::vector<std::array<std::uint32_t, 3>> local_;
   std::vector<TriangleId> member_;
   double region_interior_weight_ = 0.0;
+  Mesh backup_;
+  std::vector<Handle> flip_stack_;
+  std::vector<Point> slide_spokes_;
+  std::vector<std::pair<VertexId, VertexId>> slide_triangles_;
+  std::size_t kick_trials_ = 0;
 };
 
 }  // namespace
