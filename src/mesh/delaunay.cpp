@@ -156,62 +156,75 @@ void hilbert_sort(const Point* pts, std::uint32_t* idx, std::size_t count,
   sort_keys_and_refine(pts, idx, count, words.data(), buffer.data(), depth);
 }
 
+// Biased randomized insertion order (BRIO; Amenta, Choi, Rote, "Incremental constructions con
+// BRIO", SoCG 2003): rounds of random samples, each round in curve order. Each point draws its round
+// from a hash of its input index (so the order depends only on the input): with probability 3/4 the
+// last round, 3/16 the one before, and so on; a stable counting sort of the curve order by round
+// keeps every round in curve order. The rounds make the order random at every scale (short walks
+// still, since each round follows the curve) where pure curve order would insert points lying on
+// circles or lines next to each other and flip long fans of near-cocircular triangles each time
+// (13 flips and 30 incircle tests per point on the CDT benchmark's circles, against 4 and 12 for
+// uniform points). Sorting first and partitioning after keeps the point reads sequential.
+void brio_rounds(std::uint32_t* idx, std::size_t count) {
+  constexpr unsigned kRounds = 12;  // earliest round: probability 4^-11, a handful of points
+  auto round_of = [](std::uint32_t i) {
+    std::uint64_t z = i + 0x9E3779B97F4A7C15ull;  // splitmix64 of the index
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    unsigned level = 0;  // how many times a 1-in-4 event happened in a row
+    while (level + 1 < kRounds && (z & 3u) == 0) {
+      ++level;
+      z >>= 2;
+    }
+    return kRounds - 1 - level;  // round 0 is inserted first
+  };
+  std::size_t start[kRounds + 1] = {};
+  for (std::size_t i = 0; i < count; ++i) ++start[round_of(idx[i]) + 1];
+  for (unsigned r = 0; r < kRounds; ++r) start[r + 1] += start[r];
+  std::vector<std::uint32_t> sorted(count);
+  for (std::size_t i = 0; i < count; ++i) sorted[start[round_of(idx[i])]++] = idx[i];
+  std::copy(sorted.begin(), sorted.end(), idx);
+}
+
 // Inputs of at least this many points are sorted and triangulated in two halves on two threads.
 constexpr std::size_t kParallelThreshold = 1u << 15;
 
-// Biased randomized insertion order (BRIO; Amenta, Choi, Rote, "Incremental constructions con
-// BRIO", SoCG 2003) of idx[0, count): a pseudo-random shuffle (fixed seed, so the order depends
-// only on the input), then rounds — the last three quarters are sorted along the adaptive Hilbert
-// curve, the first quarter is ordered the same way recursively. Each round is spatially coherent
-// (short walks) while the rounds are random samples: points lying on circles or lines, inserted
-// in pure curve order, would each flip long fans of near-cocircular triangles (13 flips and 30
-// incircle tests per point on the CDT benchmark's circles, against 4 and 12 for uniform points).
-void brio_order(const Point* pts, std::uint32_t* idx, std::size_t count) {
-  std::uint64_t state = 0x9E3779B97F4A7C15ull;
-  auto next_random = [&state] {  // splitmix64
-    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  };
-  for (std::size_t i = count; i > 1; --i) {
-    const std::size_t j = static_cast<std::size_t>(next_random() % i);
-    std::swap(idx[i - 1], idx[j]);
-  }
-  constexpr std::size_t kSmallestRound = 1024;
-  std::vector<std::uint64_t> words, buffer;
-  std::size_t end = count;
-  while (end > 0) {
-    const std::size_t begin = end >= kSmallestRound ? end / 4 : 0;
-    hilbert_sort(pts, idx + begin, end - begin, words, buffer, 0);
-    end = begin;
-  }
-}
-
-// Returns the input indices in insertion order: BRIO rounds along the adaptive Hilbert curve. For
-// large inputs the points are first split into the two x-separated halves of the curve's first
-// level (the curve visits the lower-left, upper-left, upper-right, lower-right quadrants in turn,
-// so its first half is the grid columns in the left half of the bounding box), each ordered on its
-// own thread; *left_count receives the size of the left half (0 if there is no split).
+// Returns the input indices in insertion order: BRIO rounds (brio_rounds) of the adaptive Hilbert
+// curve order. The curve's first half covers exactly the points whose grid column is in the left
+// half of the bounding box (the curve visits the lower-left, upper-left, upper-right, lower-right
+// quadrants in turn); large inputs are split there, each half ordered on its own thread (rounds
+// within each half), and *left_count receives the left half's size (0: no split).
 std::vector<std::uint32_t> hilbert_order(const std::vector<Point>& points, std::size_t* left_count) {
   std::vector<std::uint32_t> order(points.size());
   std::iota(order.begin(), order.end(), 0u);
   *left_count = 0;
   KeyGrid grid;
   if (order.size() >= kParallelThreshold && key_grid(points.data(), order.data(), order.size(), grid)) {
-    // Stable partition by grid column (the same arithmetic as fill_keys).
-    auto in_left_half = [&](std::uint32_t i) {
-      const double fx = (points[i].x * 0.5 - grid.xmin * 0.5) * grid.scale;
-      return static_cast<std::uint32_t>(std::min(kGridCells, std::max(0.0, fx))) < 32768u;
-    };
-    const auto middle = std::stable_partition(order.begin(), order.end(), in_left_half);
-    const auto left = static_cast<std::size_t>(middle - order.begin());
-    *left_count = left;
-    std::thread worker([&] { brio_order(points.data(), order.data() + left, order.size() - left); });
-    brio_order(points.data(), order.data(), left);
+    // The curve's first half is the keys whose top bit is 0 (the two left quadrants): split the
+    // keys stably by that bit and sort the halves on two threads. Same order as one sort.
+    std::vector<std::uint64_t> words(order.size()), buffer(order.size());
+    const std::size_t n = order.size(), half = n / 2;
+    std::thread key_worker([&] { fill_keys(points.data(), order.data(), half, n, grid, buffer.data()); });
+    fill_keys(points.data(), order.data(), 0, half, grid, buffer.data());
+    key_worker.join();
+    std::size_t left = 0;
+    for (const std::uint64_t w : buffer) left += (w >> 63) == 0 ? 1 : 0;
+    std::size_t l = 0, r = left;
+    for (const std::uint64_t w : buffer) words[(w >> 63) == 0 ? l++ : r++] = w;
+    std::thread worker([&] {
+      sort_keys_and_refine(points.data(), order.data() + left, n - left, words.data() + left,
+                           buffer.data() + left, 0);
+      brio_rounds(order.data() + left, n - left);
+    });
+    sort_keys_and_refine(points.data(), order.data(), left, words.data(), buffer.data(), 0);
+    brio_rounds(order.data(), left);
     worker.join();
+    *left_count = left;
   } else {
-    brio_order(points.data(), order.data(), order.size());
+    std::vector<std::uint64_t> words, buffer;
+    hilbert_sort(points.data(), order.data(), order.size(), words, buffer, 0);
+    brio_rounds(order.data(), order.size());
   }
   return order;
 }
