@@ -21,6 +21,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <random>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -184,6 +185,38 @@ std::vector<BadInput> bad_inputs() {
       {"check_bad_input", {{"in.node", "4 2 0 0\n1 0 0\n2 1 0\n3 1 x\n4 0 1\n"}}, {"check", "in.node", "m"},
        "in.node:4: "},
       {"generate_dir_missing", {}, {"generate", "uniform", "10", "-o", "nodir/p.node"}, "nodir/p.node: "},
+      // The error contract audit (issue 9): each bad input is refused with its place.
+      {"empty_file", {{"in.node", ""}}, {"triangulate", "in.node"}, "in.node: "},
+      {"empty_poly", {{"in.poly", "# only a comment\n"}}, {"triangulate", "in.poly"}, "in.poly:1: "},
+      {"truncated_poly", {{"in.poly", kSquare + "4 0\n1 1 2\n2 2 3\n"}}, {"triangulate", "in.poly"}, "in.poly:"},
+      {"non_numeric_segment", {{"in.poly", kSquare + "1 0\n1 1 two\n0\n"}}, {"triangulate", "in.poly"},
+       "in.poly:7: "},
+      {"infinite", {{"in.node", "3 2 0 0\n1 0 0\n2 -inf 0\n3 0 1\n"}}, {"triangulate", "in.node"}, "in.node:3: "},
+      {"nan_hole", {{"in.poly", kSquare + "0 0\n1\n1 nan 0.5\n"}}, {"triangulate", "in.poly"}, "in.poly:8: "},
+      {"hole_too_large", {{"in.poly", kSquare + "0 0\n1\n1 0.5 1e300\n"}}, {"triangulate", "in.poly"},
+       "in.poly:8: "},
+      {"wrong_dimension", {{"in.node", "3 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n"}}, {"triangulate", "in.node"},
+       "in.node:1: "},
+      {"negative_count", {{"in.node", "-3 2 0 0\n1 0 0\n"}}, {"triangulate", "in.node"}, "in.node:1: "},
+      // 1e12 vertices must be refused before anything is allocated for them.
+      {"absurd_count", {{"in.node", "1000000000000 2 0 0\n1 0 0\n2 1 0\n3 0 1\n"}}, {"triangulate", "in.node"},
+       "in.node:1: "},
+      {"absurd_segment_count", {{"in.poly", kSquare + "1000000000000 0\n1 1 2\n"}}, {"triangulate", "in.poly"},
+       "in.poly:6: "},
+      {"index_out_of_range", {{"in.poly", kSquare + "1 0\n1 0 5\n0\n"}}, {"triangulate", "in.poly"},
+       "in.poly:7: "},
+      // Vertices numbered from 0: a segment naming vertex 4 of four is one-based, hence wrong.
+      {"index_wrong_base", {{"in.poly", "4 2 0 0\n0 0 0\n1 1 0\n2 1 1\n3 0 1\n1 0\n0 3 4\n0\n"}},
+       {"triangulate", "in.poly"}, "in.poly:7: "},
+      {"first_index_not_0_or_1", {{"in.node", "3 2 0 0\n2 0 0\n3 1 0\n4 0 1\n"}}, {"triangulate", "in.node"},
+       "in.node:2: "},
+      {"poly_zero_vertices_no_node", {{"in.poly", "0 2 0 0\n0 0\n0\n"}}, {"triangulate", "in.poly"},
+       "in.poly:1: "},
+      {"fewer_than_three", {{"in.node", "2 2 0 0\n1 0 0\n2 1 1\n"}}, {"triangulate", "in.node"}, "in.node: "},
+      {"collinear_poly", {{"in.poly", "3 2 0 0\n1 0 0\n2 1 1\n3 2 2\n2 0\n1 1 2\n2 2 3\n0\n"}},
+       {"triangulate", "in.poly", "--method", "dr"}, "in.poly: "},
+      {"collinear_qtr", {{"in.node", "4 2 0 0\n1 0 0\n2 1 1\n3 2 2\n4 3 3\n"}},
+       {"triangulate", "in.node", "--method", "qtr"}, "in.node: "},
   };
 }
 
@@ -208,6 +241,157 @@ TEST_P(BadInputTest, ExitsOneWithOneLocatedLineAndNoOutput) {
 
 INSTANTIATE_TEST_SUITE_P(Cli, BadInputTest, testing::ValuesIn(bad_inputs()),
                          [](const testing::TestParamInfo<BadInput>& p) { return p.param.name; });
+
+// Odd but meaningful inputs (the rest of the error contract audit): every method, and the flips,
+// must give a mesh `mwst check` accepts — or, where `may_refuse`, exit 1 with one located line and
+// no output file.
+struct OddInput {
+  const char* name;
+  std::string file;     // in.node or in.poly
+  std::string content;
+  bool may_refuse = false;
+};
+
+std::vector<OddInput> odd_inputs() {
+  const std::string square2 = "4 2 0 0\n1 0 0\n2 2 0\n3 2 2\n4 0 2\n";
+  const std::string ring = "4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n";
+  return {
+      {"duplicate_points", "in.node", "6 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n5 1 0\n6 0 0\n"},
+      {"duplicate_poly_vertices", "in.poly",
+       "5 2 0 0\n1 0 0\n2 2 0\n3 2 2\n4 0 2\n5 2 2\n5 0\n1 1 2\n2 2 3\n3 5 4\n4 4 1\n5 3 5\n0\n"},
+      {"crossing_segments", "in.poly", square2 + "6 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n5 1 3\n6 2 4\n0\n"},
+      // (1,0) lies on segment 1-2, and segment 1-5 lies on top of part of it.
+      {"overlapping_segments", "in.poly",
+       "5 2 0 0\n1 0 0\n2 2 0\n3 2 2\n4 0 2\n5 1 0\n5 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n5 1 5\n0\n"},
+      {"vertex_on_segment", "in.poly",
+       "6 2 0 0\n1 0 0\n2 2 0\n3 2 2\n4 0 2\n5 1 0\n6 0 1\n" + ring + "0\n"},
+      {"segment_through_vertex", "in.poly",
+       "5 2 0 0\n1 0 0\n2 2 0\n3 2 2\n4 0 2\n5 1 1\n5 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n5 1 3\n0\n"},
+      {"hole_outside_domain", "in.poly", square2 + ring + "1\n1 5 5\n"},
+      {"hole_on_segment", "in.poly", square2 + ring + "1\n1 1 0\n"},
+      // A boundary that does not close encloses nothing: an empty mesh (with a warning) or a
+      // clear refusal are both acceptable, a crash or an invalid mesh are not.
+      {"open_polyline", "in.poly", square2 + "3 0\n1 1 2\n2 2 3\n3 3 4\n0\n", true},
+      {"open_polyline_with_hull", "in.poly", square2 + "3 0\n1 1 2\n2 2 3\n3 3 4\n0\n", true},
+      {"dangling_segment_inside", "in.poly",
+       "5 2 0 0\n1 0 0\n2 2 0\n3 2 2\n4 0 2\n5 1 1\n5 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n5 1 5\n0\n"},
+  };
+}
+
+// True when `r` is a refusal as the contract wants it: exit 1, one line "mwst: FILE...: what".
+::testing::AssertionResult is_clean_refusal(const Outcome& r, const std::string& file) {
+  if (r.exit_code != 1) return ::testing::AssertionFailure() << describe(r);
+  const auto lines = r.err_lines();
+  if (lines.size() != 1 || lines[0].rfind("mwst: " + file, 0) != 0) {
+    return ::testing::AssertionFailure() << "not one located line: " << describe(r);
+  }
+  return ::testing::AssertionSuccess();
+}
+
+class OddInputTest : public testing::TestWithParam<OddInput> {};
+
+TEST_P(OddInputTest, EveryMethodGivesACheckedMeshOrACleanRefusal) {
+  const OddInput& c = GetParam();
+  Sandbox box;
+  box.put(c.file, c.content);
+  const std::vector<std::vector<std::string>> methods = {
+      {"--method", "dt"}, {"--method", "dr"}, {"--method", "brh"}, {"--method", "qtr"},
+      {"--method", "opt"}, {"--method", "dt", "--flip"}, {"--method", "dr", "--flip", "--convex-hull"}};
+  for (const auto& method : methods) {
+    std::vector<std::string> args = {"triangulate", c.file, "-o", "m", "-q"};
+    args.insert(args.end(), method.begin(), method.end());
+    if (std::string(c.name) == "open_polyline_with_hull") args.push_back("--convex-hull");
+    SCOPED_TRACE(method[1] + (method.size() > 2 ? " " + method[2] : std::string()));
+    const Outcome r = box.run(args);
+    if (r.exit_code == 0) {
+      EXPECT_TRUE(box.has("m.node") && box.has("m.ele"));
+      const Outcome check = box.run({"check", c.file, "m"});
+      EXPECT_EQ(check.exit_code, 0) << describe(check);
+    } else {
+      EXPECT_TRUE(c.may_refuse) << describe(r);
+      EXPECT_TRUE(is_clean_refusal(r, c.file));
+      EXPECT_EQ(box.entries(), std::set<std::string>{c.file}) << "no output file may be left behind";
+    }
+    for (const char* ext : {".node", ".ele", ".poly"}) fs::remove(box.dir() / (std::string("m") + ext));
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Cli, OddInputTest, testing::ValuesIn(odd_inputs()),
+                         [](const testing::TestParamInfo<OddInput>& p) { return p.param.name; });
+
+// Random bytes, and random byte edits of a valid .poly: a checked mesh or a clean refusal, never a
+// crash, an internal error, or an output file left behind after a failure. Fixed seed.
+TEST(Cli, RandomBytesGiveACheckedMeshOrACleanRefusal) {
+  Sandbox box;
+  std::mt19937 rng(20261121);
+  const std::string valid = "5 2 0 1\n1 0 0 1\n2 4 0 1\n3 4 4 1\n4 0 4 1\n5 2 2 0\n"
+                            "4 1\n1 1 2 1\n2 2 3 1\n3 3 4 1\n4 4 1 1\n1\n1 2.5 2.5\n";
+  const std::string alphabet = "0123456789 \n.-+eE#xn\t";
+  for (int round = 0; round < 40; ++round) {
+    std::string text;
+    if (round < 10) {  // raw bytes
+      const std::size_t n = rng() % 200;
+      for (std::size_t i = 0; i < n; ++i) text.push_back(static_cast<char>(rng() & 0xFF));
+    } else {  // a few edits of a valid file, mostly with characters a parser cares about
+      text = valid;
+      const int edits = 1 + static_cast<int>(rng() % 4);
+      for (int e = 0; e < edits; ++e) {
+        const std::size_t at = rng() % (text.size() + 1);
+        const char ch = (rng() % 4 == 0) ? static_cast<char>(rng() & 0xFF) : alphabet[rng() % alphabet.size()];
+        switch (rng() % 3) {
+          case 0: text.insert(at, 1, ch); break;
+          case 1: if (at < text.size()) text.erase(at, 1); break;
+          default: if (at < text.size()) text[at] = ch; break;
+        }
+      }
+    }
+    const std::string file = round % 3 == 0 ? "in.node" : "in.poly";
+    box.put(file, text);
+    const std::string method = std::vector<std::string>{"dt", "dr", "brh", "qtr", "opt"}[round % 5];
+    const Outcome r = box.run({"triangulate", file, "-o", "m", "-q", "--method", method, "--max-steiner", "200"});
+    SCOPED_TRACE("round " + std::to_string(round) + " " + method + "\n" + text);
+    if (r.exit_code == 0) {
+      const Outcome check = box.run({"check", file, "m"});
+      EXPECT_EQ(check.exit_code, 0) << describe(check);
+    } else {
+      EXPECT_TRUE(is_clean_refusal(r, file));
+      EXPECT_EQ(box.entries(), std::set<std::string>{file}) << "no output file may be left behind";
+    }
+    for (const auto& e : fs::directory_iterator(box.dir())) fs::remove(e.path());
+  }
+}
+
+// --time-limit (TriangulateOptions::time_budget_seconds): a refinement stopped by it still writes
+// a valid mesh, and says why it stopped. (Nothing here measures time: a budget of a microsecond
+// is exhausted long before a refinement of this size finishes, whatever the machine.)
+TEST(Cli, TimeLimitStopsRefinementWithAValidMesh) {
+  Sandbox box;
+  for (const std::string method : {"dr", "brh"}) {
+    SCOPED_TRACE(method);
+    const Outcome r = box.run({"triangulate", data("Superior.poly"), "-o", "t", "-q", "--method", method,
+                               "--min-angle", "30", "--max-area", "1e-6", "--time-limit", "1e-6",
+                               "--json", "t.json"});
+    ASSERT_EQ(r.exit_code, 0) << describe(r);
+    const auto report = nlohmann::json::parse(box.get("t.json"));
+    EXPECT_EQ(report.at("stop_reason").get<std::string>(), "time budget");
+    EXPECT_EQ(report.at("parameters").at("time_budget").get<double>(), 1e-6);
+    const Outcome check = box.run({"check", data("Superior.poly"), "t"});
+    EXPECT_EQ(check.exit_code, 0) << describe(check);
+  }
+}
+
+TEST(Cli, BadTimeLimitIsAUsageError) {
+  Sandbox box;
+  box.put("in.poly", kSquare + "4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n");
+  for (const std::string bad : {"-1", "0", "nan", "NaN", "inf", "-inf", "abc", "1s", ""}) {
+    const Outcome r = box.run({"triangulate", "in.poly", "--method", "dr", "--time-limit", bad});
+    // Bad usage (DESIGN.md): exit 2, the problem on the first line (a hint to --help follows).
+    EXPECT_EQ(r.exit_code, 2) << "'" << bad << "'\n" << describe(r);
+    EXPECT_EQ(r.err.rfind("mwst: --time-limit: ", 0), 0u) << describe(r);
+    EXPECT_EQ(box.entries(), std::set<std::string>{"in.poly"}) << bad;
+  }
+  EXPECT_NE(box.run({"triangulate", "--help"}).out.find("--time-limit"), std::string::npos);
+}
 
 // ---- 2. bad usage: exit 2, nothing written -----------------------------------------------------
 
@@ -573,19 +757,35 @@ TEST(Cli, GenerateIsDeterministicAndTriangulatesValidly) {
 
 TEST(Cli, TwoRunsGiveIdenticalFiles) {
   Sandbox box;
-  for (const std::string name : {"Kuzmin2K.node", "Superior.poly", "Plate.poly"}) {
-    for (const std::string method : {"dt", "dr"}) {
-      SCOPED_TRACE(name + " " + method);
-      const std::string input = data(name);
-      ASSERT_EQ(box.run({"triangulate", input, "-o", "one", "-q", "--method", method}).exit_code, 0);
-      ASSERT_EQ(box.run({"triangulate", input, "-o", "two", "-q", "--method", method}).exit_code, 0);
-      for (const char* ext : {".node", ".ele", ".poly"}) {
-        EXPECT_EQ(box.has(std::string("one") + ext), box.has(std::string("two") + ext));
-        if (box.has(std::string("one") + ext)) {
-          EXPECT_TRUE(box.get(std::string("one") + ext) == box.get(std::string("two") + ext)) << ext;
-        }
+  // Every method, and the flips, on Plate (five holes); DT and DR on two larger sets as well.
+  const std::vector<std::pair<std::string, std::vector<std::string>>> runs = {
+      {"Kuzmin2K.node", {"--method", "dt"}},    {"Kuzmin2K.node", {"--method", "dr"}},
+      {"Superior.poly", {"--method", "dt"}},    {"Superior.poly", {"--method", "dr"}},
+      {"Plate.poly", {"--method", "dt"}},       {"Plate.poly", {"--method", "dr"}},
+      {"Plate.poly", {"--method", "brh"}},      {"Plate.poly", {"--method", "qtr"}},
+      {"Plate.poly", {"--method", "opt"}},      {"Plate.poly", {"--method", "dt", "--flip"}},
+      {"Plate.poly", {"--method", "brh", "--flip"}}};
+  for (const auto& [name, method] : runs) {
+    std::string trace = name;
+    for (const std::string& m : method) trace += " " + m;
+    SCOPED_TRACE(trace);
+    const std::string input = data(name);
+    std::vector<std::string> one = {"triangulate", input, "-o", "one", "-q"};
+    std::vector<std::string> two = {"triangulate", input, "-o", "two", "-q"};
+    one.insert(one.end(), method.begin(), method.end());
+    two.insert(two.end(), method.begin(), method.end());
+    ASSERT_EQ(box.run(one).exit_code, 0);
+    ASSERT_EQ(box.run(two).exit_code, 0);
+    if (name.ends_with(".poly")) {
+      EXPECT_TRUE(box.has("one.poly")) << "a .poly gives subsegments";
+    }
+    for (const char* ext : {".node", ".ele", ".poly"}) {
+      EXPECT_EQ(box.has(std::string("one") + ext), box.has(std::string("two") + ext));
+      if (box.has(std::string("one") + ext)) {
+        EXPECT_TRUE(box.get(std::string("one") + ext) == box.get(std::string("two") + ext)) << ext;
       }
     }
+    for (const auto& e : fs::directory_iterator(box.dir())) fs::remove(e.path());
   }
 }
 

@@ -29,7 +29,18 @@ bool flippable(const Mesh& m, Handle h) {
   const Point& c = m.points[m.apex(h)];
   const Point& d = m.points[m.apex(s)];
   // Strictly convex: both new triangles (c, a, d) and (d, b, c) are counter-clockwise.
-  return orient2d(c, a, d) > 0 && orient2d(d, b, c) > 0;
+  if (!(orient2d(c, a, d) > 0 && orient2d(d, b, c) > 0)) return false;
+  // A Steiner point splitting a segment is the rounding of a point on it: its two subsegments are
+  // straight in truth, however convex the rounding makes the quadrilateral look. A new triangle
+  // with both of them as sides would span that straight angle (a sliver of zero true area whose
+  // new edge lies along the segment), so such a flip is refused. (At a crossing point the two
+  // sides would belong to different segments; refusing there only forgoes a flip.)
+  const auto spans_straight_angle = [&](VertexId v, Handle side1, Handle side2) {
+    return v < m.vertex_kind.size() && m.vertex_kind[v] == VertexKind::kSteinerOnSegment &&
+           m.is_segment(side1) && m.is_segment(side2);
+  };
+  return !spans_straight_angle(m.org(h), Mesh::lprev(h), Mesh::lnext(s)) &&
+         !spans_straight_angle(m.dest(h), Mesh::lnext(h), Mesh::lprev(s));
 }
 
 struct Candidate {

@@ -165,6 +165,31 @@ namespace {
 
 // A closed polygonal region of the mesh (a topological disk of live triangles) about to be
 // re-triangulated: its boundary cycle counter-clockwise and the handles outside each boundary edge.
+// True if a triangulation `tris` (corner indices into a polygon of `ids.size()` corners whose edge
+// i → i+1 is a subsegment iff edge_is_segment(i)) has a triangle cornered at a Steiner point on a
+// segment with both of its sides there being the polygon's subsegments. The two subsegments are
+// straight in truth (the rounded point only looks convex or reflex), so that triangle would be a
+// sliver lying along the segment, with its third side on the segment too: refused everywhere the
+// optimiser retriangulates a polygon (the same rule as flip.cpp's flippable).
+template <class EdgeIsSegment>
+bool spans_straight_angle(const Mesh& m, const std::vector<VertexId>& ids, EdgeIsSegment edge_is_segment,
+                          const std::vector<std::array<std::uint32_t, 3>>& tris) {
+  const std::size_t d = ids.size();
+  for (const auto& tri : tris) {
+    for (unsigned k = 0; k < 3; ++k) {
+      const std::size_t j = tri[k], a = tri[(k + 1) % 3], b = tri[(k + 2) % 3];
+      const std::size_t before = (j + d - 1) % d, after = (j + 1) % d;
+      const bool both_sides_on_boundary = (a == before && b == after) || (a == after && b == before);
+      if (both_sides_on_boundary && ids[j] < m.vertex_kind.size() &&
+          m.vertex_kind[ids[j]] == VertexKind::kSteinerOnSegment && edge_is_segment(before) &&
+          edge_is_segment(j)) {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
 struct Region {
   std::vector<TriangleId> triangles;
   std::vector<VertexId> boundary;  // counter-clockwise
@@ -726,7 +751,12 @@ class Optimizer {
         local_.clear();
         const double diagonals = polygon_.size() == 3 ? 0.0 : polygon_mwt(polygon_, &local_);
         if (polygon_.size() == 3) local_.push_back({0, 1, 2});
-        if (!std::isfinite(diagonals)) {
+        // The chain's edges are the star's boundary edges from `from`; its closing edge is the
+        // merged segment a–b.
+        const auto chain_edge_is_segment = [&](std::size_t i) {
+          return i + 1 == ids.size() ? true : region_.segment[(from + i) % d] != 0;
+        };
+        if (!std::isfinite(diagonals) || spans_straight_angle(m_, ids, chain_edge_is_segment, local_)) {
           ok = false;
           break;
         }
@@ -800,7 +830,9 @@ class Optimizer {
       for (const VertexId u : region_.boundary) polygon_.push_back(m_.points[u]);
       local_.clear();
       const double diagonals = polygon_mwt(polygon_, &local_);
-      if (!std::isfinite(diagonals)) continue;
+      if (!std::isfinite(diagonals) || region_sliver(local_)) {
+        continue;
+      }
       ++kick_trials_;
       backup_ = m_;
       double delta = diagonals - spoke_sum(m_.points[v], polygon_);
@@ -888,6 +920,7 @@ class Optimizer {
     const double diagonals = polygon_mwt(polygon_, &local_);
     const double spokes = spoke_sum(m_.points[v], polygon_);
     if (!(diagonals < spokes * (1.0 - 1e-12))) return false;
+    if (region_sliver(local_)) return false;
     std::vector<std::array<VertexId, 3>> tris;
     for (const auto& tri : local_) {
       tris.push_back({region_.boundary[tri[0]], region_.boundary[tri[1]], region_.boundary[tri[2]]});
@@ -1057,6 +1090,12 @@ class Optimizer {
   // Re-triangulates the region (no interior vertex) by whichever is lightest: its minimum weight
   // triangulation (a many-edge flip), or a star from a new Steiner vertex at the geometric median
   // of its corners. Returns true if the region changed.
+  // spans_straight_angle for a triangulation of region_'s boundary polygon.
+  bool region_sliver(const std::vector<std::array<std::uint32_t, 3>>& tris) const {
+    return spans_straight_angle(m_, region_.boundary, [this](std::size_t i) { return region_.segment[i] != 0; },
+                                tris);
+  }
+
   bool try_region(const std::vector<TriangleId>& tris, bool allow_star = true) {
     if (!region_from(tris, region_)) return false;
     polygon_.clear();
@@ -1090,7 +1129,7 @@ class Optimizer {
       ++stats_.insertions;
       return true;
     }
-    if (mwt < current) {
+    if (mwt < current && !region_sliver(local_)) {
       std::vector<std::array<VertexId, 3>> tris_new;
       for (const auto& tri : local_) {
         tris_new.push_back({region_.boundary[tri[0]], region_.boundary[tri[1]], region_.boundary[tri[2]]});

@@ -1,9 +1,10 @@
 // `mwst triangulate INPUT [-o PREFIX] [--method dt|dr|brh|qtr|opt] [--min-angle DEG]
 //  [--steiner offcenter|circumcenter] [--bundle-k K] [--flip] [--max-area A] [--max-steiner N]
-//  [--convex-hull] [--strict] [--bundle] [--json FILE] [--draw FILE] [--quiet]`
+//  [--convex-hull] [--strict] [--bundle] [--time-limit SECONDS] [--json FILE] [--draw FILE] [--quiet]`
 // Reads a Triangle .node/.poly, runs triangulate() (mwst/pipeline.hpp: the methods of Boyacı,
 // Erten, Üngör, "Triangulations Loosing Bundles and Weight", and ours) and writes PREFIX.node,
 // PREFIX.ele, PREFIX.poly and the JSON report, all only after the computation succeeded.
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -33,6 +34,7 @@ struct TriangulateArgs {
   bool convex_hull = false;
   bool strict = false;
   bool bundle = false;
+  double time_limit = -1.0;  // seconds; ≤ 0: none (the option itself only accepts > 0)
   std::string json;
   std::string draw;
   bool quiet = false;
@@ -71,6 +73,7 @@ int run_triangulate(const TriangulateArgs& a) {
   options.convex_hull = a.convex_hull;
   options.strict = a.strict;
   options.bundle = a.bundle;
+  options.time_budget_seconds = a.time_limit;
   try {
     check_options(options);
   } catch (const std::invalid_argument& e) {
@@ -151,6 +154,21 @@ void register_triangulate(CLI::App& app, Action& action) {
   sub->add_flag("--convex-hull", args->convex_hull, "Triangulate the whole convex hull (holes still carve)");
   sub->add_flag("--strict", args->strict, "Refuse crossing segments instead of splitting them");
   sub->add_flag("--bundle", args->bundle, "Add the exact bundle number to the report");
+  sub->add_option("--time-limit", args->time_limit,
+                  "Stop refining (dr, brh, opt's brh start) after about this many seconds in all; the mesh is "
+                  "still valid and the report's stop_reason says \"time budget\"")
+      ->type_name("SECONDS")
+      ->check(CLI::Validator(
+          [](const std::string& s) -> std::string {
+            try {
+              std::size_t used = 0;
+              const double v = std::stod(s, &used);
+              if (used == s.size() && std::isfinite(v) && v > 0.0) return {};
+            } catch (const std::exception&) {
+            }
+            return "must be a positive number of seconds, found '" + s + "'";
+          },
+          "> 0"));
   sub->add_option("--json", args->json, "Write the JSON report to FILE ('-' = standard output)")
       ->type_name("FILE");
   sub->add_option("--draw", args->draw, "Draw the mesh to FILE.png, .svg or .pdf")->type_name("FILE");

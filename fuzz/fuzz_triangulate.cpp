@@ -1,0 +1,212 @@
+// fuzz/fuzz_triangulate.cpp — libFuzzer harness for the whole mesher (mwst::triangulate of
+// mwst/pipeline.hpp): bytes are decoded into a small planar straight-line graph (points, segments,
+// hole seeds) and options, every method — DT, DR, BRH, QTR, OPT, each optionally followed by the
+// weight-reducing flips (EFH) of Boyacı, Erten, Üngör, "Triangulations Loosing Bundles and
+// Weight" — is run with a small Steiner budget, and the result must pass both validate()
+// (mwst/mesh.hpp, our own structure) and the independent checker check_triangulation()
+// (mwst/check.hpp, which sees only plain triangles, the way `mwst check` reads files back).
+// An InputError is an acceptable answer; any other exception, a crash, a sanitizer report or a
+// checker violation is a bug (abort).
+//
+// Decoding. Bytes that parse as a Triangle .poly or .node (the seed corpus is data/) give that
+// graph, cut to its first kMaxTextPoints vertices (segments among them, all holes), with options
+// drawn from a hash of the bytes. Any other bytes are read as a compact binary form in which
+// mutations stay meaningful: byte 0 picks the method and flags, byte 1 the angle, byte 2 the
+// Steiner budget, then records until the bytes run out — a tag byte chooses a point on a coarse
+// grid (x/4, many collinear and cocircular 4-tuples, duplicates, vertices on segments), a point
+// from raw double bits (huge, tiny, NaN, out of range), a segment between two earlier points, or a
+// hole seed. Coarse-grid data is what stresses the exact predicates most.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "mwst/check.hpp"
+#include "mwst/error.hpp"
+#include "mwst/io.hpp"
+#include "mwst/mesh.hpp"
+#include "mwst/pipeline.hpp"
+#include "mwst/pslg.hpp"
+
+namespace {
+
+constexpr std::size_t kMaxPoints = 96;
+constexpr std::size_t kMaxSegments = 96;
+constexpr std::size_t kMaxHoles = 4;
+constexpr std::size_t kMaxTextPoints = 64;  // keeps each run of every method fast under ASan
+
+class Bytes {
+ public:
+  Bytes(const std::uint8_t* data, std::size_t size) : data_(data), size_(size) {}
+  bool empty() const { return pos_ >= size_; }
+  std::uint8_t byte() { return pos_ < size_ ? data_[pos_++] : 0; }
+  double raw_double() {
+    std::uint64_t bits = 0;
+    for (int i = 0; i < 8; ++i) bits = (bits << 8) | byte();
+    double v;
+    std::memcpy(&v, &bits, sizeof v);
+    return v;
+  }
+  // A coordinate on the grid {-32, -31.75, ..., 31.75}: exact, and dense in degeneracies.
+  double grid() { return static_cast<double>(static_cast<std::int8_t>(byte())) / 4.0; }
+
+ private:
+  const std::uint8_t* data_;
+  std::size_t size_;
+  std::size_t pos_ = 0;
+};
+
+[[noreturn]] void fail(const char* what, const std::string& detail) {
+  std::fprintf(stderr, "fuzz_triangulate: %s: %s\n", what, detail.c_str());
+  std::fflush(stderr);
+  std::abort();
+}
+
+// The mesh as `mwst check` sees it after write_mesh(): every vertex, the in-domain triangles, and
+// each subsegment bordering the domain once.
+mwst::CheckResult check_mesh(const mwst::Pslg& input, const mwst::Mesh& m) {
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  std::vector<mwst::Segment> subsegments;
+  for (mwst::TriangleId t = 0; t < m.triangles.size(); ++t) {
+    if (!m.in_domain(t)) continue;
+    triangles.push_back(m.triangles[t].v);
+    for (unsigned e = 0; e < 3; ++e) {
+      const mwst::Handle h = mwst::make_handle(t, e);
+      if (!m.is_segment(h)) continue;
+      const mwst::TriangleId other = m.sym(h) >> 2;
+      if (!m.in_domain(other) || other > t) subsegments.push_back({m.org(h), m.dest(h), m.marker(h)});
+    }
+  }
+  return mwst::check_triangulation(input, m.points, triangles, subsegments);
+}
+
+// The bytes as a Triangle file, if they are one (a .poly whose vertices are in a .node beside it
+// is an error here: the name points into a directory that does not exist).
+bool parse_text(const std::uint8_t* data, std::size_t size, mwst::Pslg& out) {
+  const std::string_view text(reinterpret_cast<const char*>(data), size);
+  try {
+    out = mwst::io::parse_poly(text, "/nonexistent-mwst-fuzz/fuzz.poly");
+    return true;
+  } catch (const mwst::InputError&) {
+  }
+  try {
+    out = mwst::io::parse_node(text, "/nonexistent-mwst-fuzz/fuzz.node");
+    return true;
+  } catch (const mwst::InputError&) {
+  }
+  return false;
+}
+
+// Keeps the first kMaxTextPoints vertices and the segments among them (a big data set would make
+// every run of every method slow; the shapes of its first part are what matters here).
+void cut(mwst::Pslg& p) {
+  if (p.points.size() <= kMaxTextPoints) return;
+  p.points.resize(kMaxTextPoints);
+  p.point_markers.resize(kMaxTextPoints);
+  std::vector<mwst::Segment> kept;
+  std::vector<std::size_t> lines;
+  for (std::size_t i = 0; i < p.segments.size(); ++i) {
+    if (p.segments[i].a < kMaxTextPoints && p.segments[i].b < kMaxTextPoints) {
+      kept.push_back(p.segments[i]);
+      if (i < p.segment_lines.size()) lines.push_back(p.segment_lines[i]);
+    }
+  }
+  p.segments = std::move(kept);
+  p.segment_lines = std::move(lines);
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  mwst::Pslg pslg;
+  const bool text = parse_text(data, size, pslg);
+  std::uint8_t mode = 0, angle_byte = 0, budget_byte = 0;
+  Bytes in(data, text ? 0 : size);
+  if (text) {
+    cut(pslg);
+    std::uint32_t hash = 2166136261u;  // FNV-1a of the whole text
+    for (std::size_t i = 0; i < size; ++i) hash = (hash ^ data[i]) * 16777619u;
+    mode = static_cast<std::uint8_t>(hash);
+    angle_byte = static_cast<std::uint8_t>(hash >> 8);
+    budget_byte = static_cast<std::uint8_t>(hash >> 16);
+  } else {
+    mode = in.byte();
+    angle_byte = in.byte();
+    budget_byte = in.byte();
+    pslg.source = "fuzz.poly";
+    pslg.first_index = 1;
+  }
+
+  mwst::TriangulateOptions options;
+  static constexpr mwst::Method kMethods[] = {mwst::Method::kDt, mwst::Method::kDr, mwst::Method::kBrh,
+                                              mwst::Method::kQtr, mwst::Method::kOpt};
+  options.method = kMethods[mode % 5];
+  options.flip = (mode & 0x08) != 0;
+  options.convex_hull = (mode & 0x10) != 0;
+  options.strict = (mode & 0x20) != 0;
+  options.steiner = (mode & 0x40) != 0 ? mwst::SteinerRule::kCircumcenter : mwst::SteinerRule::kOffCenter;
+  // The exact bundle number is costly on a refined mesh of hundreds of vertices: small inputs only.
+  options.bundle = (mode & 0x80) != 0 && !text && options.method != mwst::Method::kOpt;
+  static constexpr double kAngles[] = {20.0, 5.0, 10.0, 15.0, 25.0, 28.0, 30.0, 33.0};
+  options.min_angle_deg = kAngles[angle_byte % 8];
+  if ((angle_byte & 0x08) != 0 && options.method != mwst::Method::kBrh) options.min_angle_deg = 0.0;
+  if ((angle_byte & 0x10) != 0) options.max_area = 1.0 + (angle_byte >> 5);
+  options.max_steiner = budget_byte % 48;
+  options.time_budget_seconds = 2.0;  // a safety net; max_steiner is the real budget
+
+  while (!in.empty()) {
+    const std::uint8_t tag = in.byte();
+    const unsigned kind = tag % 16;
+    if (kind < 8) {  // a grid point
+      if (pslg.points.size() >= kMaxPoints) continue;
+      const double x = in.grid();
+      const double y = in.grid();
+      pslg.points.push_back({x, y});
+      pslg.point_markers.push_back(0);
+    } else if (kind == 8) {  // a point from raw bits (only the reader filters the range)
+      if (pslg.points.size() >= kMaxPoints) continue;
+      const double x = in.raw_double();
+      const double y = in.raw_double();
+      pslg.points.push_back({x, y});
+      pslg.point_markers.push_back(0);
+    } else if (kind < 14) {  // a segment between two earlier points (the reader checks indices)
+      const std::uint8_t a = in.byte();
+      const std::uint8_t b = in.byte();
+      if (pslg.points.empty() || pslg.segments.size() >= kMaxSegments) continue;
+      const auto n = static_cast<std::uint32_t>(pslg.points.size());
+      pslg.segments.push_back({a % n, b % n, 1 + (tag >> 6)});
+      pslg.segment_lines.push_back(pslg.segments.size());
+      pslg.is_poly = true;
+    } else {  // a hole seed on the half grid
+      const double x = in.grid() + 0.125;
+      const double y = in.grid() + 0.125;
+      if (pslg.holes.size() < kMaxHoles) pslg.holes.push_back({x, y});
+      pslg.is_poly = true;
+    }
+  }
+
+  mwst::Mesh mesh;
+  try {
+    mwst::triangulate(pslg, options, &mesh);
+  } catch (const mwst::InputError&) {
+    return 0;
+  } catch (const std::exception& e) {
+    fail("triangulate threw", e.what());
+  }
+  const std::vector<std::string> problems = mwst::validate(mesh);
+  if (!problems.empty()) fail("validate", problems.front());
+  try {
+    const mwst::CheckResult check = check_mesh(pslg, mesh);
+    if (!check.ok()) fail("check_triangulation", check.messages.empty() ? "?" : check.messages.front());
+  } catch (const std::exception& e) {
+    fail("check_triangulation threw", e.what());
+  }
+  return 0;
+}
