@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "mwst/mesh.hpp"
 
@@ -52,13 +53,24 @@ struct RefineOptions {
   RefineOrder order = RefineOrder::kShortestEdgeFirst;
   BadTriangleTest is_bad;        // empty: the angle/area test
   SteinerPointRule steiner_point;  // empty: circumcenter or off-center per `rule`
+  // Seeded (incremental) refinement, for a mesh a previous refine() pass already refined (hull
+  // edges marked, no encroached subsegment left) when only a few triangles are to be re-examined.
+  // Used only when non-empty and is_bad is set: then only these triangles (live, in-domain slots;
+  // others are ignored) and the triangles the splits make are tested and queued, and only the
+  // subsegments on their edges are checked for encroachment; the whole-mesh scans (hull marking,
+  // encroachment, initial queue, final recount) are skipped, so a pass costs time proportional
+  // to its work, not to the mesh. RefineStats::left_small_angle then counts the bad triangles
+  // among those tested. Empty: the whole mesh, as always (the output does not depend on this
+  // field then).
+  std::vector<TriangleId> seed_triangles;
 };
 
 struct RefineStats {
   std::size_t steiner_inserted = 0;   // free Steiner points
   std::size_t segment_splits = 0;     // Steiner points on segments
   std::size_t left_small_angle = 0;   // bad triangles left because they cannot be improved
-                                      // (near small input angles, Miller–Pav–Walkington)
+                                      // (near small input angles, Miller–Pav–Walkington;
+                                      // with seeds: among the triangles tested)
   std::size_t hull_edges_marked = 0;  // hull edges of a convex-hull domain made subsegments
   std::size_t rejected = 0;           // Steiner points not inserted (they encroached a subsegment
                                       // or lay beyond one); the subsegment was split instead

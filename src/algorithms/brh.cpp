@@ -13,9 +13,11 @@
 // proportional to the disk's triangles, so the refinement runs like DR, in one pass. When no
 // skinny triangle passes the local test, the exact test (in_k_bundle, bundle.cpp: circumdisks,
 // then pencil sweeps, only near the skinny triangles) decides; the triangles it finds are
-// refined in another pass; BRH stops when it finds none. So the guarantee rests on the exact test
-// alone; the local one (whose edge crossings are decided in floating point) only makes the
-// refinement fast, and a triangle it wrongly called bad would only cost a Steiner point.
+// refined in another pass, seeded with them (RefineOptions::seed_triangles: only they and the
+// triangles the splits make are tested, no sweep over the mesh); BRH stops when it finds none.
+// So the guarantee rests on the exact test alone; the local one (whose edge crossings are decided
+// in floating point) only makes the refinement fast, and a triangle it wrongly called bad would
+// only cost a Steiner point.
 #include "mwst/brh.hpp"
 
 #include <algorithm>
@@ -204,14 +206,43 @@ BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
   const SkinnyTest is_skinny(A);
   RefineOptions ro = options.refine;
   ro.min_angle_deg = A;
+  // Skinny triangles a seeded pass tested (every triangle it made passes through is_bad).
+  std::vector<TriangleId> made_skinny;
+  bool record_skinny = false;
   ro.is_bad = [&](const Mesh& m, TriangleId t) {
     if (!is_skinny(m, t)) return false;
+    if (record_skinny) made_skinny.push_back(t);
     return (!marked.empty() && marked.count(sorted_triple(m, t)) != 0) || local.in_bundle(m, t);
   };
   std::size_t steiner_budget = options.refine.max_steiner;
   // Set when a pass driven by the local test alone inserted nothing (its triangles sit at small
   // input angles): the next pass asks the exact test, so that no triangle it would find is missed.
   bool force_exact = false;
+  // The skinny triangles of the domain. After a seeded pass they are updated, not recounted: a
+  // triangle the pass did not make is unchanged, so they are the old ones still alive and skinny
+  // plus the skinny ones the pass made (`made_skinny`). Before BRH stops on such a list, a sweep
+  // over the whole mesh confirms it (the guarantee must not rest on the bookkeeping).
+  std::vector<TriangleId> skinny;
+  bool skinny_updated = false;      // skinny comes from an update, not a sweep
+  std::size_t confirmed_skinny = 0;  // the sweep's count when it confirmed the list
+  bool confirmed = false;
+  bool swept_again = false;          // confirm_skinny failed: skinny holds its sweep
+  auto sweep_skinny = [&] {
+    skinny.clear();
+    for (TriangleId t = 0; t < mesh.triangles.size(); ++t) {
+      if (mesh.in_domain(t) && is_skinny(mesh, t)) skinny.push_back(t);
+    }
+    skinny_updated = false;
+  };
+  // True if the updated list holds every skinny triangle (else it is replaced by the sweep's).
+  auto confirm_skinny = [&] {
+    const std::size_t updated = skinny.size();
+    sweep_skinny();
+    if (skinny.size() != updated) return false;  // the update is a subset of the sweep
+    confirmed = true;
+    confirmed_skinny = updated;
+    return true;
+  };
   stats.stop_reason = "bound reached";
   for (stats.rounds = 0; stats.rounds < options.max_rounds;) {
     if (options.refine.time_budget_seconds > 0.0 &&
@@ -220,20 +251,32 @@ BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
       stats.stop_reason = "time budget";
       break;
     }
-    // Skinny triangles of the domain.
-    std::vector<TriangleId> skinny;
-    for (TriangleId t = 0; t < mesh.triangles.size(); ++t) {
-      if (mesh.in_domain(t) && is_skinny(mesh, t)) skinny.push_back(t);
+    if (swept_again) {
+      swept_again = false;  // skinny holds confirm_skinny's sweep
+    } else if (skinny_updated) {
+      skinny.insert(skinny.end(), made_skinny.begin(), made_skinny.end());
+      std::sort(skinny.begin(), skinny.end());
+      skinny.erase(std::unique(skinny.begin(), skinny.end()), skinny.end());
+      std::erase_if(skinny, [&](TriangleId t) {
+        return t >= mesh.triangles.size() || !mesh.in_domain(t) || !is_skinny(mesh, t);
+      });
+    } else {
+      sweep_skinny();
     }
-    if (skinny.empty()) break;
+    made_skinny.clear();
+    if (skinny.empty()) {
+      if (!skinny_updated || confirm_skinny()) break;
+      swept_again = true;  // the sweep found skinny triangles the update missed
+      continue;
+    }
     marked.clear();
     local.clear();
     // First pass: any skinny triangle the local test finds starts the refinement. With many
     // skinny triangles only a sample is tried: when none of it is found, the exact test (whose
     // first, circumdisk stage finds what the local test would) is cheaper than testing them all.
     // Later passes go to the exact test directly: after a refinement few skinny triangles are
-    // left, the exact test on few triangles is local (in_k_bundle), and a refinement pass costs a
-    // sweep over the whole mesh, so passes that the local test alone would start cost more.
+    // left, the exact test on few triangles is local (in_k_bundle), and the pass it starts is
+    // seeded with the triangles it marks (no sweep over the whole mesh).
     bool any_local = false;
     const std::size_t sample = stats.rounds > 0 ? 0 : std::min<std::size_t>(skinny.size(), 256);
     for (std::size_t i = 0; i < sample && !any_local && !force_exact; ++i) {
@@ -242,14 +285,29 @@ BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
     if (!any_local || force_exact) {
       const std::vector<std::uint8_t> exact = in_k_bundle(mesh, K, skinny);
       ++stats.exact_evaluations;
+      ro.seed_triangles.clear();
       for (std::size_t i = 0; i < skinny.size(); ++i) {
-        if (exact[i]) marked.insert(sorted_triple(mesh, skinny[i]));
+        if (!exact[i]) continue;
+        marked.insert(sorted_triple(mesh, skinny[i]));
+        ro.seed_triangles.push_back(skinny[i]);
       }
-      if (marked.empty()) break;  // no skinny triangle is in a K-bundle
+      if (marked.empty()) {
+        if (!skinny_updated || confirm_skinny()) break;  // no skinny triangle is in a K-bundle
+        swept_again = true;  // the sweep found skinny triangles the update missed: test them all
+        continue;
+      }
     }
+    // After the first pass the mesh is refined (hull marked, nothing encroached) and only the
+    // marked triangles need a look: a seeded pass starts from them alone, at a cost proportional
+    // to what it splits instead of a sweep over the whole mesh. The first pass, and any pass the
+    // local test started, sweeps the whole mesh.
+    if (stats.rounds == 0 || any_local) ro.seed_triangles.clear();
     ++stats.rounds;
     ro.max_steiner = steiner_budget;
+    record_skinny = !ro.seed_triangles.empty();
     const RefineStats rs = refine(mesh, ro);
+    skinny_updated = record_skinny;
+    record_skinny = false;
     const std::size_t added = rs.steiner_inserted + rs.segment_splits;
     stats.steiner_inserted += rs.steiner_inserted;
     stats.segment_splits += rs.segment_splits;
@@ -271,8 +329,12 @@ BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
     }
   }
   if (stats.rounds >= options.max_rounds) stats.stop_reason = "round limit";
-  for (TriangleId t = 0; t < mesh.triangles.size(); ++t) {
-    if (mesh.in_domain(t) && is_skinny(mesh, t)) ++stats.skinny_left;
+  if (confirmed) {
+    stats.skinny_left = confirmed_skinny;  // the mesh has not changed since the sweep
+  } else {
+    for (TriangleId t = 0; t < mesh.triangles.size(); ++t) {
+      if (mesh.in_domain(t) && is_skinny(mesh, t)) ++stats.skinny_left;
+    }
   }
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return stats;

@@ -154,6 +154,7 @@ class Refiner {
     }
     max_area_ = options.max_area;
     custom_test_ = static_cast<bool>(options.is_bad);
+    seeded_ = custom_test_ && !options.seed_triangles.empty();
     worst_first_ = options.order == RefineOrder::kWorstQualityFirst;
   }
 
@@ -164,6 +165,7 @@ class Refiner {
   bool evaluate(TriangleId t, Eval& ev);
   void enqueue_if_bad(TriangleId t) {
     Eval ev;
+    if (seeded_) tested_.push_back(t);
     if (evaluate(t, ev)) queue_.push(ev.key, t, m_.triangles[t].v[0]);
   }
   bool encroaches(const Point& x, const Point& a, const Point& b) const;
@@ -237,6 +239,7 @@ class Refiner {
   double lens_cos2_ = 0.0;
   double max_area_ = -1.0;
   bool custom_test_ = false;
+  bool seeded_ = false;  // RefineOptions::seed_triangles in use
   bool worst_first_ = false;
   bool stop_ = false;
   std::string stop_reason_;
@@ -262,6 +265,7 @@ class Refiner {
   std::vector<TriangleId> slots_;
   std::vector<TriangleId> hull_work_;
   std::vector<TriangleId> unfolded_;  // ghosts made by unfold_hull_slivers, to be refolded
+  std::vector<TriangleId> tested_;    // seeded: every slot tested (the final recount's range)
 };
 
 // ---- tests -------------------------------------------------------------------------------------
@@ -1001,17 +1005,28 @@ void Refiner::reserve_for_area_bound() {
 
 void Refiner::run() {
   const auto t0 = Clock::now();
-  mark_hull_segments();
-  reserve_for_area_bound();
+  // Seeded: the mesh was refined before (hull marked, no encroached subsegment); only the seeds
+  // and what the splits make are looked at. A seed slot that is dead, a ghost or outside is
+  // ignored (the caller's list may be stale).
+  std::vector<TriangleId> seeds;
+  if (seeded_) {
+    for (const TriangleId t : opt_.seed_triangles) {
+      if (t < m_.triangles.size() && m_.in_domain(t)) seeds.push_back(t);
+    }
+  } else {
+    mark_hull_segments();
+    reserve_for_area_bound();
+  }
   // Phase 1: every encroached subsegment, before any triangle (Ruppert's order).
-  const std::size_t slots = m_.triangles.size();
-  for (TriangleId t = 0; t < slots; ++t) {
+  const std::size_t slots = seeded_ ? seeds.size() : m_.triangles.size();
+  for (std::size_t i = 0; i < slots; ++i) {
+    const TriangleId t = seeded_ ? seeds[i] : static_cast<TriangleId>(i);
     if (!m_.in_domain(t)) continue;
     for (unsigned e = 0; e < 3; ++e) {
       const Handle h = make_handle(t, e);
       if (!m_.is_segment(h)) continue;
       const TriangleId other = m_.sym(h) >> 2;
-      if (m_.in_domain(other) && other < t) continue;  // checked from the other side
+      if (!seeded_ && m_.in_domain(other) && other < t) continue;  // checked from the other side
       check_subsegment(h);
     }
   }
@@ -1019,8 +1034,14 @@ void Refiner::run() {
   const auto t1 = Clock::now();
   stats_.seconds_segments = std::chrono::duration<double>(t1 - t0).count();
   // Phase 2: bad triangles.
-  for (TriangleId t = 0; t < m_.triangles.size(); ++t) {
-    if (m_.in_domain(t)) enqueue_if_bad(t);
+  if (seeded_) {
+    for (const TriangleId t : seeds) {
+      if (m_.in_domain(t)) enqueue_if_bad(t);  // a segment split may have replaced it
+    }
+  } else {
+    for (TriangleId t = 0; t < m_.triangles.size(); ++t) {
+      if (m_.in_domain(t)) enqueue_if_bad(t);
+    }
   }
   std::size_t iterations = 0;
   while (!stop_) {
@@ -1056,7 +1077,16 @@ void Refiner::run() {
   // made was tested when it was made, so after a clean run with the local default test there is
   // nothing to count; a custom test may depend on more than the triangle, so it is always rerun.
   std::size_t left = 0;
-  if (stop_ || custom_test_ || stats_.skipped_mpw > 0 || stats_.precision_skips > 0) {
+  if (seeded_) {
+    // Only the seeds and the triangles made were tested; a slot tested twice is counted once.
+    std::sort(tested_.begin(), tested_.end());
+    tested_.erase(std::unique(tested_.begin(), tested_.end()), tested_.end());
+    for (const TriangleId t : tested_) {
+      if (!m_.in_domain(t)) continue;
+      Eval ev;
+      if (evaluate(t, ev)) ++left;
+    }
+  } else if (stop_ || custom_test_ || stats_.skipped_mpw > 0 || stats_.precision_skips > 0) {
     for (TriangleId t = 0; t < m_.triangles.size(); ++t) {
       if (!m_.in_domain(t)) continue;
       Eval ev;
