@@ -85,7 +85,9 @@ bool key_grid(const Point* pts, const std::uint32_t* idx, std::size_t count, Key
   // Halving before subtracting keeps the extent finite near the coordinate range limit.
   const double extent = std::max(xmax * 0.5 - xmin * 0.5, ymax * 0.5 - ymin * 0.5);
   if (!(extent > 0.0)) return false;
-  grid = {xmin, ymin, kGridCells / extent * 0.5};
+  // Coordinates are halved before subtracting (fx below), and extent is a half extent: the grid
+  // spans [0, kGridCells] in the longer direction.
+  grid = {xmin, ymin, kGridCells / extent};
   return true;
 }
 
