@@ -7,8 +7,12 @@
 // machines. Points are copied in curve order so that the vertices a walk touches are neighbours
 // in memory; ids are mapped back to the input order at the end. The triangle array is reserved
 // exactly (2n − 2 triangles, ghosts included, for n vertices) so it never reallocates.
+#include <sys/mman.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <numeric>
@@ -305,16 +309,33 @@ void merge_halves(Mesh& left, Mesh&& right) {
   const auto nl = static_cast<VertexId>(left.points.size());
   const auto tl = static_cast<TriangleId>(left.triangles.size());
   left.points.insert(left.points.end(), right.points.begin(), right.points.end());
+  std::vector<Point>().swap(right.points);
+  left.flags.insert(left.flags.end(), right.flags.begin(), right.flags.end());
+  std::vector<std::uint8_t>().swap(right.flags);
+  // The triangles are copied in chunks, and each copied chunk of the source is handed back to the
+  // kernel at once, so that the peak memory is the merged mesh plus one chunk rather than plus the
+  // whole right half (the source is never read again; the vector frees its block at the end).
   left.triangles.reserve(left.triangles.size() + right.triangles.size() + 2);
-  for (const Triangle& t : right.triangles) {
-    Triangle c = t;
+  constexpr std::size_t kChunkBytes = std::size_t{1} << 20;
+  const std::size_t page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+  const auto* base = reinterpret_cast<const unsigned char*>(right.triangles.data());
+  std::size_t released = 0;  // bytes of the source already released, from its start
+  for (std::size_t i = 0; i < right.triangles.size(); ++i) {
+    Triangle c = right.triangles[i];
     for (VertexId& v : c.v) {
       if (v != kInfinite) v += nl;
     }
     for (Handle& h : c.n) h += 4 * tl;
     left.triangles.push_back(c);
+    const std::size_t done = (i + 1) * sizeof(Triangle);
+    if (done - released >= kChunkBytes) {
+      // Whole pages strictly inside [base + released, base + done).
+      const auto first = (reinterpret_cast<std::uintptr_t>(base) + released + page - 1) / page * page;
+      const auto last = (reinterpret_cast<std::uintptr_t>(base) + done) / page * page;
+      if (last > first) ::madvise(reinterpret_cast<void*>(first), last - first, MADV_DONTNEED);
+      released = done;
+    }
   }
-  left.flags.insert(left.flags.end(), right.flags.begin(), right.flags.end());
   right = Mesh();
   Mesh& m = left;
   const auto& P = m.points;
@@ -507,6 +528,11 @@ Mesh delaunay(std::vector<Point> points, DelaunayStats* stats) {
   if (n >= kParallelThreshold && left_count >= n / 8 && n - left_count >= n / 8) {
     Mesh right;
     std::vector<VertexId> kept_right;
+    // The left half's arrays are reserved for the whole mesh, so that merging the right half in
+    // appends in place: no reallocation, and pages are touched only as they are used.
+    m.points.reserve(n);
+    m.triangles.reserve(2 * n + 16);
+    m.flags.reserve(2 * n + 16);
     m.points.resize(left_count);
     right.points.resize(n - left_count);
     Degeneracy dl = Degeneracy::kValid, dr = Degeneracy::kValid;
