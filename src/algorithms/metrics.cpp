@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <thread>
 #include <vector>
 
 namespace mwst {
@@ -26,9 +27,13 @@ void triangle_angles_deg(const Mesh& mesh, TriangleId t, double out[3]) {
   out[2] = angle(c, a, b);
 }
 
-Metrics measure(const Mesh& mesh) {
-  Metrics r;
-  std::vector<char> used(mesh.points.size(), 0);
+namespace {
+
+// The sums and extremes of measure() over a range of triangle slots.
+struct PartialMetrics {
+  std::size_t triangles = 0;
+  double weight_total = 0.0, weight_boundary = 0.0;
+  double area2 = 0.0;  // twice the area
   // Angle extremes without a trigonometric call per triangle: a triangle's smallest angle is
   // opposite its shortest edge and is at most 60°, so it is atan(|cross| / dot) with dot > 0 and
   // the ratio is monotone in it; its largest angle is opposite its longest edge, and
@@ -36,19 +41,33 @@ Metrics measure(const Mesh& mesh) {
   // and converted to degrees once at the end.
   double min_tan = std::numeric_limits<double>::infinity();
   double max_cross = 0.0, max_dot = 1.0;  // the corner with the largest angle so far (0° at start)
-  double area2 = 0.0;                    // twice the area
-  for (TriangleId t = 0; t < mesh.triangles.size(); ++t) {
+
+  void add_largest_corner(double cross, double dot) {
+    // Is atan2(cross, dot) larger than atan2(max_cross, max_dot)? Both cross ≥ 0: compare by the
+    // sign of the 2×2 determinant (the rotation from the stored corner's direction to this one).
+    if (dot * max_cross - cross * max_dot < 0.0) {
+      max_cross = cross;
+      max_dot = dot;
+    }
+  }
+};
+
+PartialMetrics measure_range(const Mesh& mesh, TriangleId begin, TriangleId end) {
+  PartialMetrics r;
+  for (TriangleId t = begin; t < end; ++t) {
     if (!mesh.in_domain(t)) continue;
     ++r.triangles;
     const Triangle& T = mesh.triangles[t];
     for (unsigned e = 0; e < 3; ++e) {
-      used[T.v[e]] = 1;
       const Handle h = make_handle(t, e);
       const TriangleId other = mesh.sym(h) >> 2;
       const bool other_in = mesh.in_domain(other);
       // Count each interior edge once (from its lower-numbered triangle), boundary edges once.
       if (other_in && other < t) continue;
-      const double len = distance(mesh.points[mesh.org(h)], mesh.points[mesh.dest(h)]);
+      const Point& a = mesh.points[mesh.org(h)];
+      const Point& b = mesh.points[mesh.dest(h)];
+      // sqrt of the squared length: no overflow or underflow in the supported coordinate range.
+      const double len = std::sqrt((a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y));
       r.weight_total += len;
       if (!other_in || mesh.is_segment(h)) r.weight_boundary += len;
     }
@@ -72,21 +91,49 @@ Metrics measure(const Mesh& mesh) {
     };
     double cross = 0.0, dot = 0.0;
     corner(smallest, cross, dot);
-    if (dot > 0.0) min_tan = std::min(min_tan, cross / dot);
-    else if (cross == 0.0) min_tan = 0.0;  // a degenerate triangle (never in a valid mesh)
+    if (dot > 0.0) r.min_tan = std::min(r.min_tan, cross / dot);
+    else if (cross == 0.0) r.min_tan = 0.0;  // a degenerate triangle (never in a valid mesh)
     corner(largest, cross, dot);
-    // Is atan2(cross, dot) larger than atan2(max_cross, max_dot)? Both cross ≥ 0: compare by the
-    // sign of the 2×2 determinant (the rotation from the stored corner's direction to this one).
-    if (dot * max_cross - cross * max_dot < 0.0) {
-      max_cross = cross;
-      max_dot = dot;
-    }
+    r.add_largest_corner(cross, dot);
     const Point& a = *p[0];
-    area2 += (p[1]->x - a.x) * (p[2]->y - a.y) - (p[1]->y - a.y) * (p[2]->x - a.x);
+    r.area2 += (p[1]->x - a.x) * (p[2]->y - a.y) - (p[1]->y - a.y) * (p[2]->x - a.x);
   }
-  r.area = 0.5 * area2;
-  r.min_angle_deg = r.triangles == 0 ? 0.0 : std::atan(min_tan) * 180.0 / std::numbers::pi;
-  r.max_angle_deg = r.triangles == 0 ? 0.0 : std::atan2(max_cross, max_dot) * 180.0 / std::numbers::pi;
+  return r;
+}
+
+}  // namespace
+
+Metrics measure(const Mesh& mesh) {
+  // Large meshes are measured in two halves on two threads (the split depends only on the mesh
+  // size, so the sums are the same run after run).
+  const auto slots = static_cast<TriangleId>(mesh.triangles.size());
+  PartialMetrics part;
+  if (slots >= (TriangleId{1} << 16)) {
+    PartialMetrics second;
+    std::thread worker([&] { second = measure_range(mesh, slots / 2, slots); });
+    part = measure_range(mesh, 0, slots / 2);
+    worker.join();
+    part.triangles += second.triangles;
+    part.weight_total += second.weight_total;
+    part.weight_boundary += second.weight_boundary;
+    part.area2 += second.area2;
+    part.min_tan = std::min(part.min_tan, second.min_tan);
+    part.add_largest_corner(second.max_cross, second.max_dot);
+  } else {
+    part = measure_range(mesh, 0, slots);
+  }
+  Metrics r;
+  r.triangles = part.triangles;
+  r.weight_total = part.weight_total;
+  r.weight_boundary = part.weight_boundary;
+  r.area = 0.5 * part.area2;
+  r.min_angle_deg = r.triangles == 0 ? 0.0 : std::atan(part.min_tan) * 180.0 / std::numbers::pi;
+  r.max_angle_deg = r.triangles == 0 ? 0.0 : std::atan2(part.max_cross, part.max_dot) * 180.0 / std::numbers::pi;
+  std::vector<char> used(mesh.points.size(), 0);
+  for (TriangleId t = 0; t < slots; ++t) {
+    if (!mesh.in_domain(t)) continue;
+    for (const VertexId v : mesh.triangles[t].v) used[v] = 1;
+  }
   for (VertexId v = 0; v < used.size(); ++v) {
     if (!used[v]) continue;
     ++r.vertices;
