@@ -41,6 +41,7 @@ if [ "${SKIP_ASAN:-0}" != 1 ]; then
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DMWST_SANITIZE=ON -DMWST_WERROR=OFF \
     -DMWST_BUILD_CGAL_TESTS=OFF
   cmake --build build-asan -j "$jobs"
+  LSAN_OPTIONS="suppressions=$PWD/scripts/lsan-suppressions.txt:print_suppressions=0" \
   ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1" \
   UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1" \
     ctest --test-dir build-asan --output-on-failure -j "$jobs"
