@@ -112,66 +112,43 @@ const std::vector<Quad>& inputs(int which) {
 
 const char* kNames[] = {"random", "grid", "circle", "collinear", "circle far"};
 
-void mwst_incircle(benchmark::State& state) {
+// Times `predicate` cycling over the queries of input state.range(0), each query given as its
+// points in the representation `convert` makes of an mwst point (mwst's own, or CGAL's).
+template <class Convert, class Predicate>
+void run_queries(benchmark::State& state, Convert convert, Predicate predicate) {
   const auto& q = inputs(static_cast<int>(state.range(0)));
   state.SetLabel(kNames[state.range(0)]);
+  using P = decltype(convert(mwst::Point{}));
+  std::vector<std::array<P, 4>> c(q.size());
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    for (std::size_t k = 0; k < 4; ++k) c[i][k] = convert(q[i][k]);
+  }
   std::size_t i = 0;
   int acc = 0;
-  for (auto _ : state) {
-    const Quad& x = q[i++ % kQueries];
-    acc += mwst::incircle(x[0], x[1], x[2], x[3]);
-  }
+  for (auto _ : state) acc += static_cast<int>(predicate(c[i++ % kQueries]));
   benchmark::DoNotOptimize(acc);
   state.SetItemsProcessed(state.iterations());
+}
+
+const auto as_mwst = [](const mwst::Point& p) { return p; };
+const auto as_cgal = [](const mwst::Point& p) { return K::Point_2(p.x, p.y); };
+
+void mwst_incircle(benchmark::State& state) {
+  run_queries(state, as_mwst, [](const auto& x) { return mwst::incircle(x[0], x[1], x[2], x[3]); });
 }
 
 void cgal_incircle(benchmark::State& state) {
-  const auto& q = inputs(static_cast<int>(state.range(0)));
-  state.SetLabel(kNames[state.range(0)]);
-  std::vector<std::array<K::Point_2, 4>> c(q.size());
-  for (std::size_t i = 0; i < q.size(); ++i) {
-    for (std::size_t k = 0; k < 4; ++k) c[i][k] = K::Point_2(q[i][k].x, q[i][k].y);
-  }
   const auto side = K().side_of_oriented_circle_2_object();
-  std::size_t i = 0;
-  int acc = 0;
-  for (auto _ : state) {
-    const auto& x = c[i++ % kQueries];
-    acc += static_cast<int>(side(x[0], x[1], x[2], x[3]));
-  }
-  benchmark::DoNotOptimize(acc);
-  state.SetItemsProcessed(state.iterations());
+  run_queries(state, as_cgal, [&](const auto& x) { return side(x[0], x[1], x[2], x[3]); });
 }
 
 void mwst_orient2d(benchmark::State& state) {
-  const auto& q = inputs(static_cast<int>(state.range(0)));
-  state.SetLabel(kNames[state.range(0)]);
-  std::size_t i = 0;
-  int acc = 0;
-  for (auto _ : state) {
-    const Quad& x = q[i++ % kQueries];
-    acc += mwst::orient2d(x[0], x[1], x[2]);
-  }
-  benchmark::DoNotOptimize(acc);
-  state.SetItemsProcessed(state.iterations());
+  run_queries(state, as_mwst, [](const auto& x) { return mwst::orient2d(x[0], x[1], x[2]); });
 }
 
 void cgal_orient2d(benchmark::State& state) {
-  const auto& q = inputs(static_cast<int>(state.range(0)));
-  state.SetLabel(kNames[state.range(0)]);
-  std::vector<std::array<K::Point_2, 3>> c(q.size());
-  for (std::size_t i = 0; i < q.size(); ++i) {
-    for (std::size_t k = 0; k < 3; ++k) c[i][k] = K::Point_2(q[i][k].x, q[i][k].y);
-  }
   const auto orientation = K().orientation_2_object();
-  std::size_t i = 0;
-  int acc = 0;
-  for (auto _ : state) {
-    const auto& x = c[i++ % kQueries];
-    acc += static_cast<int>(orientation(x[0], x[1], x[2]));
-  }
-  benchmark::DoNotOptimize(acc);
-  state.SetItemsProcessed(state.iterations());
+  run_queries(state, as_cgal, [&](const auto& x) { return orientation(x[0], x[1], x[2]); });
 }
 
 BENCHMARK(mwst_incircle)->Arg(0)->Arg(1)->Arg(2)->Arg(4);

@@ -14,6 +14,12 @@ struct FlipStats {
   double seconds = 0.0;
 };
 
+// True if a triangle corner at v whose two sides are subsegments (side1_is_segment,
+// side2_is_segment) would be a straight angle in truth: v is a Steiner point splitting a segment,
+// and its two subsegments are straight however convex the rounded point makes the corner look. Such
+// a triangle is a sliver along the segment; neither the flips nor the optimiser may make one.
+bool is_straight_corner(const Mesh& mesh, VertexId v, bool side1_is_segment, bool side2_is_segment);
+
 // True if edge h (between two domain triangles, not a subsegment) has a strictly convex
 // quadrilateral whose other diagonal is strictly shorter (exact comparison of squared lengths).
 bool is_weight_reducing_flip(const Mesh& mesh, Handle h);

@@ -30,17 +30,11 @@ bool flippable(const Mesh& m, Handle h) {
   const Point& d = m.points[m.apex(s)];
   // Strictly convex: both new triangles (c, a, d) and (d, b, c) are counter-clockwise.
   if (!(orient2d(c, a, d) > 0 && orient2d(d, b, c) > 0)) return false;
-  // A Steiner point splitting a segment is the rounding of a point on it: its two subsegments are
-  // straight in truth, however convex the rounding makes the quadrilateral look. A new triangle
-  // with both of them as sides would span that straight angle (a sliver of zero true area whose
-  // new edge lies along the segment), so such a flip is refused. (At a crossing point the two
-  // sides would belong to different segments; refusing there only forgoes a flip.)
-  const auto spans_straight_angle = [&](VertexId v, Handle side1, Handle side2) {
-    return v < m.vertex_kind.size() && m.vertex_kind[v] == VertexKind::kSteinerOnSegment &&
-           m.is_segment(side1) && m.is_segment(side2);
-  };
-  return !spans_straight_angle(m.org(h), Mesh::lprev(h), Mesh::lnext(s)) &&
-         !spans_straight_angle(m.dest(h), Mesh::lnext(h), Mesh::lprev(s));
+  // The new triangles must not have a straight corner at a Steiner point on a segment (at a
+  // crossing point the two sides would belong to different segments; refusing there only forgoes
+  // a flip).
+  return !is_straight_corner(m, m.org(h), m.is_segment(Mesh::lprev(h)), m.is_segment(Mesh::lnext(s))) &&
+         !is_straight_corner(m, m.dest(h), m.is_segment(Mesh::lnext(h)), m.is_segment(Mesh::lprev(s)));
 }
 
 struct Candidate {
@@ -118,6 +112,11 @@ FlipStats flip_to_local_minimum(Mesh& m) {
   stats.weight_after = measure(m).weight_total;
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return stats;
+}
+
+bool is_straight_corner(const Mesh& mesh, VertexId v, bool side1_is_segment, bool side2_is_segment) {
+  return side1_is_segment && side2_is_segment && v < mesh.vertex_kind.size() &&
+         mesh.vertex_kind[v] == VertexKind::kSteinerOnSegment;
 }
 
 }  // namespace mwst

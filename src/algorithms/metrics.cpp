@@ -110,7 +110,7 @@ Metrics measure(const Mesh& mesh) {
   PartialMetrics part;
   if (slots >= (TriangleId{1} << 16)) {
     PartialMetrics second;
-    std::thread worker([&] { second = measure_range(mesh, slots / 2, slots); });
+    std::jthread worker([&] { second = measure_range(mesh, slots / 2, slots); });
     part = measure_range(mesh, 0, slots / 2);
     worker.join();
     part.triangles += second.triangles;

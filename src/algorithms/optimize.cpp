@@ -180,9 +180,7 @@ bool spans_straight_angle(const Mesh& m, const std::vector<VertexId>& ids, EdgeI
       const std::size_t j = tri[k], a = tri[(k + 1) % 3], b = tri[(k + 2) % 3];
       const std::size_t before = (j + d - 1) % d, after = (j + 1) % d;
       const bool both_sides_on_boundary = (a == before && b == after) || (a == after && b == before);
-      if (both_sides_on_boundary && ids[j] < m.vertex_kind.size() &&
-          m.vertex_kind[ids[j]] == VertexKind::kSteinerOnSegment && edge_is_segment(before) &&
-          edge_is_segment(j)) {
+      if (both_sides_on_boundary && is_straight_corner(m, ids[j], edge_is_segment(before), edge_is_segment(j))) {
         return true;
       }
     }

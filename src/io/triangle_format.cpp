@@ -690,19 +690,12 @@ void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index) {
       node += '\n';
     }
   };
-  std::thread node_worker;
+  std::jthread node_worker;  // joins on every way out of this function (a throw below included)
   if (nv >= (std::size_t{1} << 15)) {
-    node_worker = std::thread(format_nodes);
+    node_worker = std::jthread(format_nodes);
   } else {
     format_nodes();
   }
-  // Joins the node thread on every way out of this function (a throw below included).
-  struct JoinOnExit {
-    std::thread& thread;
-    ~JoinOnExit() {
-      if (thread.joinable()) thread.join();
-    }
-  } join_node_worker{node_worker};
 
   // PREFIX.ele: the live, finite, in-domain triangles, corners counter-clockwise.
   const std::size_t slots = mesh.triangles.size();

@@ -211,14 +211,14 @@ std::vector<std::uint32_t> hilbert_order(const std::vector<Point>& points, std::
     // keys stably by that bit and sort the halves on two threads. Same order as one sort.
     std::vector<std::uint64_t> words(order.size()), buffer(order.size());
     const std::size_t n = order.size(), half = n / 2;
-    std::thread key_worker([&] { fill_keys(points.data(), order.data(), half, n, grid, buffer.data()); });
+    std::jthread key_worker([&] { fill_keys(points.data(), order.data(), half, n, grid, buffer.data()); });
     fill_keys(points.data(), order.data(), 0, half, grid, buffer.data());
     key_worker.join();
     std::size_t left = 0;
     for (const std::uint64_t w : buffer) left += (w >> 63) == 0 ? 1 : 0;
     std::size_t l = 0, r = left;
     for (const std::uint64_t w : buffer) words[(w >> 63) == 0 ? l++ : r++] = w;
-    std::thread worker([&] {
+    std::jthread worker([&] {
       sort_keys_and_refine(points.data(), order.data() + left, n - left, words.data() + left,
                            buffer.data() + left, 0);
       brio_rounds(order.data() + left, n - left);
@@ -536,7 +536,7 @@ Mesh delaunay(std::vector<Point> points, DelaunayStats* stats) {
     m.points.resize(left_count);
     right.points.resize(n - left_count);
     Degeneracy dl = Degeneracy::kValid, dr = Degeneracy::kValid;
-    std::thread worker([&] {
+    std::jthread worker([&] {
       for (std::size_t i = left_count; i < n; ++i) right.points[i - left_count] = points[order[i]];
       dr = build_incremental(right, kept_right);
     });
@@ -592,7 +592,7 @@ Mesh delaunay(std::vector<Point> points, DelaunayStats* stats) {
   };
   const std::size_t triangle_count = m.triangles.size();
   if (n >= kParallelThreshold) {
-    std::thread worker(map_back, triangle_count / 2, triangle_count);
+    std::jthread worker(map_back, triangle_count / 2, triangle_count);
     map_back(0, triangle_count / 2);
     worker.join();
   } else {
