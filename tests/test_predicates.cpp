@@ -446,6 +446,67 @@ TEST(Incircle, OffsetCirclesUlpPerturbations) {
   }
 }
 
+// The double-double stage of incircle_exact (exact differences, ≈106-bit evaluation, bound
+// 2⁻⁹⁸·permanent). Two families whose differences are exact:
+//  - far-apart chords of points rounded onto small circles away from the origin (the holes of
+//    bench_cdt): the determinant is ~10⁻¹⁶ of the permanent, decided by this stage;
+//  - integer points exactly on x² + y² = R with R = 5·13·17·29·37·41·53·61·73·89·97·101 (about
+//    10¹⁹, 2048 representations from Gaussian-integer products): the terms need ~132 bits, so the
+//    double-double value of an exactly cocircular quadruple is rounding noise that must stay below
+//    the bound (the sign is 0), and d moved by one unit gives a determinant ~2⁻³³ of the
+//    permanent.
+TEST(Incircle, DoubleDoubleStage) {
+  const FailureScope scope;
+  Rng rng(4242);
+  std::int64_t exact_differences = 0;
+  for (int iter = 0; iter < 20000; ++iter) {
+    const Point center{0.1 * static_cast<double>(rng() % 19 + 1), 0.1 * static_cast<double>(rng() % 19 + 1)};
+    const double radius = uniform(rng, 0.01, 0.04);
+    auto on_circle = [&] {
+      const double th = uniform(rng, 0.0, 2.0 * std::numbers::pi);
+      return Point{center.x + radius * std::cos(th), center.y + radius * std::sin(th)};
+    };
+    const Point a = on_circle(), b = on_circle(), c = on_circle();
+    Point d = on_circle();
+    for (int k = static_cast<int>(rng() % 3); k > 0; --k) d.x = std::nextafter(d.x, 0.0);
+    for (int k = static_cast<int>(rng() % 3); k > 0; --k) d.y = std::nextafter(d.y, 1.0);
+    exact_differences += (a.x - d.x) + d.x == a.x && (b.y - d.y) + d.y == b.y;
+    check_incircle(a, b, c, d);
+  }
+  EXPECT_GT(exact_differences, 10000);  // the family does reach the stage
+
+  const std::array<std::int64_t, 12> primes = {5, 13, 17, 29, 37, 41, 53, 61, 73, 89, 97, 101};
+  std::vector<std::pair<std::int64_t, std::int64_t>> roots;  // p = u² + v²
+  for (const std::int64_t p : primes) {
+    for (std::int64_t u = 1; u * u < p; ++u) {
+      const auto v = static_cast<std::int64_t>(std::llround(std::sqrt(static_cast<double>(p - u * u))));
+      if (v * v == p - u * u) {
+        roots.push_back({u, v});
+        break;
+      }
+    }
+  }
+  ASSERT_EQ(roots.size(), primes.size());
+  std::vector<Point> ring;
+  for (std::uint32_t mask = 0; mask < (1u << primes.size()); ++mask) {
+    std::int64_t x = 1, y = 0;  // the product of u ± v·i over the primes, as x + y·i
+    for (std::size_t i = 0; i < roots.size(); ++i) {
+      const std::int64_t u = roots[i].first, v = (mask >> i) & 1u ? -roots[i].second : roots[i].second;
+      const std::int64_t nx = x * u - y * v, ny = x * v + y * u;
+      x = nx;
+      y = ny;
+    }
+    ring.push_back(Point{static_cast<double>(x), static_cast<double>(y)});
+  }
+  for (int iter = 0; iter < 6000; ++iter) {
+    const Point a = ring[rng() % ring.size()], b = ring[rng() % ring.size()],
+                c = ring[rng() % ring.size()], d = ring[rng() % ring.size()];
+    EXPECT_EQ(check_incircle(a, b, c, d), 0);
+    const Point d2{d.x + static_cast<double>(static_cast<int>(rng() % 3) - 1), d.y + 1.0};
+    check_incircle(a, b, c, d2);
+  }
+}
+
 TEST(Incircle, RandomWideExponents) {
   const FailureScope scope;
   Rng rng(8080);

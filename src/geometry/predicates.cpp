@@ -54,6 +54,8 @@ inline Expansion<16> orient2d_expansion(const Point& a, const Point& b, const Po
 //   - Exact differences, exact doubles: if every coordinate difference is exact and no product or
 //     sum of the plain double evaluation rounds (grids, most exactly cocircular inputs), the double
 //     is the determinant.
+//   - Double-double (exact differences only): the determinant in ≈106-bit arithmetic, within a
+//     proven 2⁻⁹⁸ · permanent (far-apart chords of points rounded onto a circle end here).
 //   - Stage B: the determinant of the rounded differences in expansion arithmetic (fixed arrays,
 //     at most 96 components). Exact when the differences are; otherwise within iccerrboundB ·
 //     permanent of the true value.
@@ -75,6 +77,43 @@ namespace {
 #else
 #define MWST_EXACT_CLONES
 #endif
+
+// A double-double: the unevaluated sum hi + lo (not necessarily normalised). Used only by
+// incircle's double-double stage, whose error bound is stated there.
+struct DoubleDouble {
+  double hi, lo;
+};
+
+// a·b − c·d as hi + lo, within 3ε²·(|a·b| + |c·d|).
+MWST_EXACT_INLINE DoubleDouble dd_product_difference(double a, double b, double c, double d) {
+  double p = 0.0, pe = 0.0, q = 0.0, qe = 0.0, s = 0.0, t = 0.0;
+  two_product(a, b, p, pe);
+  two_product(c, d, q, qe);
+  two_sum(p, -q, s, t);
+  return {s, t + (pe - qe)};
+}
+
+// x² + y² as hi + lo, within 3ε²·(x² + y²).
+MWST_EXACT_INLINE DoubleDouble dd_sum_of_squares(double x, double y) {
+  double p = 0.0, pe = 0.0, q = 0.0, qe = 0.0, s = 0.0, t = 0.0;
+  two_product(x, x, p, pe);
+  two_product(y, y, q, qe);
+  two_sum(p, q, s, t);
+  return {s, t + (pe + qe)};
+}
+
+// u·v, dropping u.lo·v.lo and rounding the cross terms.
+MWST_EXACT_INLINE DoubleDouble dd_mul(const DoubleDouble& u, const DoubleDouble& v) {
+  double p = 0.0, e = 0.0;
+  two_product(u.hi, v.hi, p, e);
+  return {p, e + (u.hi * v.lo + u.lo * v.hi)};
+}
+
+MWST_EXACT_INLINE DoubleDouble dd_add(const DoubleDouble& u, const DoubleDouble& v) {
+  double s = 0.0, t = 0.0;
+  two_sum(u.hi, v.hi, s, t);
+  return {s, t + (u.lo + v.lo)};
+}
 
 // a·b − c·d exactly, as an expansion of at most four components.
 MWST_EXACT_INLINE Expansion<4> product_difference(double a, double b, double c, double d) {
@@ -140,6 +179,33 @@ MWST_EXACT_CLONES int incircle_sign_exact(const Point& a, const Point& b, const 
     const double clift = add(mul(cdx, cdx), mul(cdy, cdy));
     const double det = add(add(mul(alift, bc), mul(blift, ca)), mul(clift, ab));
     if (rounding == 0.0) return (det > 0.0) - (det < 0.0);
+    // Double-double stage (exact differences only): every factor as an unevaluated sum hi + lo of
+    // two doubles (≈106 bits). With ε = 2⁻⁵³ and exact differences: each 2×2 minor and each lift
+    // is within 3ε²·(its sum of absolute products); a product of two such pairs is within
+    // 14ε²·L·M (L the lift, M the minor's sum of |products|: 6ε² inherited, 8ε² from dropping
+    // lo·lo and rounding the cross terms); each of the two additions adds at most 4ε²·P, where the
+    // permanent P = Σ L·M bounds every term. So |hi + lo − det| ≤ 22ε²·P + O(ε³)·P; rounding
+    // hi + lo keeps its sign and shrinks it by at most a factor 1 + ε, so |value| > 2⁻⁹⁸·P
+    // (256ε²·P, a safety factor over 10 for the rounding of P itself and the O(ε³) terms)
+    // decides the sign. Points on a circle (rounded cos/sin) with far-apart chords land here:
+    // their determinant is ~10⁻¹⁶ of the permanent, far below the double filter's reach and far
+    // above this stage's.
+    {
+      const DoubleDouble bc_dd = dd_product_difference(bdx, cdy, cdx, bdy);
+      const DoubleDouble ca_dd = dd_product_difference(cdx, ady, adx, cdy);
+      const DoubleDouble ab_dd = dd_product_difference(adx, bdy, bdx, ady);
+      const DoubleDouble det_dd =
+          dd_add(dd_add(dd_mul(dd_sum_of_squares(adx, ady), bc_dd), dd_mul(dd_sum_of_squares(bdx, bdy), ca_dd)),
+                 dd_mul(dd_sum_of_squares(cdx, cdy), ab_dd));
+      const double value = det_dd.hi + det_dd.lo;
+      const double permanent =
+          (std::fabs(bdx * cdy) + std::fabs(cdx * bdy)) * (adx * adx + ady * ady) +
+          (std::fabs(cdx * ady) + std::fabs(adx * cdy)) * (bdx * bdx + bdy * bdy) +
+          (std::fabs(adx * bdy) + std::fabs(bdx * ady)) * (cdx * cdx + cdy * cdy);
+      const double bound = 0x1p-98 * permanent;
+      if (value > bound) return 1;
+      if (-value > bound) return -1;
+    }
   }
   // Stage B: the determinant of the rounded differences, exactly (at most 96 components). When the
   // differences are exact this is the determinant itself. Otherwise the neglected tails change it
