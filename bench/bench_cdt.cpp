@@ -19,7 +19,8 @@
 // Table 2: whole process: read .poly → triangulate → write .node/.ele/.poly (mwst command line when
 // built; mwst in-process with io::read_poly / io::write_mesh; CGAL with a small from_chars reader).
 //
-// Usage: bench_cdt [--vertices N] [--repeats N] [--tmp DIR]
+// Usage: bench_cdt [--vertices N] [--repeats N] [--tmp DIR] [--write-input F.poly]
+// (--write-input writes the benchmark polygon and stops: for profiling the command line on it)
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Triangulation_face_base_with_info_2.h>
@@ -257,7 +258,7 @@ int main(int argc, char** argv) {
   if (argc == 4 && std::string(argv[1]) == "--child-cgal-file") return child_cgal_file(argv[2], argv[3]);
   std::size_t vertices = 1000000;
   int repeats = 3;
-  std::string tmp = "/tmp";
+  std::string tmp = "/tmp", write_input;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--vertices" && i + 1 < argc) {
@@ -266,12 +267,18 @@ int main(int argc, char** argv) {
       repeats = std::max(1, std::atoi(argv[++i]));
     } else if (a == "--tmp" && i + 1 < argc) {
       tmp = argv[++i];
+    } else if (a == "--write-input" && i + 1 < argc) {
+      write_input = argv[++i];
     } else {
-      std::fprintf(stderr, "usage: bench_cdt [--vertices N] [--repeats N] [--tmp DIR]\n");
+      std::fprintf(stderr, "usage: bench_cdt [--vertices N] [--repeats N] [--tmp DIR] [--write-input F.poly]\n");
       return 2;
     }
   }
   const Pslg g = circle_with_holes(vertices);
+  if (!write_input.empty()) {  // the benchmark's polygon for profiling, then stop
+    write_poly(write_input, g);
+    return 0;
+  }
   std::printf("bench_cdt: mwst::constrained_delaunay vs CGAL %s Constrained_Delaunay_triangulation_2 (EPICK)\n",
               CGAL_VERSION_STR);
   std::printf("hardware: %s\n", hardware_line().c_str());

@@ -32,10 +32,21 @@ inline std::uint64_t undirected_key(VertexId u, VertexId v) {
 // Returns the handle h = a→v1 with apex v2 such that b is strictly left of a→v1 and strictly
 // right of a→v2 (the ray crosses the open triangle), or, if a vertex v lies on the ray from a
 // towards b, the handle a→v (with *collinear set).
-Handle find_wedge(const Mesh& m, Handle start, const Point& pb, bool* collinear) {
+Handle find_wedge(const Mesh& m, Handle start, VertexId b, bool* collinear) {
   const VertexId a = m.org(start);
   const Point& pa = m.points[a];
+  const Point& pb = m.points[b];
+  // Most segments are already Delaunay edges: look for b among a's neighbours first, without a
+  // predicate (orient2d(a, b, b) is an exact zero, which the filter cannot decide cheaply).
   Handle h = start;
+  for (std::size_t turn = 0; turn < m.triangles.size() + 8; ++turn) {
+    if (m.dest(h) == b) {
+      *collinear = true;
+      return h;
+    }
+    h = m.onext(h);
+    if (h == start) break;
+  }
   // Bounded by the degree of a; a full turn without success means a corrupt mesh.
   for (std::size_t turn = 0; turn < m.triangles.size() + 8; ++turn) {
     const VertexId v1 = m.dest(h), v2 = m.apex(h);
@@ -98,6 +109,7 @@ struct SegmentStep {
   VertexId vertex = kNone;  // kVertex: a vertex on the open segment where this piece ended
   Handle crossed = kNone;   // kCrossing: a subsegment edge crossing ab
   Handle hint = kNone;      // an edge whose org is the vertex where this piece ended
+  bool overlap = false;     // the piece was already a subsegment (a collinear overlap)
 };
 
 // Inserts the part of segment a→b up to the first vertex on it (or b) as a constrained edge, or
@@ -106,11 +118,12 @@ SegmentStep insert_segment_step(Mesh& m, Handle start, VertexId b, std::int32_t 
   const VertexId a = m.org(start);
   const Point pa = m.points[a], pb = m.points[b];
   bool collinear = false;
-  const Handle first = find_wedge(m, start, pb, &collinear);
+  const Handle first = find_wedge(m, start, b, &collinear);
   SegmentStep step;
   if (collinear) {
     const VertexId v = m.dest(first);
-    if (!m.is_segment(first)) m.set_segment(first, marker);  // an overlap keeps the first marker
+    step.overlap = m.is_segment(first);
+    if (!step.overlap) m.set_segment(first, marker);  // an overlap keeps the first marker
     step.kind = v == b ? SegmentStep::Kind::kDone : SegmentStep::Kind::kVertex;
     step.vertex = v;
     step.hint = m.sym(first);
@@ -307,20 +320,24 @@ class SegmentInserter {
   void insert_piece(Piece p) {
     VertexId from = p.a;
     while (from != p.b) {
-      const Location loc = m_.locate(m_.points[from], hint_);
-      if (loc.kind != Location::Kind::kOnVertex || m_.org(loc.handle) != from) {
-        throw InternalError("segment endpoint is not a vertex of the mesh");
+      // The previous piece usually ended where this one starts (chains of segments): its hint is
+      // then an edge out of `from`, and no walk is needed.
+      Handle start = hint_;
+      if (start == kNone || m_.is_dead(start >> 2) || m_.org(start) != from) {
+        const Location loc = m_.locate(m_.points[from], hint_);
+        if (loc.kind != Location::Kind::kOnVertex || m_.org(loc.handle) != from) {
+          throw InternalError("segment endpoint is not a vertex of the mesh");
+        }
+        start = loc.handle;
       }
-      const Handle start = loc.handle;
       // Mark overlaps: the part of the segment that is already a subsegment.
       const auto step = detail::insert_segment_step(m_, start, p.b, p.marker);
       if (step.kind == detail::SegmentStep::Kind::kCrossing) {
         resolve_crossing(p, from, step.crossed);
         return;  // the remaining pieces were queued
       }
-      const std::uint64_t key = undirected_key(from, step.vertex);
-      const auto [it, inserted] = segment_of_edge_.emplace(key, p.id);
-      if (!inserted && it->second != p.id) ++stats_.overlaps;
+      if (step.overlap) ++stats_.overlaps;
+      if (options_.strict) subsegment_ids_.push_back({undirected_key(from, step.vertex), p.id});
       if (step.vertex != p.b && m_.vertex_kind[step.vertex] != VertexKind::kSteinerOnSegment) {
         ++stats_.split_by_vertex;
       }
@@ -331,8 +348,7 @@ class SegmentInserter {
 
   void resolve_crossing(const Piece& p, VertexId from, Handle crossed) {
     const VertexId c = m_.org(crossed), d = m_.dest(crossed);
-    const auto other = segment_of_edge_.find(undirected_key(c, d));
-    const std::uint32_t other_id = other != segment_of_edge_.end() ? other->second : p.id;
+    const std::uint32_t other_id = input_segment_of(undirected_key(c, d), p.id);
     if (options_.strict) {
       throw InputError(pslg_.source, p.id < pslg_.segment_lines.size() ? pslg_.segment_lines[p.id] : 0,
                        describe(p.id) + " crosses " + describe(other_id));
@@ -372,7 +388,6 @@ class SegmentInserter {
     }
     // Unmark cd; it is re-inserted in two pieces through the crossing vertex.
     m_.clear_segment(crossed);
-    segment_of_edge_.erase(undirected_key(c, d));
     VertexId v = snap;
     if (snap != kNone) {
       --stats_.crossings;
@@ -396,13 +411,22 @@ class SegmentInserter {
     queue(c, v, other_marker, other_id);
   }
 
+  std::uint32_t input_segment_of(std::uint64_t key, std::uint32_t otherwise) const {
+    for (auto it = subsegment_ids_.rbegin(); it != subsegment_ids_.rend(); ++it) {
+      if (it->first == key) return it->second;
+    }
+    return otherwise;
+  }
+
   static constexpr std::size_t kMaxCrossings = 1u << 20;
   Mesh& m_;
   const Pslg& pslg_;
   const ConstrainOptions& options_;
   ConstrainStats& stats_;
   std::vector<Piece> pending_;
-  std::unordered_map<std::uint64_t, std::uint32_t> segment_of_edge_;
+  // Which input segment each subsegment came from, kept only under --strict, where the first
+  // crossing is an error that names both segments (the search is linear: it runs once).
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> subsegment_ids_;
   Handle hint_ = kNone;
 };
 
