@@ -8,6 +8,7 @@
 // write to a temporary name and rename when complete, so a failure leaves no partial file.
 #pragma once
 
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -41,7 +42,9 @@ MeshFiles read_mesh(const std::string& prefix);
 // `first_index`. Only live, finite, in-domain triangles are written. Atomic per file.
 void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index = 1);
 
-// Writes `content` to `path` atomically (temporary name in the same directory, then rename).
+// Writes `content` (the concatenation of `pieces`) to `path` atomically (temporary name in the
+// same directory, then rename).
+void write_file_atomic(const std::string& path, std::span<const std::string_view> pieces);
 void write_file_atomic(const std::string& path, std::string_view content);
 
 }  // namespace mwst::io

@@ -11,9 +11,10 @@
 // reserved only for as many records as the rest of the file can hold, so a bogus header never
 // makes us allocate much. About 0.1 µs per point for a 1M-point .node.
 //
-// Writing: each file is built in one std::string (numbers via std::to_chars, shortest round-trip)
-// and written with write_file_atomic (temporary name, rename); if a later file of a mesh fails,
-// the earlier ones are removed again.
+// Writing: each file is formatted into buffers sized for its longest possible text (numbers via
+// std::to_chars, shortest round-trip), large meshes in two halves on two threads, and written with
+// write_file_atomic (temporary name, rename); if a later file of a mesh fails, the earlier ones are
+// removed again.
 #include <fcntl.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
@@ -25,6 +26,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <limits>
 #include <memory>
 #include <new>
@@ -610,12 +612,6 @@ void append_int(std::string& s, std::int64_t v) {
   s.append(buf, r.ptr);
 }
 
-void append_double(std::string& s, double v) {
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);  // shortest round-trip
-  s.append(buf, r.ptr);
-}
-
 }  // namespace
 
 // ---- public API --------------------------------------------------------------------------------
@@ -665,56 +661,106 @@ MeshFiles read_mesh(const std::string& prefix) {
   return out;
 }
 
+namespace {
+
+// A text being written into storage sized for its longest possible content (uninitialised; only
+// the pages written are ever touched): numbers go straight in with std::to_chars, with no capacity
+// check per character. (Plain malloc, not the huge pages of allocate_buffer: for output buffers the
+// kernel's huge-page compaction cost twice the system time in measurements.)
+class TextBuffer {
+ public:
+  explicit TextBuffer(std::size_t capacity) : data_(static_cast<char*>(std::malloc(capacity))), end_(data_.get()) {
+    if (data_ == nullptr) throw std::bad_alloc();
+  }
+  void put(char c) { *end_++ = c; }
+  void put_int(std::int64_t v) { end_ = std::to_chars(end_, end_ + 24, v).ptr; }
+  void put_double(double v) { end_ = std::to_chars(end_, end_ + 32, v).ptr; }  // shortest round-trip
+  std::string_view view() const { return {data_.get(), static_cast<std::size_t>(end_ - data_.get())}; }
+
+ private:
+  std::unique_ptr<char, FreeDeleter> data_;
+  char* end_;
+};
+
+constexpr std::size_t kMaxIntChars = 20, kMaxDoubleChars = 24;
+
+// Lines first..last-1 of PREFIX.node (vertex i is record i + base).
+void format_node_lines(const Mesh& mesh, std::size_t first, std::size_t last, std::int64_t base,
+                       TextBuffer& out) {
+  for (std::size_t i = first; i < last; ++i) {
+    out.put_int(static_cast<std::int64_t>(i) + base);
+    out.put(' ');
+    out.put_double(mesh.points[i].x);
+    out.put(' ');
+    out.put_double(mesh.points[i].y);
+    out.put(' ');
+    out.put_int(i < mesh.vertex_marker.size() ? mesh.vertex_marker[i] : 0);
+    out.put('\n');
+  }
+}
+
+// The PREFIX.ele lines of the in-domain triangles in slots first..last-1, numbered from `number`.
+void format_ele_lines(const Mesh& mesh, TriangleId first, TriangleId last, std::int64_t number,
+                      std::int64_t base, TextBuffer& out) {
+  const std::size_t nv = mesh.points.size();
+  for (TriangleId t = first; t < last; ++t) {
+    if (!mesh.in_domain(t)) continue;
+    out.put_int(number++);
+    for (const VertexId v : mesh.triangles[t].v) {
+      if (v >= nv) throw InternalError("write_mesh: triangle names a vertex that does not exist");
+      out.put(' ');
+      out.put_int(static_cast<std::int64_t>(v) + base);
+    }
+    out.put('\n');
+  }
+}
+
+}  // namespace
+
 void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index) {
   if (mesh.flags.size() != mesh.triangles.size()) {
     throw InternalError("write_mesh: flags and triangles differ in size");
   }
   const std::int64_t base = first_index;
   const std::size_t nv = mesh.points.size();
+  const auto slots = static_cast<TriangleId>(mesh.triangles.size());
 
-  // PREFIX.node: every vertex, with its boundary marker. Formatted on a second thread for large
-  // meshes while this one formats the triangles (the text is the same either way).
-  std::string node;
-  auto format_nodes = [&] {
-    node.reserve(64 + nv * 48);
-    append_int(node, static_cast<std::int64_t>(nv));
-    node += " 2 0 1\n";
-    for (std::size_t i = 0; i < nv; ++i) {
-      append_int(node, static_cast<std::int64_t>(i) + base);
-      node += ' ';
-      append_double(node, mesh.points[i].x);
-      node += ' ';
-      append_double(node, mesh.points[i].y);
-      node += ' ';
-      append_int(node, i < mesh.vertex_marker.size() ? mesh.vertex_marker[i] : 0);
-      node += '\n';
-    }
-  };
-  std::jthread node_worker;  // joins on every way out of this function (a throw below included)
-  if (nv >= (std::size_t{1} << 15)) {
-    node_worker = std::jthread(format_nodes);
-  } else {
-    format_nodes();
-  }
-
-  // PREFIX.ele: the live, finite, in-domain triangles, corners counter-clockwise.
-  const std::size_t slots = mesh.triangles.size();
-  std::size_t count = 0;
-  for (TriangleId t = 0; t < slots; ++t) count += mesh.in_domain(t) ? 1 : 0;
-  std::string ele;
-  ele.reserve(32 + count * 32);
-  append_int(ele, static_cast<std::int64_t>(count));
-  ele += " 3 0\n";
-  std::int64_t k = base;
-  for (TriangleId t = 0; t < slots; ++t) {
-    if (!mesh.in_domain(t)) continue;
-    append_int(ele, k++);
-    for (const VertexId v : mesh.triangles[t].v) {
-      if (v >= nv) throw InternalError("write_mesh: triangle names a vertex that does not exist");
-      ele += ' ';
-      append_int(ele, static_cast<std::int64_t>(v) + base);
-    }
-    ele += '\n';
+  // PREFIX.node (every vertex, with its boundary marker) and PREFIX.ele (the live, finite,
+  // in-domain triangles, corners counter-clockwise). Large meshes are formatted in two halves on
+  // two threads, each half of each file into its own buffer; the files are the concatenations, the
+  // same text as one thread writes.
+  const bool parallel = nv + slots >= (std::size_t{1} << 16);
+  const std::size_t node_split = parallel ? nv / 2 : nv;
+  const TriangleId ele_split = parallel ? slots / 2 : slots;
+  std::int64_t count_first = 0, count_second = 0;
+  for (TriangleId t = 0; t < ele_split; ++t) count_first += mesh.in_domain(t) ? 1 : 0;
+  for (TriangleId t = ele_split; t < slots; ++t) count_second += mesh.in_domain(t) ? 1 : 0;
+  constexpr std::size_t kNodeLine = 2 * kMaxIntChars + 2 * kMaxDoubleChars + 4;
+  constexpr std::size_t kEleLine = 4 * (kMaxIntChars + 1);
+  TextBuffer node_head(64), ele_head(64);
+  node_head.put_int(static_cast<std::int64_t>(nv));
+  for (const char c : std::string_view(" 2 0 1\n")) node_head.put(c);
+  ele_head.put_int(count_first + count_second);
+  for (const char c : std::string_view(" 3 0\n")) ele_head.put(c);
+  TextBuffer node_first(node_split * kNodeLine + 1), node_second((nv - node_split) * kNodeLine + 1);
+  TextBuffer ele_first(static_cast<std::size_t>(count_first) * kEleLine + 1);
+  TextBuffer ele_second(static_cast<std::size_t>(count_second) * kEleLine + 1);
+  {
+    std::exception_ptr worker_error;
+    std::jthread worker;  // joins on every way out of this block (a throw below included)
+    auto second_halves = [&] {
+      try {
+        format_node_lines(mesh, node_split, nv, base, node_second);
+        format_ele_lines(mesh, ele_split, slots, base + count_first, base, ele_second);
+      } catch (...) {
+        worker_error = std::current_exception();
+      }
+    };
+    if (parallel) worker = std::jthread(second_halves);
+    format_node_lines(mesh, 0, node_split, base, node_first);
+    format_ele_lines(mesh, 0, ele_split, base, base, ele_first);
+    if (worker.joinable()) worker.join();
+    if (worker_error) std::rethrow_exception(worker_error);
   }
 
   // PREFIX.poly: every subsegment bordering the domain, once.
@@ -753,19 +799,42 @@ void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index) {
     poly += "0\n";
   }
 
-  if (node_worker.joinable()) node_worker.join();
   // Each file is atomic; if a later one fails, the earlier ones are removed again so that a
-  // failure leaves no partial mesh behind.
-  const std::string paths[3] = {prefix + ".node", prefix + ".ele", prefix + ".poly"};
-  const std::string_view contents[3] = {node, ele, poly};
-  const int files = segments > 0 ? 3 : 2;
-  for (int i = 0; i < files; ++i) {
-    try {
-      write_file_atomic(paths[i], contents[i]);
-    } catch (...) {
-      for (int j = 0; j < i; ++j) ::unlink(paths[j].c_str());
-      throw;
+  // failure leaves no partial mesh behind. Large .node files are written by the second thread
+  // while this one writes the .ele (the kernel's copies overlap).
+  const std::string node_path = prefix + ".node", ele_path = prefix + ".ele", poly_path = prefix + ".poly";
+  const std::string_view node_text[3] = {node_head.view(), node_first.view(), node_second.view()};
+  const std::string_view ele_text[3] = {ele_head.view(), ele_first.view(), ele_second.view()};
+  std::exception_ptr node_error, ele_error;
+  bool ele_written = false;
+  {
+    std::jthread node_writer;  // joins at the end of this block, and on every way out of it
+    auto write_node = [&] {
+      try {
+        write_file_atomic(node_path, node_text);
+      } catch (...) {
+        node_error = std::current_exception();
+      }
+    };
+    if (parallel) {
+      node_writer = std::jthread(write_node);
+    } else {
+      write_node();
     }
+    if (parallel || !node_error) {
+      try {
+        write_file_atomic(ele_path, ele_text);
+        ele_written = true;
+        if (segments > 0) write_file_atomic(poly_path, poly);
+      } catch (...) {
+        ele_error = std::current_exception();
+      }
+    }
+  }
+  if (node_error || ele_error) {
+    if (!node_error) ::unlink(node_path.c_str());
+    if (ele_written) ::unlink(ele_path.c_str());
+    std::rethrow_exception(node_error ? node_error : ele_error);  // the first file's error first
   }
 }
 
