@@ -17,7 +17,6 @@
 #include <limits>
 #include <numeric>
 #include <thread>
-#include <unordered_map>
 
 #include "mwst/delaunay.hpp"
 #include "mwst/error.hpp"
@@ -341,7 +340,10 @@ void merge_halves(Mesh& left, Mesh&& right) {
   const auto& P = m.points;
 
   // Hull navigation from the ghosts: ghost (a, b, ∞) is the hull edge b→a (counter-clockwise).
-  std::unordered_map<VertexId, TriangleId> ghost_from, ghost_to;  // keyed by b, resp. a
+  // Each hull vertex starts one hull edge and ends one, so both tables are sorted (vertex, ghost)
+  // pairs searched by vertex (hulls can be large: all the points of a circle).
+  using GhostOf = std::vector<std::pair<VertexId, TriangleId>>;
+  GhostOf from_pairs, to_pairs;  // keyed by b, resp. a
   auto finite_pair = [&](TriangleId g, VertexId& a, VertexId& b) {
     const Triangle& G = m.triangles[g];
     unsigned k = 0;
@@ -353,9 +355,20 @@ void merge_halves(Mesh& left, Mesh&& right) {
     if (!m.is_ghost(t)) continue;
     VertexId a, b;
     finite_pair(t, a, b);
-    ghost_from.emplace(b, t);
-    ghost_to.emplace(a, t);
+    from_pairs.emplace_back(b, t);
+    to_pairs.emplace_back(a, t);
   }
+  std::sort(from_pairs.begin(), from_pairs.end());
+  std::sort(to_pairs.begin(), to_pairs.end());
+  struct GhostTable {
+    const GhostOf& pairs;
+    TriangleId at(VertexId v) const {
+      const auto it = std::lower_bound(pairs.begin(), pairs.end(), std::pair<VertexId, TriangleId>{v, 0});
+      if (it == pairs.end() || it->first != v) throw InternalError("merge_halves: vertex not on the hull");
+      return it->second;
+    }
+  };
+  const GhostTable ghost_from{from_pairs}, ghost_to{to_pairs};
   auto ccw = [&](VertexId v) {
     VertexId a, b;
     finite_pair(ghost_from.at(v), a, b);
@@ -375,7 +388,7 @@ void merge_halves(Mesh& left, Mesh&& right) {
     return (pa.y < pq.y && pq.y < pb.y) || (pb.y < pq.y && pq.y < pa.y);
   };
   VertexId l = kNone, r = kNone;
-  for (const auto& [v, g] : ghost_from) {
+  for (const auto& [v, g] : from_pairs) {
     (void)g;
     if (v < nl) {
       if (l == kNone || lex_less(l, v)) l = v;
