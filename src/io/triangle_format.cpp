@@ -606,12 +606,6 @@ std::vector<std::array<std::uint32_t, 3>> parse_ele_text(std::string_view text, 
 
 // ---- writing -----------------------------------------------------------------------------------
 
-void append_int(std::string& s, std::int64_t v) {
-  char buf[24];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  s.append(buf, r.ptr);
-}
-
 }  // namespace
 
 // ---- public API --------------------------------------------------------------------------------
@@ -763,40 +757,45 @@ void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index) {
     if (worker_error) std::rethrow_exception(worker_error);
   }
 
-  // PREFIX.poly: every subsegment bordering the domain, once.
-  std::string poly;
+  // PREFIX.poly: every subsegment bordering the domain, once (seen from both sides, it is written
+  // from the lower-numbered triangle only).
+  auto written_from_here = [&](TriangleId t, unsigned e) {
+    const Handle h = make_handle(t, e);
+    if (!mesh.is_segment(h)) return false;
+    const Handle other = mesh.triangles[t].n[e];
+    if (other == kNone) return true;
+    const TriangleId u = triangle_of(other);
+    return !(u < slots && u < t && mesh.in_domain(u) && mesh.is_segment(other));
+  };
   std::size_t segments = 0;
-  std::string body;
   for (TriangleId t = 0; t < slots; ++t) {
     if (!mesh.in_domain(t)) continue;
-    for (unsigned e = 0; e < 3; ++e) {
-      const Handle h = make_handle(t, e);
-      if (!mesh.is_segment(h)) continue;
-      const Handle other = mesh.triangles[t].n[e];
-      if (other != kNone) {
-        const TriangleId u = triangle_of(other);
-        // Seen from both sides: write it from the lower-numbered triangle only.
-        if (u < slots && u < t && mesh.in_domain(u) && mesh.is_segment(other)) continue;
-      }
-      const std::size_t slot = 3 * static_cast<std::size_t>(t) + e;
-      const std::int32_t marker = slot < mesh.segment_marker.size() ? mesh.segment_marker[slot] : 1;
-      append_int(body, static_cast<std::int64_t>(segments) + base);
-      body += ' ';
-      append_int(body, static_cast<std::int64_t>(mesh.org(h)) + base);
-      body += ' ';
-      append_int(body, static_cast<std::int64_t>(mesh.dest(h)) + base);
-      body += ' ';
-      append_int(body, marker);
-      body += '\n';
-      ++segments;
-    }
+    for (unsigned e = 0; e < 3; ++e) segments += written_from_here(t, e) ? 1 : 0;
   }
+  TextBuffer poly(segments * 4 * (kMaxIntChars + 1) + 64);
   if (segments > 0) {
-    poly = "0 2 0 1\n";
-    append_int(poly, static_cast<std::int64_t>(segments));
-    poly += " 1\n";
-    poly += body;
-    poly += "0\n";
+    for (const char c : std::string_view("0 2 0 1\n")) poly.put(c);
+    poly.put_int(static_cast<std::int64_t>(segments));
+    for (const char c : std::string_view(" 1\n")) poly.put(c);
+    std::int64_t number = base;
+    for (TriangleId t = 0; t < slots; ++t) {
+      if (!mesh.in_domain(t)) continue;
+      for (unsigned e = 0; e < 3; ++e) {
+        if (!written_from_here(t, e)) continue;
+        const Handle h = make_handle(t, e);
+        const std::size_t slot = 3 * static_cast<std::size_t>(t) + e;
+        const std::int32_t marker = slot < mesh.segment_marker.size() ? mesh.segment_marker[slot] : 1;
+        poly.put_int(number++);
+        poly.put(' ');
+        poly.put_int(static_cast<std::int64_t>(mesh.org(h)) + base);
+        poly.put(' ');
+        poly.put_int(static_cast<std::int64_t>(mesh.dest(h)) + base);
+        poly.put(' ');
+        poly.put_int(marker);
+        poly.put('\n');
+      }
+    }
+    for (const char c : std::string_view("0\n")) poly.put(c);
   }
 
   // Each file is atomic; if a later one fails, the earlier ones are removed again so that a
@@ -825,7 +824,7 @@ void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index) {
       try {
         write_file_atomic(ele_path, ele_text);
         ele_written = true;
-        if (segments > 0) write_file_atomic(poly_path, poly);
+        if (segments > 0) write_file_atomic(poly_path, poly.view());
       } catch (...) {
         ele_error = std::current_exception();
       }
