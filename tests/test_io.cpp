@@ -653,3 +653,74 @@ TEST(IoData, EveryDataSetMatchesItsHeaderComment) {
 #endif
 
 }  // namespace
+
+// ---- large vertex sections (parsed in two halves on two threads) --------------------------------
+
+namespace {
+
+// A .node/.poly vertex section of n records; record i is (i + base, i * 0.25, -i, marker i % 7),
+// with `comment_every` > 0 inserting a comment line after every that many records.
+std::string big_vertex_section(std::size_t n, int base, std::size_t comment_every = 0) {
+  std::string text = std::to_string(n) + " 2 0 1\n";
+  for (std::size_t i = 0; i < n; ++i) {
+    text += std::to_string(i + static_cast<std::size_t>(base)) + " " + std::to_string(static_cast<double>(i) * 0.25) +
+            " " + std::to_string(-static_cast<double>(i)) + " " + std::to_string(i % 7) + "\n";
+    if (comment_every > 0 && i % comment_every == comment_every - 1) text += "# a comment\n\n";
+  }
+  return text;
+}
+
+void expect_big_section(const Pslg& p, std::size_t n, int base) {
+  ASSERT_EQ(p.points.size(), n);
+  ASSERT_EQ(p.point_markers.size(), n);
+  EXPECT_EQ(p.first_index, base);
+  std::size_t wrong = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    wrong += p.points[i].x != static_cast<double>(i) * 0.25 || p.points[i].y != -static_cast<double>(i) ||
+             p.point_markers[i] != static_cast<std::int32_t>(i % 7);
+  }
+  EXPECT_EQ(wrong, 0u);
+}
+
+}  // namespace
+
+TEST(IoNodeLarge, HalvesGiveTheSequentialResult) {
+  for (const int base : {0, 1}) {
+    for (const std::size_t comment_every : {std::size_t{0}, std::size_t{1000}, std::size_t{1}}) {
+      const std::size_t n = 100000;
+      expect_big_section(parse_node(big_vertex_section(n, base, comment_every), "big.node"), n, base);
+    }
+  }
+}
+
+TEST(IoNodeLarge, ErrorsInEitherHalfNameTheirLine) {
+  const std::size_t n = 100000;
+  const std::string good = big_vertex_section(n, 1);
+  // Line of record i (1-based index i + 1) is line i + 2 (after the header).
+  for (const std::size_t bad : {std::size_t{10}, std::size_t{60000}, std::size_t{99999}}) {
+    std::string text = good;
+    const std::string needle = "\n" + std::to_string(bad + 1) + " ";
+    const std::size_t at = text.find(needle);
+    ASSERT_NE(at, std::string::npos);
+    text.replace(at + needle.size(), 1, "x");  // the x coordinate becomes non-numeric
+    expect_error([&] { parse_node(text, "big.node"); }, bad + 2, "x coordinate", "big.node");
+  }
+  // Out-of-sequence index in the second half, and a file cut short.
+  std::string skipped = good;
+  const std::size_t at = skipped.find("\n70001 ");
+  skipped.replace(at + 1, 5, "70005");
+  expect_error([&] { parse_node(skipped, "big.node"); }, 70002, "out of sequence", "big.node");
+  const std::string cut = good.substr(0, good.find("\n90001 ") + 1);
+  expect_error([&] { parse_node(cut, "big.node"); }, 90001, "vertices", "big.node");
+}
+
+TEST(IoPolyLarge, SegmentsAfterALargeVertexSectionKeepTheirLines) {
+  const std::size_t n = 80000;
+  std::string text = big_vertex_section(n, 1) + "2 0\n1 1 2\n2 2 99999999\n0\n";
+  expect_error([&] { parse_poly(text, "big.poly"); }, n + 4, "does not exist", "big.poly");
+  text = big_vertex_section(n, 1) + "1 0\n1 1 " + std::to_string(n) + "\n0\n";
+  const Pslg p = parse_poly(text, "big.poly");
+  expect_big_section(p, n, 1);
+  ASSERT_EQ(p.segments.size(), 1u);
+  EXPECT_EQ(p.segments[0].b, n - 1);
+}

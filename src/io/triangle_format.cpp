@@ -207,6 +207,22 @@ class Scanner {
   }
 
   std::size_t line() const { return line_ == 0 ? 1 : line_; }
+  // For splitting a section between two threads: where the next unscanned line starts; a scanner
+  // of the rest of the text from the line start p (its lines counted from 0); and taking over the
+  // state of such a scanner that continued this one (`lines_before` = this one's line count where
+  // it started).
+  const char* position() const { return next_; }
+  const char* text_end() const { return end_; }
+  Scanner rest_from(const char* p) const {
+    return Scanner(std::string_view(p, static_cast<std::size_t>(end_ - p)), name_);
+  }
+  std::size_t lines_scanned() const { return line_; }
+  void continue_as(const Scanner& later, std::size_t lines_before) {
+    next_ = later.next_;
+    cur_ = later.cur_;
+    cur_end_ = later.cur_end_;
+    line_ = lines_before + later.line_;
+  }
   // Bytes not yet scanned (an upper bound for what the rest of the file can hold).
   std::size_t remaining() const { return static_cast<std::size_t>(end_ - next_); }
 
@@ -432,6 +448,83 @@ std::int64_t record_index(Scanner& s, const char* kind, std::size_t ordinal, int
 
 // Reads a vertex section (header line already current): "N dim nattr nmarkers" then N vertices.
 // Returns the count from the header; with count 0 nothing more is read.
+// One vertex record (ordinal i): index, x, y, then attributes (tolerated, ignored; missing ones
+// count as 0, as in Triangle) and the marker.
+void read_vertex_record(Scanner& s, std::size_t i, int& base, std::int64_t nattr, std::int64_t nmarkers,
+                        Point& p, std::int32_t& marker) {
+  const std::int64_t index = record_index(s, "vertex", i, base);
+  const Item item{"vertex", index};
+  p.x = s.coordinate(item, "x coordinate");
+  p.y = s.coordinate(item, "y coordinate");
+  std::int64_t a = 0;
+  for (; a < nattr && s.has_field(); ++a) s.real(item, "attribute");
+  marker = 0;
+  if (nmarkers > 0 && a == nattr && s.has_field()) marker = s.marker(item);
+}
+
+// Large vertex sections are parsed in two halves on two threads. The second thread starts at the
+// line nearest the middle (estimated from the first record's length) and learns its ordinal from
+// the index written there; the halves are accepted only if the first ends exactly where the second
+// began and both parsed without a problem. Anything else (an error, a comment or blank line at the
+// seam, an estimate past the section) returns false, and the caller parses sequentially, which
+// gives the canonical result and error messages.
+bool read_vertex_records_in_halves(Scanner& s, std::size_t n, std::int64_t nattr, std::int64_t nmarkers,
+                                   Pslg& out, int& base) {
+  out.points.resize(n);
+  out.point_markers.resize(n);
+  Scanner first = s;
+  const char* record0 = first.position();
+  try {
+    if (!first.next_line()) return false;
+    read_vertex_record(first, 0, base, nattr, nmarkers, out.points[0], out.point_markers[0]);
+  } catch (const InputError&) {
+    return false;
+  }
+  const auto record_bytes = static_cast<std::size_t>(first.position() - record0);
+  const auto room = static_cast<std::size_t>(first.text_end() - record0);
+  if (record_bytes == 0 || room / record_bytes <= n / 2) return false;
+  const char* guess = record0 + record_bytes * (n / 2);
+  const auto* nl = static_cast<const char*>(std::memchr(guess, '\n', static_cast<std::size_t>(first.text_end() - guess)));
+  if (nl == nullptr) return false;
+  const char* seam = nl + 1;
+  Scanner second = first.rest_from(seam);
+  std::size_t middle = 0;  // the ordinal of the record at the seam
+  try {
+    Scanner peek = second;
+    if (!peek.next_line()) return false;
+    const std::int64_t index = peek.integer(Item{"vertex"}, "index");
+    if (index <= base || index - base >= static_cast<std::int64_t>(n)) return false;
+    middle = static_cast<std::size_t>(index - base);
+  } catch (const InputError&) {
+    return false;
+  }
+  bool second_ok = true;
+  {
+    std::jthread worker([&] {
+      try {
+        int second_base = base;
+        for (std::size_t i = middle; i < n && second_ok; ++i) {
+          if (!second.next_line()) second_ok = false;
+          else read_vertex_record(second, i, second_base, nattr, nmarkers, out.points[i], out.point_markers[i]);
+        }
+      } catch (...) {
+        second_ok = false;
+      }
+    });
+    try {
+      for (std::size_t i = 1; i < middle; ++i) {
+        if (!first.next_line()) return false;  // (the worker joins on the way out)
+        read_vertex_record(first, i, base, nattr, nmarkers, out.points[i], out.point_markers[i]);
+      }
+    } catch (const InputError&) {
+      return false;
+    }
+  }
+  if (!second_ok || first.position() != seam) return false;
+  s.continue_as(second, first.lines_scanned());
+  return true;
+}
+
 std::size_t read_vertex_section(Scanner& s, Pslg& out) {
   const Item header{"header"};
   const std::int64_t declared = s.integer(header, "vertex count");
@@ -445,21 +538,24 @@ std::size_t read_vertex_section(Scanner& s, Pslg& out) {
   if (n == 0) return 0;
   if (n >= kInfinite) s.fail("vertex count " + std::to_string(n) + " is too large");
 
+  int base = -1;
+  constexpr std::size_t kParallelRecords = std::size_t{1} << 16;
+  if (n >= kParallelRecords && s.reservable(n, 6) == n) {
+    if (read_vertex_records_in_halves(s, n, nattr, nmarkers, out, base)) {
+      out.first_index = base;
+      return n;
+    }
+    base = -1;
+  }
+  out.points.clear();
+  out.point_markers.clear();
   out.points.reserve(s.reservable(n, 6));
   out.point_markers.reserve(s.reservable(n, 6));
-  int base = -1;
   for (std::size_t i = 0; i < n; ++i) {
     if (!s.next_line()) truncated(s, n, i, "vertices");
-    const std::int64_t index = record_index(s, "vertex", i, base);
-    const Item item{"vertex", index};
     Point p;
-    p.x = s.coordinate(item, "x coordinate");
-    p.y = s.coordinate(item, "y coordinate");
-    // Attributes (tolerated, ignored; missing ones count as 0, as in Triangle), then the marker.
-    std::int64_t a = 0;
-    for (; a < nattr && s.has_field(); ++a) s.real(item, "attribute");
     std::int32_t marker = 0;
-    if (nmarkers > 0 && a == nattr && s.has_field()) marker = s.marker(item);
+    read_vertex_record(s, i, base, nattr, nmarkers, p, marker);
     out.points.push_back(p);
     out.point_markers.push_back(marker);
   }
