@@ -54,8 +54,9 @@ inline Expansion<16> orient2d_expansion(const Point& a, const Point& b, const Po
 //   - Exact differences, exact doubles: if every coordinate difference is exact and no product or
 //     sum of the plain double evaluation rounds (grids, most exactly cocircular inputs), the double
 //     is the determinant.
-//   - Double-double (exact differences only): the determinant in ≈106-bit arithmetic, within a
-//     proven 2⁻⁹⁸ · permanent (far-apart chords of points rounded onto a circle end here).
+//   - Double-double: the determinant in normalised double-double arithmetic from the exact
+//     differences (rounded value and tail), within a proven 2⁻⁹⁸ · permanent (far-apart chords of
+//     points rounded onto a circle end here). Stages B, C and D below are then rarely reached.
 //   - Stage B: the determinant of the rounded differences in expansion arithmetic (fixed arrays,
 //     at most 96 components). Exact when the differences are; otherwise within iccerrboundB ·
 //     permanent of the true value.
@@ -78,41 +79,34 @@ namespace {
 #define MWST_EXACT_CLONES
 #endif
 
-// A double-double: the unevaluated sum hi + lo (not necessarily normalised). Used only by
-// incircle's double-double stage, whose error bound is stated there.
+// A double-double: the unevaluated sum hi + lo of two doubles, kept normalised (|lo| <= ulp(hi)/2,
+// by an error-free Two-Sum after every operation). Used only by incircle's double-double stage,
+// whose error bound is derived there.
 struct DoubleDouble {
   double hi, lo;
 };
 
-// a·b − c·d as hi + lo, within 3ε²·(|a·b| + |c·d|).
-MWST_EXACT_INLINE DoubleDouble dd_product_difference(double a, double b, double c, double d) {
-  double p = 0.0, pe = 0.0, q = 0.0, qe = 0.0, s = 0.0, t = 0.0;
-  two_product(a, b, p, pe);
-  two_product(c, d, q, qe);
-  two_sum(p, -q, s, t);
-  return {s, t + (pe - qe)};
+MWST_EXACT_INLINE DoubleDouble dd_normalised(double hi, double lo) {
+  DoubleDouble r{0.0, 0.0};
+  two_sum(hi, lo, r.hi, r.lo);
+  return r;
 }
 
-// x² + y² as hi + lo, within 3ε²·(x² + y²).
-MWST_EXACT_INLINE DoubleDouble dd_sum_of_squares(double x, double y) {
-  double p = 0.0, pe = 0.0, q = 0.0, qe = 0.0, s = 0.0, t = 0.0;
-  two_product(x, x, p, pe);
-  two_product(y, y, q, qe);
-  two_sum(p, q, s, t);
-  return {s, t + (pe + qe)};
-}
-
-// u·v, dropping u.lo·v.lo and rounding the cross terms.
+// u·v: the exact product of the high parts plus the rounded cross terms; u.lo·v.lo is dropped.
 MWST_EXACT_INLINE DoubleDouble dd_mul(const DoubleDouble& u, const DoubleDouble& v) {
   double p = 0.0, e = 0.0;
   two_product(u.hi, v.hi, p, e);
-  return {p, e + (u.hi * v.lo + u.lo * v.hi)};
+  return dd_normalised(p, e + (u.hi * v.lo + u.lo * v.hi));
 }
 
 MWST_EXACT_INLINE DoubleDouble dd_add(const DoubleDouble& u, const DoubleDouble& v) {
   double s = 0.0, t = 0.0;
   two_sum(u.hi, v.hi, s, t);
-  return {s, t + (u.lo + v.lo)};
+  return dd_normalised(s, t + (u.lo + v.lo));
+}
+
+MWST_EXACT_INLINE DoubleDouble dd_sub(const DoubleDouble& u, const DoubleDouble& v) {
+  return dd_add(u, DoubleDouble{-v.hi, -v.lo});
 }
 
 // a·b − c·d exactly, as an expansion of at most four components.
@@ -179,33 +173,36 @@ MWST_EXACT_CLONES int incircle_sign_exact(const Point& a, const Point& b, const 
     const double clift = add(mul(cdx, cdx), mul(cdy, cdy));
     const double det = add(add(mul(alift, bc), mul(blift, ca)), mul(clift, ab));
     if (rounding == 0.0) return (det > 0.0) - (det < 0.0);
-    // Double-double stage (exact differences only): every factor as an unevaluated sum hi + lo of
-    // two doubles (≈106 bits). With ε = 2⁻⁵³ and exact differences: each 2×2 minor and each lift
-    // is within 3ε²·(its sum of absolute products); a product of two such pairs is within
-    // 14ε²·L·M (L the lift, M the minor's sum of |products|: 6ε² inherited, 8ε² from dropping
-    // lo·lo and rounding the cross terms); each of the two additions adds at most 4ε²·P, where the
-    // permanent P = Σ L·M bounds every term. So |hi + lo − det| ≤ 22ε²·P + O(ε³)·P; rounding
-    // hi + lo keeps its sign and shrinks it by at most a factor 1 + ε, so |value| > 2⁻⁹⁸·P
-    // (256ε²·P, a safety factor over 10 for the rounding of P itself and the O(ε³) terms)
-    // decides the sign. Points on a circle (rounded cos/sin) with far-apart chords land here:
-    // their determinant is ~10⁻¹⁶ of the permanent, far below the double filter's reach and far
-    // above this stage's.
-    {
-      const DoubleDouble bc_dd = dd_product_difference(bdx, cdy, cdx, bdy);
-      const DoubleDouble ca_dd = dd_product_difference(cdx, ady, adx, cdy);
-      const DoubleDouble ab_dd = dd_product_difference(adx, bdy, bdx, ady);
-      const DoubleDouble det_dd =
-          dd_add(dd_add(dd_mul(dd_sum_of_squares(adx, ady), bc_dd), dd_mul(dd_sum_of_squares(bdx, bdy), ca_dd)),
-                 dd_mul(dd_sum_of_squares(cdx, cdy), ab_dd));
-      const double value = det_dd.hi + det_dd.lo;
-      const double permanent =
-          (std::fabs(bdx * cdy) + std::fabs(cdx * bdy)) * (adx * adx + ady * ady) +
-          (std::fabs(cdx * ady) + std::fabs(adx * cdy)) * (bdx * bdx + bdy * bdy) +
-          (std::fabs(adx * bdy) + std::fabs(bdx * ady)) * (cdx * cdx + cdy * cdy);
-      const double bound = 0x1p-98 * permanent;
-      if (value > bound) return 1;
-      if (-value > bound) return -1;
-    }
+  }
+  // Double-double stage: every difference as the exact pair (rounded, tail), the determinant in
+  // normalised double-double arithmetic. Error bound (ε = 2⁻⁵³; A(x) the sum of absolute values of
+  // the exact terms of x, so that A(det) is the permanent P): a product of two pairs with errors
+  // a·ε²·A and b·ε²·A is within (a + b + 8)·ε²·A of the exact product (8ε² from dropping lo·lo
+  // and rounding the cross terms and their sum); a sum is within (max(a, b) + 3)·ε²·A. The
+  // differences are exact (a = 0), so products of differences are within 8ε², the minors and lifts
+  // within 11ε², the three terms within 30ε² and the determinant within 36ε²·P. Rounding hi + lo
+  // keeps its sign. The bound used, 2⁻⁹⁸ = 256ε² times the permanent of the rounded differences
+  // (which differs from P by a few ε), leaves a factor 7 for the O(ε³) terms. Points rounded onto
+  // a circle with far-apart chords end here: their determinant is ~10⁻¹⁶ of the permanent, far
+  // below the double filter's reach and far above this stage's.
+  {
+    const DoubleDouble ax{adx, adxt}, ay{ady, adyt}, bx{bdx, bdxt}, by{bdy, bdyt}, cx{cdx, cdxt},
+        cy{cdy, cdyt};
+    const DoubleDouble bc = dd_sub(dd_mul(bx, cy), dd_mul(cx, by));
+    const DoubleDouble ca = dd_sub(dd_mul(cx, ay), dd_mul(ax, cy));
+    const DoubleDouble ab = dd_sub(dd_mul(ax, by), dd_mul(bx, ay));
+    const DoubleDouble alift = dd_add(dd_mul(ax, ax), dd_mul(ay, ay));
+    const DoubleDouble blift = dd_add(dd_mul(bx, bx), dd_mul(by, by));
+    const DoubleDouble clift = dd_add(dd_mul(cx, cx), dd_mul(cy, cy));
+    const DoubleDouble det_dd = dd_add(dd_add(dd_mul(alift, bc), dd_mul(blift, ca)), dd_mul(clift, ab));
+    const double value = det_dd.hi + det_dd.lo;
+    const double permanent =
+        (std::fabs(bdx * cdy) + std::fabs(cdx * bdy)) * (adx * adx + ady * ady) +
+        (std::fabs(cdx * ady) + std::fabs(adx * cdy)) * (bdx * bdx + bdy * bdy) +
+        (std::fabs(adx * bdy) + std::fabs(bdx * ady)) * (cdx * cdx + cdy * cdy);
+    const double bound = 0x1p-98 * permanent;
+    if (value > bound) return 1;
+    if (-value > bound) return -1;
   }
   // Stage B: the determinant of the rounded differences, exactly (at most 96 components). When the
   // differences are exact this is the determinant itself. Otherwise the neglected tails change it
