@@ -184,6 +184,11 @@ const PointCase kPointCases[] = {
     {"ParallelWithDuplicates", [] { return test::with_duplicates(test::uniform_points(30000, 43), 20000, 44); }, true},
     {"ParallelTinyGrid", [] { return test::scaled_pow2(test::grid_points(190, 190, 45), -150); }, false},
     {"ParallelHugeKuzmin", [] { return test::scaled(test::kuzmin_points(40000, 46), 1e40); }, false},
+    // Pinched halves: the other half's far outliers wrap around one half so that both common
+    // tangents touch the same vertex of it and its whole hull is zipped (these seeds do; before
+    // the fix the merge looked up consumed ghosts and corrupted the mesh).
+    {"ParallelKuzminPinched40k", [] { return test::kuzmin_points(40000, 5); }, false},
+    {"ParallelKuzminPinched100k", [] { return test::kuzmin_points(100000, 2); }, false},
     {"ParallelTwoVerticalLines",  // each half is collinear: the sequential fallback
      [] {
        std::vector<Point> p;

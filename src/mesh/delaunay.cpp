@@ -196,41 +196,43 @@ void brio_rounds(std::uint32_t* idx, std::size_t count) {
 constexpr std::size_t kParallelThreshold = 1u << 15;
 
 // Returns the input indices in insertion order: BRIO rounds (brio_rounds) of the adaptive Hilbert
-// curve order. The curve's first half covers exactly the points whose grid column is in the left
-// half of the bounding box (the curve visits the lower-left, upper-left, upper-right, lower-right
-// quadrants in turn); large inputs are split there, each half ordered on its own thread (rounds
-// within each half), and *left_count receives the left half's size (0: no split).
+// curve order. Large inputs are first split at the median x coordinate (left: x below it; right:
+// the rest, so the halves are separated by a vertical line as merge_halves needs) and each half is
+// ordered in its own bounding box on its own thread; *left_count receives the left half's size
+// (0: no split). The median, not the middle of the bounding box, keeps the halves balanced when a
+// few outliers stretch the box (Kuzmin's distribution).
 std::vector<std::uint32_t> hilbert_order(const std::vector<Point>& points, std::size_t* left_count) {
-  std::vector<std::uint32_t> order(points.size());
+  const std::size_t n = points.size();
+  std::vector<std::uint32_t> order(n);
   std::iota(order.begin(), order.end(), 0u);
   *left_count = 0;
-  KeyGrid grid;
-  if (order.size() >= kParallelThreshold && key_grid(points.data(), order.data(), order.size(), grid)) {
-    // The curve's first half is the keys whose top bit is 0 (the two left quadrants): split the
-    // keys stably by that bit and sort the halves on two threads. Same order as one sort.
-    std::vector<std::uint64_t> words(order.size()), buffer(order.size());
-    const std::size_t n = order.size(), half = n / 2;
-    std::jthread key_worker([&] { fill_keys(points.data(), order.data(), half, n, grid, buffer.data()); });
-    fill_keys(points.data(), order.data(), 0, half, grid, buffer.data());
-    key_worker.join();
+  if (n >= kParallelThreshold) {
+    std::vector<double> xs(n);
+    for (std::size_t i = 0; i < n; ++i) xs[i] = points[i].x;
+    std::nth_element(xs.begin(), xs.begin() + static_cast<std::ptrdiff_t>(n / 2), xs.end());
+    const double median = xs[n / 2];
+    xs = std::vector<double>();
     std::size_t left = 0;
-    for (const std::uint64_t w : buffer) left += (w >> 63) == 0 ? 1 : 0;
-    std::size_t l = 0, r = left;
-    for (const std::uint64_t w : buffer) words[(w >> 63) == 0 ? l++ : r++] = w;
-    std::jthread worker([&] {
-      sort_keys_and_refine(points.data(), order.data() + left, n - left, words.data() + left,
-                           buffer.data() + left, 0);
-      brio_rounds(order.data() + left, n - left);
-    });
-    sort_keys_and_refine(points.data(), order.data(), left, words.data(), buffer.data(), 0);
-    brio_rounds(order.data(), left);
-    worker.join();
-    *left_count = left;
-  } else {
-    std::vector<std::uint64_t> words, buffer;
-    hilbert_sort(points.data(), order.data(), order.size(), words, buffer, 0);
-    brio_rounds(order.data(), order.size());
+    for (const Point& p : points) left += p.x < median ? 1 : 0;
+    if (left >= n / 8 && n - left >= n / 8) {
+      std::size_t l = 0, r = left;
+      for (std::uint32_t i = 0; i < n; ++i) order[points[i].x < median ? l++ : r++] = i;
+      std::jthread worker([&] {
+        std::vector<std::uint64_t> words, buffer;
+        hilbert_sort(points.data(), order.data() + left, n - left, words, buffer, 0);
+        brio_rounds(order.data() + left, n - left);
+      });
+      std::vector<std::uint64_t> words, buffer;
+      hilbert_sort(points.data(), order.data(), left, words, buffer, 0);
+      brio_rounds(order.data(), left);
+      worker.join();
+      *left_count = left;
+      return order;
+    }
   }
+  std::vector<std::uint64_t> words, buffer;
+  hilbert_sort(points.data(), order.data(), n, words, buffer, 0);
+  brio_rounds(order.data(), n);
   return order;
 }
 
@@ -352,7 +354,8 @@ void merge_halves(Mesh& left, Mesh&& right) {
     b = G.v[prev3(k)];
   };
   for (TriangleId t = 0; t < m.triangles.size(); ++t) {
-    if (!m.is_ghost(t)) continue;
+    // (A dead slot's corners are kNone, which equals kInfinite: skip it before asking is_ghost.)
+    if (m.is_dead(t) || !m.is_ghost(t)) continue;
     VertexId a, b;
     finite_pair(t, a, b);
     from_pairs.emplace_back(b, t);
@@ -396,6 +399,7 @@ void merge_halves(Mesh& left, Mesh&& right) {
       r = v;
     }
   }
+  const VertexId l_start = l, r_start = r;
   // Lower common tangent: every point on or left of l→r.
   for (bool moved = true; moved;) {
     moved = false;
@@ -421,8 +425,50 @@ void merge_halves(Mesh& left, Mesh&& right) {
     }
   }
   const VertexId l0 = l, r0 = r;
-  const TriangleId below_l0 = ghost_to.at(l0);    // (l0, p, ∞): hull edge p→l0, stays
-  const TriangleId after_r0 = ghost_from.at(r0);  // (q, r0, ∞): hull edge r0→q, stays
+  // Upper common tangent (every point on or right of l→r), found the same way from the same
+  // start, and with the same sliding so that no vertex lies on its open bridge.
+  VertexId lt = l_start, rt = r_start;
+  for (bool moved = true; moved;) {
+    moved = false;
+    while (orient2d(P[lt], P[rt], P[ccw(lt)]) > 0) {
+      lt = ccw(lt);
+      moved = true;
+    }
+    while (orient2d(P[lt], P[rt], P[cw(rt)]) > 0) {
+      rt = cw(rt);
+      moved = true;
+    }
+  }
+  for (bool moved = true; moved;) {
+    moved = false;
+    const VertexId lc = cw(lt), rc = ccw(rt);
+    if (orient2d(P[lt], P[rt], P[lc]) == 0 && strictly_between(lt, rt, lc)) {
+      lt = lc;
+      moved = true;
+    } else if (orient2d(P[lt], P[rt], P[rc]) == 0 && strictly_between(lt, rt, rc)) {
+      rt = rc;
+      moved = true;
+    }
+  }
+  // The chains the ladder zips: L's hull counter-clockwise from l0 to lt, R's clockwise from r0
+  // to rt. A half can be pinched: when the other half's outliers wrap around it, both tangents
+  // touch the same vertex (lt == l0) and its whole hull faces the gap, so its chain is the full
+  // cycle (a half has at least three hull vertices, so an empty chain is impossible then).
+  auto chain_length = [&](VertexId from, VertexId to, bool counter_clockwise) {
+    std::size_t k = 0;
+    VertexId v = from;
+    do {
+      v = counter_clockwise ? ccw(v) : cw(v);
+      ++k;
+      if (k > from_pairs.size()) throw InternalError("merge_halves: hull chain does not close");
+    } while (v != to);
+    return k;
+  };
+  std::size_t left_steps = chain_length(l0, lt, true);
+  std::size_t right_steps = chain_length(r0, rt, false);
+  const bool left_pinched = lt == l0, right_pinched = rt == r0;
+  const TriangleId below_l0 = ghost_to.at(l0);    // (l0, p, ∞): hull edge p→l0 (stays unless pinched)
+  const TriangleId after_r0 = ghost_from.at(r0);  // (q, r0, ∞): hull edge r0→q (stays unless pinched)
   auto corner_of = [&](TriangleId t, VertexId v) {
     unsigned k = 0;
     while (m.triangles[t].v[k] != v) ++k;
@@ -442,10 +488,13 @@ void merge_halves(Mesh& left, Mesh&& right) {
   const std::size_t limit = m.triangles.size();
   for (std::size_t step = 0;; ++step) {
     if (step > limit) throw InternalError("merge_halves: ladder does not terminate");
-    const VertexId lc = ccw(l), rc = cw(r);
-    const bool l_valid = orient2d(P[l], P[r], P[lc]) > 0;
-    const bool r_valid = orient2d(P[l], P[r], P[rc]) > 0;
-    if (!l_valid && !r_valid) break;  // (l, r) is the upper common tangent
+    if (left_steps == 0 && right_steps == 0) break;  // (l, r) is the upper common tangent
+    // (A chain's next vertex is looked up only while the chain has edges left: in a pinched
+    // half the first ghost of the chain has already been consumed when the cycle closes.)
+    const VertexId lc = left_steps > 0 ? ccw(l) : kNone, rc = right_steps > 0 ? cw(r) : kNone;
+    const bool l_valid = left_steps > 0 && orient2d(P[l], P[r], P[lc]) > 0;
+    const bool r_valid = right_steps > 0 && orient2d(P[l], P[r], P[rc]) > 0;
+    if (!l_valid && !r_valid) throw InternalError("merge_halves: no valid ladder step");
     // A candidate is blocked if its triangle would overlap the other hull.
     bool l_ok = l_valid, r_ok = r_valid;
     if (l_valid && r_valid) {
@@ -470,6 +519,7 @@ void merge_halves(Mesh& left, Mesh&& right) {
       suspects.push_back(make_handle(g, 1));
       suspects.push_back(make_handle(g, 2));
       l = lc;
+      --left_steps;
     } else {
       // Consume R's hull edge rc→r: its ghost (r, rc, ∞) becomes the triangle (l, r, rc).
       const TriangleId g = ghost_to.at(r);
@@ -481,15 +531,26 @@ void merge_halves(Mesh& left, Mesh&& right) {
       suspects.push_back(make_handle(g, 0));
       suspects.push_back(make_handle(g, 2));
       r = rc;
+      --right_steps;
     }
   }
   // The top ghost U = (l, r, ∞) for the new hull edge r→l.
   const TriangleId top = m.new_triangle();
   m.triangles[top].v = {l, r, kInfinite};
-  const TriangleId after_l = ghost_from.at(l);  // (u, l, ∞): hull edge l→u, stays
-  const TriangleId below_r = ghost_to.at(r);    // (r, s, ∞): hull edge s→r, stays
-  link(make_handle(top, 0), make_handle(below_r, corner_of(below_r, cw(r))));  // r→∞
-  link(make_handle(top, 1), make_handle(after_l, corner_of(after_l, ccw(l))));  // ∞→l
+  // The hull edges around the top bridge r→l: before r, s→r of R (or, if R is pinched, the bottom
+  // bridge l0→r0 itself); after l, l→u of L (or, if L is pinched, the bottom bridge).
+  if (right_pinched) {
+    link(make_handle(top, 0), make_handle(bottom, 1));  // r→∞ with ∞→r0
+  } else {
+    const TriangleId below_r = ghost_to.at(r);  // (r, s, ∞): hull edge s→r, stays
+    link(make_handle(top, 0), make_handle(below_r, corner_of(below_r, cw(r))));  // r→∞
+  }
+  if (left_pinched) {
+    link(make_handle(top, 1), make_handle(bottom, 0));  // ∞→l with l0→∞
+  } else {
+    const TriangleId after_l = ghost_from.at(l);  // (u, l, ∞): hull edge l→u, stays
+    link(make_handle(top, 1), make_handle(after_l, corner_of(after_l, ccw(l))));  // ∞→l
+  }
   link(make_handle(top, 2), pending);  // l→r
   suspects.push_back(pending);
   restore_delaunay(m, suspects);
