@@ -21,6 +21,7 @@
 #include "mwst/brh.hpp"
 #include "mwst/flip.hpp"
 #include "mwst/optimize.hpp"
+#include "mwst/mwt.hpp"
 #include "mwst/quadtree.hpp"
 #include "mwst/pipeline.hpp"
 #include "mwst/io.hpp"
