@@ -666,6 +666,53 @@ TEST(Bundle, InKBundleAgreesWithPerTriangleValues) {
   EXPECT_GT(local_answers, 0u);
 }
 
+// The local path of in_k_bundle copies only a region of the mesh around the queries (and gives up
+// for a larger region or DT(V) when a flood would leave it or a Delaunay triangle it needs is not
+// one of DT(V)). Long thin triangles whose circumdisks reach far along a strip (points on a thin
+// ellipse; two rows of points far apart) and a few queries: the answers still equal
+// per_triangle[t] >= k.
+TEST(Bundle, InKBundleLocalRegionHandlesFarReachingDisks) {
+  std::mt19937_64 rng(29);
+  std::vector<std::pair<std::string, Mesh>> meshes;
+  std::vector<Point> ellipse;
+  for (int i = 0; i < 1200; ++i) {
+    const double t = 2.0 * 3.141592653589793 * i / 1200.0;
+    ellipse.push_back({std::cos(t), 0.02 * std::sin(t)});
+  }
+  meshes.emplace_back("thin ellipse", delaunay(ellipse));
+  std::vector<Point> strip;
+  std::uniform_real_distribution<double> jitter(0.0, 0.3);
+  for (int i = 0; i < 700; ++i) {
+    strip.push_back({i + jitter(rng), 0.0});
+    strip.push_back({i + jitter(rng), 40.0});
+  }
+  meshes.emplace_back("two rows", delaunay(strip));
+  for (const auto& [name, m] : meshes) {
+    SCOPED_TRACE(name);
+    ASSERT_TRUE(validate(m).empty());
+    const BundleResult per = bundle_number(m, {.per_triangle = true});
+    std::vector<TriangleId> in_domain;
+    for (TriangleId t = 0; t < m.triangle_slots(); ++t) {
+      if (m.in_domain(t)) in_domain.push_back(t);
+    }
+    ASSERT_GT(in_domain.size(), 1000u);
+    for (int trial = 0; trial < 4; ++trial) {
+      std::shuffle(in_domain.begin(), in_domain.end(), rng);
+      const std::vector<TriangleId> few(in_domain.begin(), in_domain.begin() + 3);
+      const std::uint32_t b = per.bundle_number;
+      for (const std::uint32_t k : {3u, 8u, b / 2, b - 1, b, b + 1}) {
+        KBundleStats stats;
+        const std::vector<std::uint8_t> in = in_k_bundle(m, k, few, &stats, 1);
+        ASSERT_EQ(in.size(), few.size());
+        for (std::size_t i = 0; i < few.size(); ++i) {
+          EXPECT_EQ(in[i] != 0, per.per_triangle[few[i]] >= k) << "k " << k << " triangle " << few[i] << " local "
+                                                                 << stats.local;
+        }
+      }
+    }
+  }
+}
+
 // A Delaunay-refined mesh (20°): the paper's lemma bounds its bundle number by 4π/α + 3 = 39.
 TEST(Bundle, RefinedMeshRespectsAngleLemma) {
   const Pslg pslg = io::read_poly(std::string(MWST_DATA_DIR) + "/Superior.poly");

@@ -38,8 +38,10 @@ struct BrhStats {
 // reached"): every triangle left with an angle below A is in no K-bundle; when K ≥ ⌈4π/A⌉ + 3 the
 // mesh is K-bundle-free. Passes after the first are seeded (RefineOptions::seed_triangles) with
 // the triangles the exact test marked, and the skinny list is updated, not recounted, between
-// them. Cost on a 1M-triangle input: about 2.5× DR's CPU time at the default K and 2.2× at K = 6,
-// 3.2–4.0× at K = 8, where seven exact tests are needed (bench/README.md, "Bundle removal (BRH)").
+// them. Cost on a 1M-triangle input (bench/bench_brh.cpp): about 3× DR's CPU time at the default K
+// (one exact test over all ~150k skinny triangles of the CDT, which builds DT(V)), 2.1–2.6× at
+// K = 6 and 2.5–3.0× at K = 8, where seven exact tests are needed, each local (its cost is that of
+// the mesh region around the skinny triangles, not of the mesh).
 BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options);
 
 }  // namespace mwst

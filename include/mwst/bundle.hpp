@@ -119,9 +119,11 @@ struct KBundleStats {
 // neighbours are flooded; a circumdisk meeting k triangles decides cheaply; otherwise only the
 // pencils of edges of S(t) whose two candidate lists hold at least k triangles are swept. With few
 // queries (fewer than 1/256 of the triangle slots) it first tries the Delaunay triangulation of
-// the vertices within 12 rings of mesh triangles around them instead of DT(V), and uses it only if
-// every Delaunay triangle it needs has a vertex-empty circumdisk (so is one of DT(V)); otherwise
-// it builds DT(V). The answer is the same either way. What bundle removal (BRH) asks of its
+// the vertices within 12 rings of mesh triangles around them instead of DT(V), over a copy of the
+// mesh region around them (those rings and every triangle around their vertices; 32 rings if a
+// flood would leave it, then the whole mesh), so in time proportional to the region, not to the
+// mesh; it uses it only if every Delaunay triangle it needs has a vertex-empty circumdisk (so is
+// one of DT(V)); otherwise it builds DT(V) over the whole mesh. The answer is the same either way. What bundle removal (BRH) asks of its
 // skinny triangles.
 std::vector<std::uint8_t> in_k_bundle(const Mesh& mesh, std::uint32_t k, const std::vector<TriangleId>& queries,
                                       KBundleStats* stats = nullptr, unsigned threads = 0);

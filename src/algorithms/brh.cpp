@@ -22,6 +22,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -85,6 +86,48 @@ class SkinnyTest {
   bool fast_;
 };
 
+// A set of 32-bit keys (triangle slots, vertex ids) emptied in O(1) by a new stamp: what one flood
+// of the local test has seen. Its table is sized for every key a flood can add (the flood is capped)
+// and stays in cache, where per-slot or per-vertex stamp arrays over the whole mesh would not.
+class FloodSet {
+ public:
+  explicit FloodSet(std::size_t max_keys) : cells_(std::bit_ceil(2 * max_keys + 16)), mask_(cells_.size() - 1) {}
+
+  void clear() {
+    if (++stamp_ == 0) {
+      std::fill(cells_.begin(), cells_.end(), Cell{});
+      stamp_ = 1;
+    }
+  }
+  bool contains(std::uint32_t key) const {
+    for (std::size_t i = hash(key);; i = (i + 1) & mask_) {
+      if (cells_[i].stamp != stamp_) return false;
+      if (cells_[i].key == key) return true;
+    }
+  }
+  // Adds key; false if it was there.
+  bool insert(std::uint32_t key) {
+    std::size_t i = hash(key);
+    for (; cells_[i].stamp == stamp_; i = (i + 1) & mask_) {
+      if (cells_[i].key == key) return false;
+    }
+    cells_[i] = {key, stamp_};
+    return true;
+  }
+
+ private:
+  struct Cell {
+    std::uint32_t key = 0;
+    std::uint32_t stamp = 0;
+  };
+  std::size_t hash(std::uint32_t key) const {
+    return static_cast<std::size_t>((std::uint64_t{key} * 0x9E3779B97F4A7C15ull) >> 40) & mask_;
+  }
+  std::vector<Cell> cells_;
+  std::size_t mask_;
+  std::uint32_t stamp_ = 1;
+};
+
 // The local test: is the open circumdisk of t, or of a (live, finite) neighbour of t, free of
 // vertices and meeting at least K in-domain triangles? Such a disk meets t (t's own circumdisk
 // holds t; a neighbour's holds the shared edge's interior, hence points of t), so t is then in a
@@ -92,14 +135,23 @@ class SkinnyTest {
 // and corner triple until clear().
 class LocalBundleTest {
  public:
-  explicit LocalBundleTest(std::uint32_t k) : k_(k), cap_(8 * static_cast<std::size_t>(k) + 64) {}
+  // A flood pops at most cap_ + 1 triangles, so it adds at most 3 (cap_ + 1) + 1 triangles and
+  // as many vertices plus the three corners to its sets.
+  explicit LocalBundleTest(std::uint32_t k)
+      : k_(k), cap_(8 * static_cast<std::size_t>(k) + 64), seen_triangles_(3 * cap_ + 8), seen_vertices_(3 * cap_ + 8) {}
 
-  void clear() { std::fill(cache_.begin(), cache_.end(), Cached{}); }
+  // Forgets every cached result (a new epoch: no sweep over the cache).
+  void clear() {
+    if (++epoch_ == 0) {
+      std::fill(cache_.begin(), cache_.end(), Cached{});
+      epoch_ = 1;
+    }
+  }
 
   bool in_bundle(const Mesh& m, TriangleId t) {
     if (cache_.size() < m.triangle_slots()) cache_.resize(m.triangle_slots() + m.triangle_slots() / 4 + 64);
     Cached& c = cache_[t];
-    if (c.value != 0 && c.v == m.triangles[t].v) return c.value == 2;
+    if (c.epoch == epoch_ && c.v == m.triangles[t].v) return c.value == 2;
     bool found = circumdisk_count(m, t) >= k_;
     for (unsigned e = 0; e < 3 && !found; ++e) {
       const TriangleId n = triangle_of(m.triangles[t].n[e]);
@@ -107,13 +159,15 @@ class LocalBundleTest {
     }
     c.v = m.triangles[t].v;
     c.value = found ? 2 : 1;
+    c.epoch = epoch_;
     return found;
   }
 
  private:
   struct Cached {
     std::array<VertexId, 3> v{kNone, kNone, kNone};
-    std::uint8_t value = 0;  // 0 unknown, 1 no, 2 yes
+    std::uint8_t value = 0;   // 1 no, 2 yes
+    std::uint16_t epoch = 0;  // valid if equal to epoch_
   };
 
   // The number of in-domain triangles meeting the open circumdisk of c, by a flood across the
@@ -121,29 +175,28 @@ class LocalBundleTest {
   // flood grows past cap_ (unknown: the exact test will decide).
   std::uint32_t circumdisk_count(const Mesh& m, TriangleId c) {
     if (++stamp_ == 0) {
-      std::fill(tri_stamp_.begin(), tri_stamp_.end(), 0);
-      std::fill(vertex_stamp_.begin(), vertex_stamp_.end(), 0);
+      value_.fill(ValueSlot{});
       stamp_ = 1;
     }
-    if (tri_stamp_.size() < m.triangle_slots()) tri_stamp_.resize(m.triangle_slots() + m.triangle_slots() / 4 + 64, 0);
-    if (vertex_stamp_.size() < m.points.size()) vertex_stamp_.resize(m.points.size() + m.points.size() / 4 + 64, 0);
+    seen_triangles_.clear();
+    seen_vertices_.clear();
     const auto& cv = m.triangles[c].v;
     const Point& a = m.points[cv[0]];
     const Point& b = m.points[cv[1]];
     const Point& d = m.points[cv[2]];
     const double orient = (a.x - d.x) * (b.y - d.y) - (a.y - d.y) * (b.x - d.x);
     for (const VertexId v : cv) {
-      vertex_stamp_[v] = stamp_;
-      value_[v % kValueCache] = {v, 0.0};
+      seen_vertices_.insert(v);
+      value_[v % kValueCache] = {v, stamp_, 0.0};
     }
     auto value_at = [&](VertexId v) {
       ValueSlot& s = value_[v % kValueCache];
-      if (s.v != v || vertex_stamp_[v] != stamp_) return detail::incircle_determinant(a, b, d, m.points[v]).value;
+      if (s.v != v || s.stamp != stamp_) return detail::incircle_determinant(a, b, d, m.points[v]).value;
       return s.value;
     };
     stack_.clear();
     stack_.push_back(c);
-    tri_stamp_[c] = stamp_;
+    seen_triangles_.insert(c);
     std::uint32_t count = 0;
     std::size_t visited = 0;
     while (!stack_.empty()) {
@@ -153,11 +206,10 @@ class LocalBundleTest {
       if (m.in_domain(t)) ++count;
       for (unsigned e = 0; e < 3; ++e) {
         const Handle h = make_handle(t, e);
-        const Handle across = m.sym(h);
-        const TriangleId n = triangle_of(across);
-        if (tri_stamp_[n] == stamp_ || m.is_ghost(n)) continue;
         const VertexId u = m.org(h), w = m.dest(h);
-        // The incircle value along the edge is a concave quadratic: its maximum on [0, 1].
+        // The incircle value along the edge is a concave quadratic: its maximum on [0, 1]. (Tested
+        // first: it needs only t's corners, so the triangle across is loaded only for edges that
+        // meet the disk.)
         const double gu = value_at(u), gw = value_at(w);
         const Point& pu = m.points[u];
         const Point& pw = m.points[w];
@@ -166,12 +218,20 @@ class LocalBundleTest {
         const double slope = gw - gu + quad;
         const double lambda = quad > 0.0 ? std::clamp(slope / (2.0 * quad), 0.0, 1.0) : 0.0;
         if (!(gu + lambda * (slope - quad * lambda) > 0.0)) continue;
-        tri_stamp_[n] = stamp_;
+        const Handle across = m.sym(h);
+        const TriangleId n = triangle_of(across);
+        if (seen_triangles_.contains(n)) continue;
+        // u and w are finite (t is), so the triangle across is a ghost iff its apex is infinite.
         const VertexId x = m.apex(across);
-        if (vertex_stamp_[x] != stamp_) {
-          vertex_stamp_[x] = stamp_;
-          if (incircle(a, b, d, m.points[x]) > 0) return 0;  // the disk is not vertex-empty
-          value_[x % kValueCache] = {x, detail::incircle_determinant(a, b, d, m.points[x]).value};
+        if (x == kInfinite) continue;
+        seen_triangles_.insert(n);
+        if (seen_vertices_.insert(x)) {
+          // The sign of the incircle determinant decides (exactly: incircle's filter, then its exact
+          // stage only when the filter cannot vouch); its rounded value serves the edge tests.
+          const detail::FilteredDeterminant det = detail::incircle_determinant(a, b, d, m.points[x]);
+          if (det.value > det.bound) return 0;  // the disk is not vertex-empty
+          if (!(-det.value > det.bound) && detail::incircle_exact(a, b, d, m.points[x]) > 0) return 0;
+          value_[x % kValueCache] = {x, stamp_, det.value};
         }
         stack_.push_back(n);
       }
@@ -181,17 +241,19 @@ class LocalBundleTest {
 
   struct ValueSlot {
     VertexId v = kNone;
+    std::uint32_t stamp = 0;  // the flood that wrote it
     double value = 0.0;
   };
   static constexpr std::size_t kValueCache = 256;
 
   std::uint32_t k_;
   std::size_t cap_;
-  std::uint32_t stamp_ = 0;
-  std::vector<std::uint32_t> tri_stamp_, vertex_stamp_;
+  std::uint32_t stamp_ = 0;  // the current flood
+  FloodSet seen_triangles_, seen_vertices_;
   std::vector<TriangleId> stack_;
   std::array<ValueSlot, kValueCache> value_{};
   std::vector<Cached> cache_;
+  std::uint16_t epoch_ = 1;
 };
 
 }  // namespace
@@ -206,7 +268,8 @@ BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
   const SkinnyTest is_skinny(A);
   RefineOptions ro = options.refine;
   ro.min_angle_deg = A;
-  // Skinny triangles a seeded pass tested (every triangle it made passes through is_bad).
+  // Skinny triangles a pass tested: every triangle a pass makes passes through is_bad, and an
+  // unseeded pass (a custom is_bad) ends by testing every triangle of the domain again (refine.cpp).
   std::vector<TriangleId> made_skinny;
   bool record_skinny = false;
   ro.is_bad = [&](const Mesh& m, TriangleId t) {
@@ -218,10 +281,11 @@ BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
   // Set when a pass driven by the local test alone inserted nothing (its triangles sit at small
   // input angles): the next pass asks the exact test, so that no triangle it would find is missed.
   bool force_exact = false;
-  // The skinny triangles of the domain. After a seeded pass they are updated, not recounted: a
-  // triangle the pass did not make is unchanged, so they are the old ones still alive and skinny
-  // plus the skinny ones the pass made (`made_skinny`). Before BRH stops on such a list, a sweep
-  // over the whole mesh confirms it (the guarantee must not rest on the bookkeeping).
+  // The skinny triangles of the domain. After a pass they are updated, not recounted: a triangle
+  // the pass did not make is unchanged, so they are the old ones still alive and skinny plus the
+  // skinny ones the pass tested (`made_skinny`; after an unseeded pass that is all of them). Before
+  // BRH stops on such a list, a sweep over the whole mesh confirms it (the guarantee must not rest
+  // on the bookkeeping).
   std::vector<TriangleId> skinny;
   bool skinny_updated = false;      // skinny comes from an update, not a sweep
   std::size_t confirmed_skinny = 0;  // the sweep's count when it confirmed the list
@@ -242,6 +306,11 @@ BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
     confirmed = true;
     confirmed_skinny = updated;
     return true;
+  };
+  // Stopping on a list this round's sweep made (the mesh unchanged since): it is the count.
+  auto stop_on_sweep = [&] {
+    confirmed = true;
+    confirmed_skinny = skinny.size();
   };
   stats.stop_reason = "bound reached";
   for (stats.rounds = 0; stats.rounds < options.max_rounds;) {
@@ -265,7 +334,11 @@ BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
     }
     made_skinny.clear();
     if (skinny.empty()) {
-      if (!skinny_updated || confirm_skinny()) break;
+      if (!skinny_updated) {
+        stop_on_sweep();
+        break;
+      }
+      if (confirm_skinny()) break;
       swept_again = true;  // the sweep found skinny triangles the update missed
       continue;
     }
@@ -291,8 +364,12 @@ BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
         marked.insert(sorted_triple(mesh, skinny[i]));
         ro.seed_triangles.push_back(skinny[i]);
       }
-      if (marked.empty()) {
-        if (!skinny_updated || confirm_skinny()) break;  // no skinny triangle is in a K-bundle
+      if (marked.empty()) {  // no skinny triangle is in a K-bundle
+        if (!skinny_updated) {
+          stop_on_sweep();
+          break;
+        }
+        if (confirm_skinny()) break;
         swept_again = true;  // the sweep found skinny triangles the update missed: test them all
         continue;
       }
@@ -304,7 +381,7 @@ BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
     if (stats.rounds == 0 || any_local) ro.seed_triangles.clear();
     ++stats.rounds;
     ro.max_steiner = steiner_budget;
-    record_skinny = !ro.seed_triangles.empty();
+    record_skinny = true;
     const RefineStats rs = refine(mesh, ro);
     skinny_updated = record_skinny;
     record_skinny = false;

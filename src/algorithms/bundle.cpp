@@ -54,6 +54,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <exception>
 #include <limits>
@@ -317,6 +318,65 @@ std::uint32_t morton_key(const Point& p, double x0, double y0, double scale) {
   return spread(cell(p.x, x0)) | (spread(cell(p.y, y0)) << 1);
 }
 
+// Dense ids 0, 1, ... for 32-bit keys (mesh slots or vertex ids) in the order they are inserted:
+// an open-addressing hash table, so that in_k_bundle's local attempt costs what its region holds,
+// not what the mesh holds.
+class DenseIds {
+ public:
+  explicit DenseIds(std::size_t expected = 0) { rehash(std::bit_ceil(2 * expected + 16)); }
+
+  std::size_t size() const { return keys_.size(); }
+  std::uint32_t key(std::uint32_t id) const { return keys_[id]; }
+
+  // The id of `key`, or kNone.
+  std::uint32_t find(std::uint32_t key) const {
+    for (std::size_t i = hash(key);; i = (i + 1) & mask_) {
+      const Cell& c = table_[i];
+      if (c.id == kNone || c.key == key) return c.id;
+    }
+  }
+
+  // The id of `key`, and whether it was added now.
+  std::pair<std::uint32_t, bool> insert(std::uint32_t key) {
+    if (2 * (keys_.size() + 1) > table_.size()) rehash(2 * table_.size());
+    std::size_t i = hash(key);
+    for (;; i = (i + 1) & mask_) {
+      const Cell& c = table_[i];
+      if (c.id == kNone) break;
+      if (c.key == key) return {c.id, false};
+    }
+    const auto id = static_cast<std::uint32_t>(keys_.size());
+    table_[i] = {key, id};
+    keys_.push_back(key);
+    return {id, true};
+  }
+
+ private:
+  struct Cell {
+    std::uint32_t key = 0;
+    std::uint32_t id = kNone;  // kNone: empty
+  };
+  // Fibonacci hashing: the top bits of key · 2^64/φ.
+  std::size_t hash(std::uint32_t key) const {
+    return static_cast<std::size_t>((std::uint64_t{key} * 0x9E3779B97F4A7C15ull) >> shift_);
+  }
+  void rehash(std::size_t capacity) {
+    table_.assign(capacity, Cell{});
+    mask_ = capacity - 1;
+    shift_ = 64 - std::countr_zero(capacity);
+    for (std::uint32_t id = 0; id < keys_.size(); ++id) {
+      std::size_t i = hash(keys_[id]);
+      while (table_[i].id != kNone) i = (i + 1) & mask_;
+      table_[i] = {keys_[id], id};
+    }
+  }
+
+  std::vector<Cell> table_;
+  std::vector<std::uint32_t> keys_;  // by id
+  std::size_t mask_ = 0;
+  int shift_ = 64;
+};
+
 // What every worker reads: the mesh with its vertices renumbered along a Morton curve (so that the
 // per-vertex scratch of neighbouring pencils is close in memory), DT(V), the candidate list of
 // every Delaunay triangle, and the pencils (one Delaunay edge each).
@@ -327,9 +387,13 @@ struct Shared {
   std::vector<Point> pts;                   // by renumbered vertex id
   struct Slot {
     std::array<VertexId, 3> v;  // corners, renumbered (kInfinite for ghosts and dead slots)
-    std::array<Handle, 3> n;    // neighbours, as in Triangle::n
+    std::array<Handle, 3> n;    // neighbours, as in Triangle::n (renumbered slots in a region)
   };
-  std::vector<Slot> slots;      // every mesh slot
+  // Every mesh slot (build), or the slots of a region of the mesh renumbered densely followed by
+  // one slot, `outside`, that stands for every triangle beyond the region (build_region).
+  std::vector<Slot> slots;
+  std::vector<std::uint8_t> domain;         // per slot: in the domain (Mesh::in_domain)
+  TriangleId outside = kNone;               // the slot beyond a region (kNone: the whole mesh)
   std::vector<Handle> vertex_edge;          // renumbered id → a mesh edge leaving the vertex
   std::uint32_t used = 0;                   // ids [0, used) are the vertices of T, and DT ids
   Mesh dt;
@@ -346,12 +410,13 @@ struct Shared {
     const auto& v = slots[t].v;
     return v[0] == kInfinite || v[1] == kInfinite || v[2] == kInfinite;
   }
+  bool in_domain(TriangleId t) const { return domain[t] != 0; }
 
   // Renumbers, builds DT(V) and (if asked) lists the pencils. False if T has no triangle. With a
-  // `subset` (flags by mesh vertex id), `dt` is the Delaunay triangulation of the vertices of T in
-  // the subset only (ids below `used`); the other vertices of T follow them (in_k_bundle's local
-  // attempt, which checks that the Delaunay triangles it uses are Delaunay triangles of V).
-  bool build(bool list_pencils = true, const std::vector<std::uint8_t>* subset = nullptr) {
+  // `subset` W (mesh vertex ids), `dt` is the Delaunay triangulation of the vertices of T in W only
+  // (ids below `used`, in mesh id order); the other vertices of T follow them (in_k_bundle's local
+  // attempt over the whole mesh, when a flood leaves the regions of build_region).
+  bool build(bool list_pencils = true, const std::vector<VertexId>* subset = nullptr) {
     const std::size_t nv = m.points.size();
     std::vector<std::uint8_t> state(nv, 0);  // 1: corner of a live triangle, 2: vertex of T
     bool any = false;
@@ -365,9 +430,11 @@ struct Shared {
     }
     if (!any) return false;
     if (subset) {
+      std::vector<std::uint8_t> in_subset(nv, 0);
+      for (const VertexId v : *subset) in_subset[v] = 1;
       bool some = false;
       for (VertexId v = 0; v < nv; ++v) {
-        if (state[v] == 2 && !(*subset)[v]) state[v] = 1;
+        if (state[v] == 2 && !in_subset[v]) state[v] = 1;
         some = some || state[v] == 2;
       }
       if (!some) return false;
@@ -409,8 +476,10 @@ struct Shared {
       if (state[v] == 2) used = static_cast<std::uint32_t>(i + 1);
     }
     slots.resize(m.triangle_slots());
+    domain.resize(m.triangle_slots());
     vertex_edge.assign(pts.size(), kNone);
     for (TriangleId t = 0; t < m.triangle_slots(); ++t) {
+      domain[t] = m.in_domain(t) ? 1 : 0;
       for (unsigned k = 0; k < 3; ++k) {
         const VertexId v = m.triangles[t].v[k];
         slots[t].v[k] = (v == kInfinite || m.is_dead(t)) ? kInfinite : renumber[v];
@@ -423,6 +492,72 @@ struct Shared {
         if (o != kInfinite && vertex_edge[o] == kNone) vertex_edge[o] = h;
       }
     }
+    return finish(list_pencils);
+  }
+
+  // build() for in_k_bundle's local attempt, in time proportional to a region of the mesh: the
+  // mesh slots `region` (live; every triangle around each vertex of `w` among them, and every ghost
+  // next to a finite one) become slots 0, 1, ... and `outside` stands for the rest; `dt` is the
+  // Delaunay triangulation of the vertices of T in `w` (mesh ids, ascending: the order build()
+  // gives them with a subset). False if none of `w` is a vertex of T.
+  bool build_region(const std::vector<TriangleId>& region, const DenseIds& region_ids, const std::vector<VertexId>& w) {
+    DenseIds ids(w.size() + region.size());
+    std::vector<std::uint8_t> in_t;  // per region vertex (in `ids` order): a corner of an in-domain slot
+    for (const VertexId v : w) ids.insert(v);
+    in_t.assign(w.size(), 0);
+    for (const TriangleId t : region) {
+      const bool in = m.in_domain(t);
+      for (const VertexId v : m.triangles[t].v) {
+        if (v == kInfinite) continue;
+        const auto [id, added] = ids.insert(v);
+        if (added) in_t.push_back(0);
+        if (in) in_t[id] = 1;
+      }
+    }
+    // DT ids: the vertices of w that are vertices of T (a vertex of w has all its triangles in the
+    // region, so in_t is exact for it), then the other region vertices.
+    std::vector<VertexId> renumber(ids.size(), kNone);  // by `ids` id
+    pts.clear();
+    pts.reserve(ids.size());
+    for (std::uint32_t i = 0; i < w.size(); ++i) {
+      if (!in_t[i]) continue;
+      renumber[i] = static_cast<VertexId>(pts.size());
+      pts.push_back(m.points[w[i]]);
+    }
+    used = static_cast<std::uint32_t>(pts.size());
+    if (used == 0) return false;
+    for (std::uint32_t i = 0; i < ids.size(); ++i) {
+      if (renumber[i] != kNone) continue;
+      renumber[i] = static_cast<VertexId>(pts.size());
+      pts.push_back(m.points[ids.key(i)]);
+    }
+    outside = static_cast<TriangleId>(region.size());
+    slots.resize(region.size() + 1);
+    domain.assign(region.size() + 1, 0);
+    vertex_edge.assign(pts.size(), kNone);
+    for (TriangleId t = 0; t < region.size(); ++t) {
+      const Triangle& tri = m.triangles[region[t]];
+      domain[t] = m.in_domain(region[t]) ? 1 : 0;
+      for (unsigned k = 0; k < 3; ++k) {
+        const VertexId v = tri.v[k];
+        slots[t].v[k] = v == kInfinite ? kInfinite : renumber[ids.find(v)];
+        const TriangleId n = region_ids.find(triangle_of(tri.n[k]));
+        slots[t].n[k] = n == kNone ? make_handle(outside, 0) : make_handle(n, edge_of(tri.n[k]));
+      }
+      for (unsigned e = 0; e < 3; ++e) {
+        const Handle h = make_handle(t, e);
+        const VertexId o = org(h);
+        if (o != kInfinite && vertex_edge[o] == kNone) vertex_edge[o] = h;
+      }
+    }
+    slots[outside].v = {kInfinite, kInfinite, kInfinite};
+    for (unsigned k = 0; k < 3; ++k) slots[outside].n[k] = make_handle(outside, k);
+    return finish(false);
+  }
+
+ private:
+  // DT of the vertices [0, used), and (if asked) the pencils.
+  bool finish(bool list_pencils) {
     dt = delaunay(std::vector<Point>(pts.begin(), pts.begin() + used));
     if (!dt.duplicates.empty()) throw InternalError("bundle: two vertices of the mesh coincide");
     if (!list_pencils) return true;
@@ -473,10 +608,10 @@ class Worker {
       : sh_(shared), per_triangle_enabled_(per_triangle), prune_(prune) {
     flood_vertex_.assign(sh_.pts.size(), FloodVertex{});
     pencil_vertex_.assign(sh_.pts.size(), PencilVertex{});
-    triangle_stamp_.assign(sh_.m.triangle_slots(), 0);
-    candidate_stamp_.assign(sh_.m.triangle_slots(), 0);
-    candidate_index_.assign(sh_.m.triangle_slots(), 0);
-    if (per_triangle) per_triangle_.assign(sh_.m.triangle_slots(), 0);
+    triangle_stamp_.assign(sh_.slots.size(), 0);
+    candidate_stamp_.assign(sh_.slots.size(), 0);
+    candidate_index_.assign(sh_.slots.size(), 0);
+    if (per_triangle) per_triangle_.assign(sh_.slots.size(), 0);
   }
 
   // Results.
@@ -488,6 +623,7 @@ class Worker {
   std::uint32_t circumdisk_best = 0;
   std::size_t pencils = 0, candidate_pairs = 0, exact_comparisons = 0;
   std::uint32_t min_candidates = 0;  // pencils with fewer candidates are not swept
+  bool escaped = false;              // a flood reached Shared::outside (see Shared::build_region)
   std::vector<std::uint32_t>& per_triangle() { return per_triangle_; }
 
   // ---- floods ----
@@ -516,10 +652,15 @@ class Worker {
     while (!stack_.empty()) {
       const TriangleId t = stack_.back();
       stack_.pop_back();
-      if (sh_.m.in_domain(t)) out.push_back(t);
+      if (sh_.in_domain(t)) out.push_back(t);
       for (unsigned e = 0; e < 3; ++e) {
         const Handle h = make_handle(t, e);
         const TriangleId n = triangle_of(sh_.sym(h));
+        if (n == sh_.outside) {
+          // The flood would leave the region (in_k_bundle's local attempt): it cannot be trusted.
+          escaped = escaped || edge_may_meet(sh_.org(h), sh_.dest(h));
+          continue;
+        }
         if (triangle_stamp_[n] == triangle_mark_ || sh_.is_ghost(n)) continue;
         if (edge_may_meet(sh_.org(h), sh_.dest(h))) {
           triangle_stamp_[n] = triangle_mark_;
@@ -752,7 +893,7 @@ class Worker {
     const Point& pa = sh_.pts[a];
     const Handle start = sh_.vertex_edge[a];
     Handle h = start;
-    for (std::size_t turn = 0; turn < sh_.m.triangle_slots(); ++turn) {
+    for (std::size_t turn = 0; turn < sh_.slots.size() && triangle_of(h) != sh_.outside; ++turn) {
       const VertexId d = sh_.dest(h), x = sh_.apex(h);
       if (d != kInfinite && x != kInfinite && orient2d(pa, sh_.pts[d], target) >= 0 &&
           orient2d(pa, target, sh_.pts[x]) >= 0) {
@@ -1232,14 +1373,18 @@ namespace {
 // empty disks are the same). The local attempt checks that of every DT(W) triangle it uses — the
 // fan around the flood's starting corner, S(t) and the neighbours across its edges — and that none
 // of those lies on the hull of DT(W) except along hull edges of the mesh; then the floods over
-// DT(W) are the floods over DT(V) and the answer is exact. Otherwise it gives up (false).
-bool in_k_bundle_attempt(const Mesh& mesh, std::uint32_t k, const std::vector<TriangleId>& queries,
-                         KBundleStats& st, unsigned threads_requested, const std::vector<std::uint8_t>* subset,
-                         std::vector<std::uint8_t>& answer) {
+// DT(W) are the floods over DT(V) and the answer is exact. Otherwise it gives up (kGaveUp). The
+// local attempt sees only a region of the mesh (Shared::build_region); a flood that would leave it
+// makes it give up too (kEscaped: a larger region may do).
+enum class Attempt : std::uint8_t { kAnswered, kGaveUp, kEscaped };
+
+// `sh` is built (DT(V): Shared::build(false); DT(W): Shared::build_region, `subset` true);
+// `queries` are slots of sh (kNone for a query outside the domain).
+Attempt in_k_bundle_attempt(Shared& sh, std::uint32_t k, const std::vector<TriangleId>& queries, KBundleStats& st,
+                            unsigned threads_requested, bool subset, std::vector<std::uint8_t>& answer) {
   answer.assign(queries.size(), 0);
   st = {};
-  Shared sh(mesh);
-  if (!sh.build(false, subset)) return subset == nullptr;
+  auto in_domain = [&](TriangleId t) { return t < sh.slots.size() && sh.in_domain(t); };
   const Mesh& dt = sh.dt;
   const std::size_t dt_slots = dt.triangle_slots();
   // A Delaunay edge leaving every vertex of V (DT ids are the renumbered ids below `used`).
@@ -1261,11 +1406,11 @@ bool in_k_bundle_attempt(const Mesh& mesh, std::uint32_t k, const std::vector<Tr
   std::vector<TriangleId> s_list, stack, fan;
   std::vector<std::uint32_t> dt_stamp(dt_slots, 0);
   std::vector<std::uint8_t> needed(dt_slots, 0);  // 1: in some S(t); 2: a partner across an edge
-  std::vector<std::uint8_t> is_query(mesh.triangle_slots(), 0);
+  std::vector<std::uint8_t> is_query(sh.slots.size(), 0);
   for (std::size_t qi = 0; qi < queries.size(); ++qi) {
     const TriangleId t = queries[qi];
     s_begin[qi] = static_cast<std::uint32_t>(s_list.size());
-    if (!mesh.in_domain(t)) continue;
+    if (!in_domain(t)) continue;
     is_query[t] = 1;
     const auto& tv = sh.slots[t].v;
     const Point* const corners[3] = {&sh.pts[tv[0]], &sh.pts[tv[1]], &sh.pts[tv[2]]};
@@ -1284,7 +1429,7 @@ bool in_k_bundle_attempt(const Mesh& mesh, std::uint32_t k, const std::vector<Tr
     if (subset) {
       corner = 3;
       for (unsigned c = 0; c < 3 && corner == 3; ++c) {
-        if (tv[c] >= sh.used) return false;  // a corner outside W
+        if (tv[c] >= sh.used) return Attempt::kGaveUp;  // a corner outside W
         const Handle first = dt_vertex_edge[tv[c]];
         Handle g = first;
         bool ghost = false;
@@ -1294,7 +1439,7 @@ bool in_k_bundle_attempt(const Mesh& mesh, std::uint32_t k, const std::vector<Tr
         } while (g != first);
         if (!ghost) corner = c;
       }
-      if (corner == 3) return false;
+      if (corner == 3) return Attempt::kGaveUp;
     }
     const Handle start = dt_vertex_edge[tv[corner]];
     Handle h = start;
@@ -1330,7 +1475,7 @@ bool in_k_bundle_attempt(const Mesh& mesh, std::uint32_t k, const std::vector<Tr
           g = sh.onext(g);
           if (g == first) break;
         }
-        if (!hull) return false;
+        if (!hull) return Attempt::kGaveUp;
       }
     }
   }
@@ -1357,10 +1502,16 @@ bool in_k_bundle_attempt(const Mesh& mesh, std::uint32_t k, const std::vector<Tr
       const Point& c = sh.pts[dv[2]];
       for (std::uint32_t i = sh.list_begin[d]; i < sh.list_begin[d + 1]; ++i) {
         for (const VertexId v : sh.slots[sh.list[i]].v) {
-          if (v != dv[0] && v != dv[1] && v != dv[2] && incircle(a, b, c, sh.pts[v]) > 0) return false;
+          if (v != dv[0] && v != dv[1] && v != dv[2] && incircle(a, b, c, sh.pts[v]) > 0) return Attempt::kGaveUp;
         }
       }
     }
+  }
+
+  // A flood that left the region (checked after the test above: a list cut short that already
+  // shows a vertex inside its disk gives up for good).
+  for (const auto& w : workers) {
+    if (w->escaped) return Attempt::kEscaped;
   }
 
   // Cheap first: a circumdisk (an empty disk) meeting at least k triangles, the query among them.
@@ -1378,7 +1529,7 @@ bool in_k_bundle_attempt(const Mesh& mesh, std::uint32_t k, const std::vector<Tr
       }
     }
   });
-  std::vector<std::uint8_t> inside(mesh.triangle_slots(), 0);
+  std::vector<std::uint8_t> inside(sh.slots.size(), 0);
   for (const auto& part : hits) {
     for (const TriangleId c : part) inside[c] = 1;
   }
@@ -1387,7 +1538,7 @@ bool in_k_bundle_attempt(const Mesh& mesh, std::uint32_t k, const std::vector<Tr
   std::vector<Handle> pencils;
   for (std::size_t qi = 0; qi < queries.size(); ++qi) {
     const TriangleId t = queries[qi];
-    if (!mesh.in_domain(t)) continue;
+    if (!in_domain(t)) continue;
     if (inside[t]) {
       answer[qi] = 1;
       ++st.decided_by_circumdisks;
@@ -1417,14 +1568,77 @@ bool in_k_bundle_attempt(const Mesh& mesh, std::uint32_t k, const std::vector<Tr
     });
     for (std::size_t qi = 0; qi < queries.size(); ++qi) {
       const TriangleId t = queries[qi];
-      if (!mesh.in_domain(t) || answer[qi]) continue;
+      if (!in_domain(t) || answer[qi]) continue;
       for (const auto& w : workers) {
         if (w->per_triangle()[t] >= k) answer[qi] = 1;
       }
       if (answer[qi]) ++st.decided_by_pencils;
     }
   }
-  return true;
+  return Attempt::kAnswered;
+}
+
+}  // namespace
+
+namespace {
+
+// The local attempt: W holds the vertices of the mesh triangles fewer than kSubsetRings steps
+// (across edges, ghosts skipped) from the queries; the region holds the triangles at most
+// `region_rings` steps away, every triangle around a vertex of W, and the ghosts next to them.
+constexpr std::uint32_t kSubsetRings = 12;
+constexpr std::uint32_t kRegionRings[] = {12, 32};
+
+// Fills `region` / `region_ids` and `w` (ascending) for the queries.
+void local_region(const Mesh& mesh, const std::vector<TriangleId>& queries, std::uint32_t region_rings,
+                  std::vector<TriangleId>& region, DenseIds& region_ids, std::vector<VertexId>& w) {
+  region.clear();
+  region_ids = DenseIds(queries.size() * 256);
+  std::vector<std::pair<VertexId, Handle>> corners;  // the corners of W, with an edge leaving each
+  std::vector<TriangleId> frontier, next;
+  for (const TriangleId t : queries) {
+    if (t < mesh.triangle_slots() && !mesh.is_dead(t) && !mesh.is_ghost(t) && region_ids.insert(t).second) {
+      region.push_back(t);
+      frontier.push_back(t);
+    }
+  }
+  for (std::uint32_t ring = 0; ring < region_rings && !frontier.empty(); ++ring) {
+    next.clear();
+    for (const TriangleId t : frontier) {
+      const Triangle& tri = mesh.triangles[t];
+      if (ring < kSubsetRings) {
+        // Corner c is the origin of edge prev3(c).
+        for (unsigned c = 0; c < 3; ++c) corners.emplace_back(tri.v[c], make_handle(t, prev3(c)));
+      }
+      for (unsigned e = 0; e < 3; ++e) {
+        const TriangleId n = triangle_of(tri.n[e]);
+        if (mesh.is_ghost(n) || mesh.is_dead(n) || !region_ids.insert(n).second) continue;
+        region.push_back(n);
+        next.push_back(n);
+      }
+    }
+    frontier.swap(next);
+  }
+  std::sort(corners.begin(), corners.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  w.clear();
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    if (i > 0 && corners[i].first == corners[i - 1].first) continue;
+    w.push_back(corners[i].first);
+    const Handle start = corners[i].second;
+    Handle h = start;
+    do {
+      if (region_ids.insert(triangle_of(h)).second) region.push_back(triangle_of(h));
+      h = mesh.onext(h);
+    } while (h != start);
+  }
+  const std::size_t finite = region.size();
+  for (std::size_t i = 0; i < finite; ++i) {
+    if (mesh.is_ghost(region[i])) continue;
+    for (const Handle nh : mesh.triangles[region[i]].n) {
+      const TriangleId n = triangle_of(nh);
+      if (mesh.is_ghost(n) && region_ids.insert(n).second) region.push_back(n);
+    }
+  }
 }
 
 }  // namespace
@@ -1437,36 +1651,44 @@ std::vector<std::uint8_t> in_k_bundle(const Mesh& mesh, std::uint32_t k, const s
   st = {};
   if (queries.empty()) return answer;
   // Few queries in a large mesh: try the Delaunay triangulation of the vertices within a few
-  // rings of mesh triangles around them (verified, see in_k_bundle_attempt) before DT(V).
+  // rings of mesh triangles around them (verified, see in_k_bundle_attempt) before DT(V), over a
+  // region of the mesh around them (its cost is what the region holds); if a flood leaves the
+  // region, over a larger one.
   if (queries.size() * 256 < mesh.triangle_slots()) {
-    std::vector<std::uint8_t> subset(mesh.points.size(), 0);
-    std::vector<std::uint32_t> depth(mesh.triangle_slots(), kNone);
-    std::vector<TriangleId> frontier, next;
-    for (const TriangleId t : queries) {
-      if (t < mesh.triangle_slots() && !mesh.is_dead(t) && !mesh.is_ghost(t) && depth[t] == kNone) {
-        depth[t] = 0;
-        frontier.push_back(t);
+    std::vector<TriangleId> region;
+    DenseIds region_ids;
+    std::vector<VertexId> w;
+    Attempt a = Attempt::kGaveUp;
+    for (const std::uint32_t rings : kRegionRings) {
+      local_region(mesh, queries, rings, region, region_ids, w);
+      Shared sh(mesh);
+      if (!sh.build_region(region, region_ids, w)) break;
+      std::vector<TriangleId> local_queries(queries.size());
+      for (std::size_t qi = 0; qi < queries.size(); ++qi) local_queries[qi] = region_ids.find(queries[qi]);
+      a = in_k_bundle_attempt(sh, k, local_queries, st, threads, true, answer);
+      if (a == Attempt::kAnswered) {
+        st.local = true;
+        return answer;
       }
+      if (a == Attempt::kGaveUp) break;
     }
-    for (std::uint32_t ring = 0; ring < 12 && !frontier.empty(); ++ring) {
-      next.clear();
-      for (const TriangleId t : frontier) {
-        for (const VertexId v : mesh.triangles[t].v) subset[v] = 1;
-        for (unsigned e = 0; e < 3; ++e) {
-          const TriangleId n = triangle_of(mesh.triangles[t].n[e]);
-          if (mesh.is_ghost(n) || mesh.is_dead(n) || depth[n] != kNone) continue;
-          depth[n] = ring + 1;
-          next.push_back(n);
-        }
+    if (a == Attempt::kEscaped) {
+      // Floods reach far (long Delaunay disks, e.g. along the hull of a point set): the same
+      // attempt over the whole mesh, still cheaper than DT(V).
+      Shared sh(mesh);
+      if (sh.build(false, &w) && in_k_bundle_attempt(sh, k, queries, st, threads, true, answer) == Attempt::kAnswered) {
+        st.local = true;
+        return answer;
       }
-      frontier.swap(next);
-    }
-    if (in_k_bundle_attempt(mesh, k, queries, st, threads, &subset, answer)) {
-      st.local = true;
-      return answer;
     }
   }
-  in_k_bundle_attempt(mesh, k, queries, st, threads, nullptr, answer);
+  Shared sh(mesh);
+  if (!sh.build(false)) {
+    st = {};
+    answer.assign(queries.size(), 0);
+    return answer;
+  }
+  in_k_bundle_attempt(sh, k, queries, st, threads, false, answer);
   return answer;
 }
 
