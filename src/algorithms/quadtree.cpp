@@ -23,6 +23,9 @@
 //    bottom side (plus the root's top and right border), so ids come from one pass over the leaves
 //    in Morton order with no hashing; every leaf then reads its loop of up to 8 vertices through
 //    neighbour look-ups.
+//  - Cells are triangulated in Morton order, and each links its left and bottom sides to the
+//    cells across them as soon as it is made: those come earlier in the order (it is monotone in
+//    x and in y), so their triangles are still close in cache; no separate linking pass.
 //
 // Robustness: all sign decisions are exact (orient2d); constructed points (warped corners moved
 // onto segments, crossing points) are rounded once. Every cell triangulation is checked exactly
@@ -265,7 +268,8 @@ struct Node {
   std::uint32_t child = kNone;         // first of four consecutive children; kNone for a leaf
   std::uint32_t feat_begin = 0;        // leaves: features meeting the closed B(C) in Tree::features
   std::uint32_t feat_count = 0;
-  std::uint32_t vertex = kNone;        // leaves: the input vertex in the half-open cell, if any
+  std::uint32_t vertex = kNone;        // leaves: the input vertex in the half-open cell, if any, as
+                                       // its Morton rank (Tree::vertex_id, Tree::vertex_point)
   std::uint8_t level = 0;
   std::uint8_t state = 0;
 };
@@ -420,6 +424,8 @@ class Tree {
   }
 
   // Appends to `out` the features of the parent's list that meet each child's extended cell.
+  // (Written through raw pointers into room made first: this runs for every list entry of every
+  // level, and push_back's growth check was a call per entry.)
   void filter_children(const Node& parent, const std::uint32_t* list, std::size_t count,
                        std::array<std::vector<std::uint32_t>, 4>& out) const {
     const unsigned l = parent.level + 1u;
@@ -428,22 +434,30 @@ class Tree {
     const double xa1 = X(cx - 1, l), xa2 = X(cx + 2, l), xb1 = X(cx, l), xb2 = X(cx + 3, l);
     const double ya1 = Y(cy - 1, l), ya2 = Y(cy + 2, l), yb1 = Y(cy, l), yb2 = Y(cy + 3, l);
     const Box boxes[4] = {{xa1, ya1, xa2, ya2}, {xb1, ya1, xb2, ya2}, {xa1, yb1, xa2, yb2}, {xb1, yb1, xb2, yb2}};
+    std::size_t used[4];
+    std::uint32_t* w[4];
+    for (unsigned k = 0; k < 4; ++k) {
+      used[k] = out[k].size();
+      out[k].resize(used[k] + count);
+      w[k] = out[k].data();
+    }
     for (std::size_t i = 0; i < count; ++i) {
       const std::uint32_t f = list[i];
       if (is_vertex(f)) {
         const Point& q = rank_point_[f];
         const bool col0 = xa1 <= q.x && q.x <= xa2, col1 = xb1 <= q.x && q.x <= xb2;
         const bool row0 = ya1 <= q.y && q.y <= ya2, row1 = yb1 <= q.y && q.y <= yb2;
-        if (col0 && row0) out[0].push_back(f);
-        if (col1 && row0) out[1].push_back(f);
-        if (col0 && row1) out[2].push_back(f);
-        if (col1 && row1) out[3].push_back(f);
+        if (col0 && row0) w[0][used[0]++] = f;
+        if (col1 && row0) w[1][used[1]++] = f;
+        if (col0 && row1) w[2][used[2]++] = f;
+        if (col1 && row1) w[3][used[3]++] = f;
       } else {
         for (unsigned k = 0; k < 4; ++k) {
-          if (meets(f, boxes[k])) out[k].push_back(f);
+          if (meets(f, boxes[k])) w[k][used[k]++] = f;
         }
       }
     }
+    for (unsigned k = 0; k < 4; ++k) out[k].resize(used[k]);
   }
 
   // First build: breadth first, splitting by the feature rule.
@@ -545,6 +559,20 @@ class Tree {
     return h;
   }
 
+  // What find(a, level, ix + ox, iy + oy) returns for |ox|, |oy| ≤ 1, through the hints: an edge
+  // neighbour directly, a diagonal one as the neighbour of a same-size edge neighbour (climbing
+  // only when that edge neighbour is a coarser leaf).
+  std::uint32_t cell_at(std::uint32_t a, int ox, int oy) const {
+    if (ox == 0 && oy == 0) return a;
+    if (oy == 0) return neighbour(a, ox > 0 ? 0u : 2u);
+    if (ox == 0) return neighbour(a, oy > 0 ? 1u : 3u);
+    const std::uint32_t side = neighbour(a, ox > 0 ? 0u : 2u);
+    if (side == kNone) return kNone;
+    const Node& n = nodes[a];
+    if (nodes[side].level == n.level) return neighbour(side, oy > 0 ? 1u : 3u);
+    return find(side, n.level, n.ix + ox, n.iy + oy);
+  }
+
   // Sets the hints of the four new children of p (p's own hints are set).
   void set_child_hints(std::uint32_t p) {
     const std::uint32_t c = nodes[p].child;
@@ -561,14 +589,19 @@ class Tree {
     }
   }
 
-  // The input vertex in the half-open leaf [x1, x2) × [y1, y2), if any.
+  // The input vertex of a leaf's Node::vertex rank, and its point (the Morton-ordered copy: ranks
+  // of nearby leaves are close, so the reads stay in cache).
+  VertexId vertex_id(std::uint32_t rank) const { return rank_id_[rank]; }
+  const Point& vertex_point(std::uint32_t rank) const { return rank_point_[rank]; }
+
+  // The input vertex in the half-open leaf [x1, x2) × [y1, y2), if any, as its rank.
   std::uint32_t vertex_in(const Node& n) const {
     const Box b = box(n);
     for (std::uint32_t i = 0; i < n.feat_count; ++i) {
       const std::uint32_t f = features[n.feat_begin + i];
       if (!is_vertex(f)) continue;
       const Point& q = rank_point_[f];
-      if (b.x1 <= q.x && q.x < b.x2 && b.y1 <= q.y && q.y < b.y2) return rank_id_[f];
+      if (b.x1 <= q.x && q.x < b.x2 && b.y1 <= q.y && q.y < b.y2) return f;
     }
     return kNone;
   }
@@ -613,7 +646,8 @@ class Tree {
       const std::uint32_t side = neighbour(a, dx > 0 ? 0u : 2u);
       if (side == kNone) continue;
       for (const int dy : {1, -1}) {
-        const std::uint32_t b = find(side, n.level, n.ix + dx, n.iy + dy);
+        const std::uint32_t b = nodes[side].level == n.level ? neighbour(side, dy > 0 ? 1u : 3u)
+                                                                 : find(side, n.level, n.ix + dx, n.iy + dy);
         if (b != kNone && is_leaf(b)) work_.push_back(b);
       }
     }
@@ -634,8 +668,16 @@ class Tree {
       }
     }
     bool changed = false;
-    // Balance: an edge neighbour more than one level coarser is split.
+    // Balance: an edge neighbour more than one level coarser is split. Two of a's edge neighbours
+    // are its siblings (never coarser); across the other two, the hint covers the parent's
+    // neighbour cell, and a hint at level l − 1 already proves the neighbour fine enough.
+    const bool odd_x = (n.ix & 1) != 0, odd_y = (n.iy & 1) != 0;  // (n may move when b splits)
     for (unsigned d = 0; d < 4; ++d) {
+      if (l == 0) break;
+      const bool sibling = d == 0 ? !odd_x : d == 2 ? odd_x : d == 1 ? !odd_y : odd_y;
+      if (sibling) continue;
+      const std::uint32_t h = hint_[a][d];
+      if (h == kNone || nodes[h].level + 1u >= l) continue;
       const std::uint32_t b = neighbour(a, d);
       if (b != kNone && nodes[b].level + 1u < l) {
         ++stats_.splits_balance;
@@ -650,11 +692,11 @@ class Tree {
     const std::uint32_t v = nodes[a].vertex;
     if (v != kNone) {
       unsigned qx = 0, qy = 0;
-      nearest_corner(nodes[a], pts_[v], qx, qy);
-      const std::int64_t cx = nodes[a].ix + qx, cy = nodes[a].iy + qy;
+      nearest_corner(nodes[a], rank_point_[v], qx, qy);
+      // The cells around corner (ix + qx, iy + qy).
       for (int dy = -1; dy <= 0; ++dy) {
         for (int dx = -1; dx <= 0; ++dx) {
-          const std::uint32_t b = find(a, l, cx + dx, cy + dy);
+          const std::uint32_t b = cell_at(a, static_cast<int>(qx) + dx, static_cast<int>(qy) + dy);
           if (b == kNone || b == a) continue;
           if (nodes[b].level < l) {
             ++stats_.splits_warp;
@@ -728,7 +770,7 @@ class Tree {
       const std::uint32_t v = n.vertex;
       if (!bad && v != kNone) {
         unsigned qx = 0, qy = 0;
-        nearest_corner(n, pts_[v], qx, qy);
+        nearest_corner(n, rank_point_[v], qx, qy);
         for (int dy = -1; dy <= 0; ++dy) {
           for (int dx = -1; dx <= 0; ++dx) {
             const std::uint32_t b = find(a, n.level, n.ix + qx + dx, n.iy + qy + dy);
@@ -803,9 +845,8 @@ class Builder {
     return own_base_[k] + static_cast<std::uint32_t>(std::popcount(static_cast<unsigned>(own_mask_[k] & ((1u << bit) - 1u))));
   }
   std::uint32_t leaf_of(std::uint32_t node) const { return leaf_index_[node]; }
-  // The leaf containing the point just north-east of the lower-left corner of cell (l, tx, ty).
-  std::uint32_t leaf_sw(std::uint32_t from, unsigned l, std::int64_t tx, std::int64_t ty) const {
-    std::uint32_t a = tree_.find(from, l, tx, ty);
+  // The leaf containing the point just north-east of the lower-left corner of node a's cell.
+  std::uint32_t leaf_sw(std::uint32_t a) const {
     if (a == kNone) throw RouteFailure{"neighbour outside the root"};
     while (!tree_.is_leaf(a)) a = tree_.nodes[a].child;
     return a;
@@ -829,7 +870,9 @@ class Builder {
   void warp();
   void segments_pass();
   void triangulate_cells(Mesh& mesh);
-  void link_cells(Mesh& mesh);
+  std::pair<std::uint32_t, std::uint32_t> side_range(std::uint32_t k, unsigned side) const;
+  void link_cell(Mesh& mesh, std::uint32_t k);
+  void close_border(Mesh& mesh);
   void mark_segments(Mesh& mesh);
 
   // Calls visit(k, slot, u, w, s, a, b) for every edge u→w of the loop of a leaf k in `near` (from
@@ -889,7 +932,8 @@ class Builder {
   std::vector<std::uint8_t> gtop_;         // shallowest level of a leaf around each grid vertex
   std::vector<VertexId> gwarp_;            // input vertex a grid vertex was warped to, or kNone
   std::vector<std::uint32_t> gseg_;        // segment a vertex lies on (snapped, exact, crossing)
-  std::vector<std::uint8_t> gmoved_;       // moved off its grid position (warped or snapped)
+  std::vector<bool> gmoved_;               // moved off its grid position (warped or snapped); bits,
+                                           // so that the per-leaf test stays in cache
   std::uint32_t grid_count_ = 0;
   std::vector<std::uint32_t> input_gv_;    // input vertex → its grid vertex
   // Crossing points per leaf edge: (leaf, start slot, vertex), sorted by leaf.
@@ -911,9 +955,18 @@ class Builder {
   std::size_t subsegment_count_ = 0;
   // Final ids and the cells' boundary edges.
   std::vector<VertexId> final_id_;
-  std::vector<std::uint32_t> bound_begin_;  // per leaf: first boundary edge in bound_
-  std::vector<std::uint32_t> bound_sides_;  // per leaf: polygon index of BR, TR, TL (8 bits each)
+  // Per leaf (one more at the end): its first boundary edge in bound_, and the polygon indices of
+  // its BR, TR, TL corners (8 bits each); together, so that a neighbour's sides cost one miss.
+  struct CellBound {
+    std::uint32_t begin = 0, sides = 0;
+  };
+  std::vector<CellBound> cell_bound_;
   std::vector<Handle> bound_;               // boundary edge handles, in polygon order
+  struct Outer {
+    double position;  // along the root's border, counter-clockwise from its lower-left corner
+    Handle handle;
+  };
+  std::vector<Outer> outer_;                // boundary edges on the root's border
   std::vector<std::pair<Handle, std::uint32_t>> segment_edges_;  // (edge, segment) to mark
 };
 
@@ -977,7 +1030,7 @@ void Builder::build_loops() {
     loop[kBL] = own(k, kOwnLL);
     if ((own_mask_[k] >> kOwnBottomMid) & 1u) loop[kBottom] = own(k, kOwnBottomMid);
     if ((own_mask_[k] >> kOwnLeftMid) & 1u) loop[kLeft] = own(k, kOwnLeftMid);
-    loop[kBR] = right ? own(k, kOwnLR) : vertex_at(leaf_sw(tree_.neighbour(a, 0), l, ix + 1, iy), l, ix + 1, iy);
+    loop[kBR] = right ? own(k, kOwnLR) : vertex_at(leaf_sw(tree_.neighbour(a, 0)), l, ix + 1, iy);
     if (top && right) {
       loop[kTR] = own(k, kOwnUR);
     } else if (top) {
@@ -990,9 +1043,9 @@ void Builder::build_loops() {
       while (!tree_.is_leaf(d)) d = tree_.nodes[d].child + 1;
       loop[kTR] = own(leaf_of(d), kOwnLR);
     } else {
-      loop[kTR] = vertex_at(leaf_sw(tree_.neighbour(a, 0), l, ix + 1, iy + 1), l, ix + 1, iy + 1);
+      loop[kTR] = vertex_at(leaf_sw(tree_.cell_at(a, 1, 1)), l, ix + 1, iy + 1);
     }
-    loop[kTL] = top ? own(k, kOwnUL) : vertex_at(leaf_sw(tree_.neighbour(a, 1), l, ix, iy + 1), l, ix, iy + 1);
+    loop[kTL] = top ? own(k, kOwnUL) : vertex_at(leaf_sw(tree_.neighbour(a, 1)), l, ix, iy + 1);
     if (!right) {
       const std::uint32_t r = tree_.neighbour(a, 0);
       if (tree_.nodes[r].level == l && !tree_.is_leaf(r)) {
@@ -1021,21 +1074,21 @@ void Builder::build_loops() {
 
 void Builder::warp() {
   gwarp_.assign(grid_count_, kNone);
-  gmoved_.assign(grid_count_, 0);
+  gmoved_.assign(grid_count_, false);
   input_gv_.assign(pts_.size(), kNone);
   // Each leaf knows the input vertex in its half-open square (at most one: the splitting rule).
   for (std::uint32_t k = 0; k < leaves_.size(); ++k) {
     const Node& n = tree_.nodes[leaves_[k]];
-    const VertexId v = n.vertex;
-    if (v == kNone) continue;
-    const Point& q = pts_[v];
+    if (n.vertex == kNone) continue;
+    const VertexId v = tree_.vertex_id(n.vertex);
+    const Point& q = tree_.vertex_point(n.vertex);
     unsigned qx = 0, qy = 0;
     tree_.nearest_corner(n, q, qx, qy);
     static constexpr unsigned kCornerSlot[2][2] = {{kBL, kTL}, {kBR, kTR}};  // [qx][qy]
     const std::uint32_t g = loops_[8 * std::size_t{k} + kCornerSlot[qx][qy]];
     if (gwarp_[g] != kNone || input_gv_[v] != kNone) throw RouteFailure{"two input vertices warp the same corner"};
     gwarp_[g] = v;
-    gmoved_[g] = 1;
+    gmoved_[g] = true;
     gpos_[g] = q;
     input_gv_[v] = g;
     ++stats_.warped;
@@ -1154,7 +1207,7 @@ void Builder::segments_pass() {
     for (const auto& [g, c] : choice) {
       gseg_[g] = c.segment;
       gpos_[g] = c.target;
-      gmoved_[g] = 1;
+      gmoved_[g] = true;
       ++stats_.snapped;
     }
     if (choice.empty()) break;
@@ -1177,7 +1230,7 @@ void Builder::segments_pass() {
       gpos_.push_back(segment_intersection(lo, hi, a, b));
       gseg_.push_back(s);
       gwarp_.push_back(kNone);
-      gmoved_.push_back(1);
+      gmoved_.push_back(true);
       list.emplace_back(s, x);
       ++stats_.crossings;
     }
@@ -1273,10 +1326,10 @@ void Builder::triangulate_cells(Mesh& mesh) {
   // Vertex positions are read from the mesh (run() has released gpos_).
   auto pos = [&](std::uint32_t g) -> const Point& { return mesh.points[final_id_[g]]; };
   const auto& plain = plain_cells();
-  bound_begin_.resize(leaves_.size() + 1);
-  bound_sides_.resize(leaves_.size());
+  cell_bound_.assign(leaves_.size() + 1, CellBound{});
   bound_.clear();
   bound_.reserve(leaves_.size() * 5);
+  outer_.clear();
   mesh.triangles.reserve(leaves_.size() * 3);
   std::size_t next_crossing = 0;
   // Scratch for the program cells.
@@ -1291,7 +1344,7 @@ void Builder::triangulate_cells(Mesh& mesh) {
   std::vector<std::pair<std::vector<std::uint32_t>, std::vector<Chord>>> pieces;  // polygon indices
   for (std::uint32_t k = 0; k < leaves_.size(); ++k) {
     const std::uint32_t* loop = &loops_[8 * std::size_t{k}];
-    bound_begin_[k] = static_cast<std::uint32_t>(bound_.size());
+    cell_bound_[k].begin = static_cast<std::uint32_t>(bound_.size());
     // Crossings on this leaf's edges.
     const std::size_t cross_begin = next_crossing;
     while (next_crossing < crossings_.size() && crossings_[next_crossing].leaf == k) ++next_crossing;
@@ -1309,7 +1362,7 @@ void Builder::triangulate_cells(Mesh& mesh) {
       const PlainCell& c = plain[mask];
       const auto first = static_cast<TriangleId>(mesh.triangles.size());
       bound_.resize(bound_.size() + c.size);
-      Handle* bound = bound_.data() + bound_begin_[k];
+      Handle* bound = bound_.data() + cell_bound_[k].begin;
       for (unsigned i = 0; i < c.count; ++i) {
         const VertexId a = final_id_[loop[c.slots[c.tri[i][0]]]];
         const VertexId b = final_id_[loop[c.slots[c.tri[i][1]]]];
@@ -1333,7 +1386,9 @@ void Builder::triangulate_cells(Mesh& mesh) {
         if (c.slots[q] == kTR) sides |= q << 8;
         if (c.slots[q] == kTL) sides |= q << 16;
       }
-      bound_sides_[k] = sides;
+      cell_bound_[k].sides = sides;
+      cell_bound_[k + 1].begin = static_cast<std::uint32_t>(bound_.size());
+      link_cell(mesh, k);
       ++stats_.table_cells;
       continue;
     }
@@ -1390,7 +1445,7 @@ void Builder::triangulate_cells(Mesh& mesh) {
           // BEG add such points to distorted cells; it lifts the worst warped point-set cell from
           // 13.4° to 18.3° (tests/test_quadtree.cpp enumerates the configurations).
           gwarp_.push_back(kNone);
-          gmoved_.push_back(1);
+          gmoved_.push_back(true);
           if (!gseg_.empty()) gseg_.push_back(kNone);
           final_id_.push_back(mesh.add_vertex(centre, VertexKind::kSteiner, 0));
           ++stats_.centres;
@@ -1461,7 +1516,7 @@ void Builder::triangulate_cells(Mesh& mesh) {
     const auto first = static_cast<TriangleId>(mesh.triangles.size());
     const std::size_t m = poly.size();
     bound_.resize(bound_.size() + m, kNone);
-    Handle* bound = bound_.data() + bound_begin_[k];
+    Handle* bound = bound_.data() + cell_bound_[k].begin;
     for (const Tri& t : tris) {
       const VertexId a = final_id_[t[0]], b = final_id_[t[1]], c = final_id_[t[2]];
       if (orient2d(mesh.points[a], mesh.points[b], mesh.points[c]) <= 0) {
@@ -1478,7 +1533,7 @@ void Builder::triangulate_cells(Mesh& mesh) {
         // A polygon edge?
         bool boundary = false;
         for (std::size_t q = 0; q < m; ++q) {
-          if (poly[q] == from && poly[(q + 1) % m] == to) {
+          if (poly[q] == from && poly[q + 1 == m ? 0 : q + 1] == to) {
             bound[q] = h;
             boundary = true;
             break;
@@ -1500,8 +1555,11 @@ void Builder::triangulate_cells(Mesh& mesh) {
     for (std::size_t q = 0; q < m; ++q) {
       if (bound[q] == kNone) throw RouteFailure{"a cell boundary edge has no triangle"};
     }
-    bound_sides_[k] = static_cast<std::uint32_t>(side_index[1]) | (static_cast<std::uint32_t>(side_index[2]) << 8) |
-                      (static_cast<std::uint32_t>(side_index[3]) << 16);
+    cell_bound_[k].sides = static_cast<std::uint32_t>(side_index[1]) |
+                           (static_cast<std::uint32_t>(side_index[2]) << 8) |
+                           (static_cast<std::uint32_t>(side_index[3]) << 16);
+    cell_bound_[k + 1].begin = static_cast<std::uint32_t>(bound_.size());
+    link_cell(mesh, k);
     // Segment edges: chords and boundary edges between consecutive chain vertices.
     if (special && !chain_links_.empty()) {
       for (TriangleId i = 0; i < count; ++i) {
@@ -1516,25 +1574,29 @@ void Builder::triangulate_cells(Mesh& mesh) {
       }
     }
   }
-  bound_begin_[leaves_.size()] = static_cast<std::uint32_t>(bound_.size());
+  cell_bound_[leaves_.size()].begin = static_cast<std::uint32_t>(bound_.size());
 }
 
-void Builder::link_cells(Mesh& mesh) {
-  // Edges of leaf k on side `side` (0 bottom, 1 right, 2 top, 3 left), as a range in bound_.
-  auto side_range = [&](std::uint32_t k, unsigned side) {
-    const std::uint32_t begin = bound_begin_[k], end = bound_begin_[k + 1];
-    const std::uint32_t s = bound_sides_[k];
-    const std::uint32_t at[5] = {0, s & 0xFFu, (s >> 8) & 0xFFu, (s >> 16) & 0xFFu, end - begin};
-    return std::make_pair(begin + at[side], begin + at[side + 1]);
-  };
-  struct Outer {
-    double position;  // along the root's border, counter-clockwise from its lower-left corner
-    Handle handle;
-  };
-  std::vector<Outer> outer;
+// Edges of leaf k on side `side` (0 bottom, 1 right, 2 top, 3 left), as a range in bound_.
+std::pair<std::uint32_t, std::uint32_t> Builder::side_range(std::uint32_t k, unsigned side) const {
+  const std::uint32_t begin = cell_bound_[k].begin, end = cell_bound_[k + 1].begin;
+  const std::uint32_t s = cell_bound_[k].sides;
+  const std::uint32_t at[5] = {0, s & 0xFFu, (s >> 8) & 0xFFu, (s >> 16) & 0xFFu, end - begin};
+  return {begin + at[side], begin + at[side + 1]};
+}
+
+// Links the bottom and left sides of leaf k to the leaves across them, which come earlier in
+// Morton order (the order is monotone in x and in y) and so are triangulated already; collects
+// the sides on the root's border for close_border().
+void Builder::link_cell(Mesh& mesh, std::uint32_t k) {
+  const std::uint32_t a = leaves_[k];
+  const Node& n = tree_.nodes[a];
+  const unsigned l = n.level;
+  const std::int64_t last = (std::int64_t{1} << l) - 1;
   const double root = tree_.cell_size(0);
+  const Point o{tree_.X(0, 0), tree_.Y(0, 0)};
+  // Position along the root's border, counter-clockwise from its lower-left corner.
   auto perimeter = [&](const Point& p, unsigned side) {
-    const Point o{tree_.X(0, 0), tree_.Y(0, 0)};
     switch (side) {
       case 0: return p.x - o.x;
       case 1: return root + (p.y - o.y);
@@ -1543,60 +1605,59 @@ void Builder::link_cells(Mesh& mesh) {
     }
   };
   std::uint32_t across[2];
-  for (std::uint32_t k = 0; k < leaves_.size(); ++k) {
-    const std::uint32_t a = leaves_[k];
-    const Node& n = tree_.nodes[a];
-    const unsigned l = n.level;
-    for (unsigned side = 0; side < 4; ++side) {
-      static constexpr unsigned kDirection[4] = {3, 0, 1, 2};  // side (bottom, right, top, left) → direction
-      const std::uint32_t r = tree_.neighbour(a, kDirection[side]);
-      const auto [begin, end] = side_range(k, side);
-      if (r == kNone) {
-        for (std::uint32_t q = begin; q < end; ++q) {
-          outer.push_back({perimeter(mesh.points[mesh.org(bound_[q])], side), bound_[q]});
-        }
-        continue;
-      }
-      // Each shared side is linked once, from the leaf on its left or bottom (sides right, top).
-      if (side != 1 && side != 2) continue;
-      std::size_t count = 0;
-      if (tree_.nodes[r].level == l && !tree_.is_leaf(r)) {
-        const std::uint32_t c = tree_.nodes[r].child;
-        if (side == 1) {
-          across[0] = c + 0;  // west column of the finer neighbour
-          across[1] = c + 2;
-        } else {
-          across[0] = c + 0;  // south row
-          across[1] = c + 1;
-        }
-        count = 2;
-      } else {
-        across[0] = r;
-        count = 1;
-      }
-      const unsigned opposite = side == 1 ? 3u : 0u;
+  for (unsigned side = 0; side < 4; ++side) {
+    const bool border = side == 0 ? n.iy == 0 : side == 1 ? n.ix == last : side == 2 ? n.iy == last : n.ix == 0;
+    const auto [begin, end] = side_range(k, side);
+    if (border) {
       for (std::uint32_t q = begin; q < end; ++q) {
-        const Handle h = bound_[q];
-        const VertexId from = mesh.org(h), to = mesh.dest(h);
-        bool linked = false;
-        for (std::size_t c = 0; c < count && !linked; ++c) {
-          const std::uint32_t other = leaf_of(across[c]);
-          if (other == kNone) throw RouteFailure{"unbalanced quadtree"};
-          const auto [ob, oe] = side_range(other, opposite);
-          for (std::uint32_t p = ob; p < oe; ++p) {
-            const Handle g = bound_[p];
-            if (mesh.org(g) == to && mesh.dest(g) == from) {
-              mesh.triangles[h >> 2].n[h & 3] = g;
-              mesh.triangles[g >> 2].n[g & 3] = h;
-              linked = true;
-              break;
-            }
+        outer_.push_back({perimeter(mesh.points[mesh.org(bound_[q])], side), bound_[q]});
+      }
+      continue;
+    }
+    // Each shared side is linked once, from the leaf on its right or top (sides left, bottom).
+    if (side != 0 && side != 3) continue;
+    const std::uint32_t r = tree_.neighbour(a, side == 0 ? 3u : 2u);
+    std::size_t count = 0;
+    if (tree_.nodes[r].level == l && !tree_.is_leaf(r)) {
+      const std::uint32_t c = tree_.nodes[r].child;
+      if (side == 3) {
+        across[0] = c + 1;  // east column of the finer neighbour
+        across[1] = c + 3;
+      } else {
+        across[0] = c + 2;  // north row
+        across[1] = c + 3;
+      }
+      count = 2;
+    } else {
+      across[0] = r;
+      count = 1;
+    }
+    const unsigned opposite = side == 3 ? 1u : 2u;
+    for (std::uint32_t q = begin; q < end; ++q) {
+      const Handle h = bound_[q];
+      const VertexId from = mesh.org(h), to = mesh.dest(h);
+      bool linked = false;
+      for (std::size_t c = 0; c < count && !linked; ++c) {
+        const std::uint32_t other = leaf_of(across[c]);
+        if (other == kNone || other >= k) throw RouteFailure{"unbalanced quadtree"};
+        const auto [ob, oe] = side_range(other, opposite);
+        for (std::uint32_t p = ob; p < oe; ++p) {
+          const Handle g = bound_[p];
+          if (mesh.org(g) == to && mesh.dest(g) == from) {
+            mesh.triangles[h >> 2].n[h & 3] = g;
+            mesh.triangles[g >> 2].n[g & 3] = h;
+            linked = true;
+            break;
           }
         }
-        if (!linked) throw RouteFailure{"neighbouring cells do not share an edge"};
       }
+      if (!linked) throw RouteFailure{"neighbouring cells do not share an edge"};
     }
   }
+}
+
+void Builder::close_border(Mesh& mesh) {
+  auto& outer = outer_;
   // Ghost triangles around the root square (its border is the convex hull).
   std::sort(outer.begin(), outer.end(), [](const Outer& p, const Outer& q) { return p.position < q.position; });
   const auto first = static_cast<TriangleId>(mesh.triangles.size());
@@ -1723,7 +1784,7 @@ Mesh Builder::run(const std::vector<Point>& holes) {
   std::vector<std::uint8_t>().swap(gtop_);
   try {
     triangulate_cells(mesh);
-    link_cells(mesh);
+    close_border(mesh);
     mark_segments(mesh);
   } catch (...) {
     gpos_.resize(final_id_.size());

@@ -196,9 +196,14 @@ bool triangulate_piece(const std::vector<Point>& polygon, std::vector<std::array
   used_centre = false;
   const std::size_t start = out.size();
   const bool triangulated = triangulate_polygon(polygon, out);
-  const double quality = triangulated
-                             ? triangulation_quality(polygon, {out.begin() + static_cast<std::ptrdiff_t>(start), out.end()})
-                             : -1.0;
+  // (The smallest-angle sine of the new triangles, read in place: no copy per cell.)
+  double quality = -1.0;
+  if (triangulated) {
+    quality = std::numeric_limits<double>::infinity();
+    for (std::size_t i = start; i < out.size(); ++i) {
+      quality = std::min(quality, min_angle_sine(polygon[out[i][0]], polygon[out[i][1]], polygon[out[i][2]]));
+    }
+  }
   double fan_quality = 0.0;
   if (quality < kFanBelow && polygon.size() < kMaxPolygon && centroid_fan(polygon, centre, fan_quality) &&
       fan_quality > quality) {
