@@ -380,6 +380,24 @@ TEST(Cli, TimeLimitStopsRefinementWithAValidMesh) {
   }
 }
 
+// --exact-polish (opt): accepted, reported, valid, and never heavier than opt without it.
+TEST(Cli, ExactPolishIsReportedValidAndNeverHeavier) {
+  Sandbox box;
+  const std::string input = data("Airliner.poly");
+  const Outcome plain = box.run({"triangulate", input, "-o", "p", "-q", "--method", "opt", "--json", "p.json"});
+  ASSERT_EQ(plain.exit_code, 0) << describe(plain);
+  const Outcome polished = box.run({"triangulate", input, "-o", "q", "-q", "--method", "opt", "--exact-polish",
+                                    "--json", "q.json"});
+  ASSERT_EQ(polished.exit_code, 0) << describe(polished);
+  const auto jp = nlohmann::json::parse(box.get("p.json"));
+  const auto jq = nlohmann::json::parse(box.get("q.json"));
+  EXPECT_FALSE(jp.at("optimize").contains("exact_polish_tries"));
+  EXPECT_TRUE(jq.at("optimize").contains("exact_polish_tries"));
+  EXPECT_LE(jq.at("weight_total").get<double>(), jp.at("weight_total").get<double>());
+  const Outcome check = box.run({"check", input, "q"});
+  EXPECT_EQ(check.exit_code, 0) << describe(check);
+}
+
 TEST(Cli, BadTimeLimitIsAUsageError) {
   Sandbox box;
   box.put("in.poly", kSquare + "4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n");

@@ -20,6 +20,18 @@ struct OptimizeOptions {
   double kick_min_relative_gain = 1e-12; // a kick is kept if it lowers the weight by this fraction
   std::size_t max_exact_polygon = 400;   // whole-domain MWT by dynamic programming up to this size
   std::size_t max_exact_convex_polygon = 2000;  // ... and up to this size if the domain is convex
+  // Exact polish (off by default): after the search, replace the mesh by the exact MWT of its own
+  // vertices (exact_mwt, mwt.hpp) when that is solved and lighter, search again, and repeat while
+  // the weight drops by more than min_relative_gain. Budgets are sizes, not seconds (deterministic):
+  bool exact_polish = false;
+  bool exact_polish_start = true;   // ... and a second search from the MWT of the start (lighter kept)
+  std::size_t exact_polish_rounds = 8;              // exact MWTs tried after the search, at most
+  std::size_t exact_polish_max_vertices = 4000;     // skip meshes with more vertices
+  std::size_t exact_polish_visibility_vertices = 400;  // visibility-route fallback up to this many
+  // MwtOptions limits (give up beyond): diamond candidates per vertex (well-spaced meshes have
+  // about 11; far more means a slow skeleton that rarely solves), crossing pairs of candidates.
+  std::size_t exact_polish_candidates_per_vertex = 16;
+  std::size_t exact_polish_max_crossing_pairs = 2000000;
 };
 
 struct OptimizeStats {
@@ -32,6 +44,8 @@ struct OptimizeStats {
   std::size_t kick_insertions = 0;  // trial insertions kept after their local re-optimisation
   std::size_t kick_removals = 0;    // trial removals kept
   std::size_t whole_polygon_mwt = 0;  // 1 if the domain was replaced by its exact MWT
+  std::size_t exact_polishes = 0;     // exact MWTs of the vertex set kept by the exact polish
+  std::size_t exact_polish_tries = 0; // exact MWTs computed (solved or not)
   double weight_before = 0.0;
   double weight_after = 0.0;
   double seconds = 0.0;
@@ -45,7 +59,17 @@ struct OptimizeStats {
 // subsegment line or is removed, merging its two subsegments); every kept move keeps the mesh
 // valid and strictly lowers the total weight, so the search terminates; results are deterministic
 // (the kick budget counts trials, not seconds). Removed vertices are dropped (mwst::compact).
+// With exact_polish (off by default) the exact MWT of the mesh's vertices (exact_mwt, mwt.hpp)
+// replaces the converged mesh whenever it is solved and lighter, followed by the search again; with
+// exact_polish_start a second search runs from the MWT of the starting mesh, and the lighter of
+// the two results is kept. Either way the result is never heavier than without the polish.
 OptimizeStats optimize(Mesh& mesh, const OptimizeOptions& options = {});
+
+// One exact polish step on its own: compacts `mesh` and, within the exact_polish_* size limits of
+// `options`, replaces its triangulation by the exact MWT of its vertices with its segments
+// (exact_mwt, mwt.hpp) if that is solved and lighter by more than min_relative_gain. Returns true
+// if it did; vertices, segments and markers are unchanged either way.
+bool exact_polish_mesh(Mesh& mesh, const OptimizeOptions& options);
 
 // Minimum weight triangulation of a simple polygon (vertices counter-clockwise) by dynamic
 // programming over its valid diagonals, O(d³) (Gilbert 1979; Klincsek 1980). Returns the total

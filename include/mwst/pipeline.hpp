@@ -53,6 +53,7 @@ struct TriangulateOptions {
   bool strict = false;                         // refuse crossing segments instead of splitting
   bool bundle = false;                         // compute the exact bundle number of the result
   double time_budget_seconds = -1.0;           // ≤ 0: none
+  bool exact_polish = false;                   // opt: exact MWT polish (OptimizeOptions::exact_polish)
 };
 
 // The paper's lemma: a triangulation with minimum angle α is (4π/α + 3)-bundle-free, so the default

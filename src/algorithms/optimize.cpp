@@ -26,6 +26,12 @@
 //                  flips around the hole.
 // Kicks and rounds alternate while kicks pay, within a deterministic budget of trials. Everything
 // is sequential and ordered by ids or by weight, so results are deterministic.
+// Exact polish (opt-in, OptimizeOptions::exact_polish): flips only reach a local minimum, and the
+// exact minimum weight triangulation of the same vertices (exact_mwt, mwt.hpp: diamond test of
+// Drysdale–McElfresh–Snoeyink, LMT-skeleton, polygon DP) is often lighter; when it is solved and
+// lighter it replaces the triangulation, the search runs again from it, and this repeats while the
+// weight drops; a second search from the MWT of the starting mesh competes with the first.
+// Its limits are sizes (vertices, candidate edges, crossing pairs), never seconds.
 #include "mwst/optimize.hpp"
 
 #include <algorithm>
@@ -39,6 +45,7 @@
 #include "mwst/error.hpp"
 #include "mwst/flip.hpp"
 #include "mwst/metrics.hpp"
+#include "mwst/mwt.hpp"
 
 namespace mwst {
 
@@ -313,13 +320,25 @@ class Optimizer {
  public:
   Optimizer(Mesh& m, const OptimizeOptions& o, OptimizeStats& s) : m_(m), opt_(o), stats_(s) {}
 
-  void run() {
+  // With polish_start, first replaces the mesh by the MWT of its vertices, and returns false
+  // without searching if that was not kept (not solved, too large or not lighter).
+  bool run(bool polish_start) {
     const double start_weight = measure(m_).weight_total;
     stats_.weight_before = start_weight;
+    if (polish_start && !exact_polish_step()) return false;
     whole_domain_mwt();
     local_search();
     // Kicks: trial insertions and removals, each followed by a local re-optimisation and kept only
     // if the total weight drops; then the local search again, while the kicks pay.
+    kicks_and_search();
+    if (opt_.exact_polish) exact_polish();
+    compact(m_);
+    stats_.weight_after = measure(m_).weight_total;
+    return true;
+  }
+
+ private:
+  void kicks_and_search() {
     for (std::size_t pass = 0; pass < opt_.kick_passes; ++pass) {
       const std::size_t accepted =
           kick_insertions() + kick_edge_splits() + kick_segment_insertions() + kick_removals() +
@@ -327,11 +346,32 @@ class Optimizer {
       if (accepted == 0) break;
       local_search();
     }
-    compact(m_);
-    stats_.weight_after = measure(m_).weight_total;
   }
 
- private:
+  // The exact polish: replace the triangulation by the MWT of its own vertices with its segments
+  // (same vertices, segments and markers, so the domain and the input vertices are unchanged; it
+  // excludes straight-angle slivers along segments, as EFH does) when it is solved and lighter by
+  // more than min_relative_gain, then the search and kicks again — relocations, removals and
+  // insertions now start from the lighter triangulation, and their local minimum is no heavier.
+  // Every step lowers the weight strictly, so the polished mesh is never heavier than before.
+  void exact_polish() {
+    for (std::size_t round = 0; round < opt_.exact_polish_rounds; ++round) {
+      if (!exact_polish_step()) return;
+      local_search();
+      kicks_and_search();
+    }
+  }
+
+  // One exact MWT of the mesh's vertices within the size limits; true if it was kept (lighter).
+  bool exact_polish_step() {
+    compact(m_);
+    if (m_.points.size() > opt_.exact_polish_max_vertices) return false;
+    ++stats_.exact_polish_tries;
+    if (!exact_polish_mesh(m_, opt_)) return false;
+    ++stats_.exact_polishes;
+    return true;
+  }
+
   void local_search() {
     double weight = measure(m_).weight_total;
     for (std::size_t round = 0; round < opt_.max_rounds; ++round) {
@@ -1191,10 +1231,44 @@ class Optimizer {
 
 }  // namespace
 
+bool exact_polish_mesh(Mesh& mesh, const OptimizeOptions& options) {
+  compact(mesh);
+  if (mesh.points.size() > options.exact_polish_max_vertices) return false;
+  MwtOptions mwt_options;
+  mwt_options.diamond_route = true;
+  mwt_options.max_visibility_vertices = options.exact_polish_visibility_vertices;
+  mwt_options.max_candidate_edges = options.exact_polish_candidates_per_vertex * mesh.points.size();
+  mwt_options.max_crossing_pairs = options.exact_polish_max_crossing_pairs;
+  const double weight = measure(mesh).weight_total;
+  MwtResult mwt = exact_mwt(mesh, mwt_options);
+  if (!mwt.solved || !(mwt.weight < weight - options.min_relative_gain * weight)) return false;
+  mesh = std::move(mwt.mesh);
+  return true;
+}
+
 OptimizeStats optimize(Mesh& mesh, const OptimizeOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   OptimizeStats stats;
-  Optimizer(mesh, options, stats).run();
+  if (options.exact_polish && options.exact_polish_start) {
+    // Two searches: from the mesh as given, and from the MWT of its vertices (another basin);
+    // the lighter result is kept, so the polish never makes the result heavier.
+    Mesh from_mwt = mesh;
+    OptimizeStats from_mwt_stats;
+    Optimizer(mesh, options, stats).run(false);
+    if (Optimizer(from_mwt, options, from_mwt_stats).run(true)) {
+      from_mwt_stats.exact_polish_tries += stats.exact_polish_tries;
+      if (from_mwt_stats.weight_after < stats.weight_after) {
+        mesh = std::move(from_mwt);
+        stats = from_mwt_stats;
+      } else {
+        stats.exact_polish_tries = from_mwt_stats.exact_polish_tries;
+      }
+    } else {
+      stats.exact_polish_tries += from_mwt_stats.exact_polish_tries;
+    }
+  } else {
+    Optimizer(mesh, options, stats).run(false);
+  }
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return stats;
 }

@@ -1,6 +1,7 @@
 // `mwst triangulate INPUT [-o PREFIX] [--method dt|dr|brh|qtr|opt] [--min-angle DEG]
 //  [--steiner offcenter|circumcenter] [--bundle-k K] [--flip] [--max-area A] [--max-steiner N]
-//  [--convex-hull] [--strict] [--bundle] [--time-limit SECONDS] [--json FILE] [--draw FILE] [--quiet]`
+//  [--convex-hull] [--strict] [--bundle] [--time-limit SECONDS] [--exact-polish] [--json FILE]
+//  [--draw FILE] [--quiet]`
 // Reads a Triangle .node/.poly, runs triangulate() (mwst/pipeline.hpp: the methods of Boyacı,
 // Erten, Üngör, "Triangulations Loosing Bundles and Weight", and ours) and writes PREFIX.node,
 // PREFIX.ele, PREFIX.poly and the JSON report, all only after the computation succeeded.
@@ -28,6 +29,7 @@ struct TriangulateArgs {
   std::string steiner = "offcenter";
   std::size_t bundle_k = 0;
   bool flip = false;
+  bool exact_polish = false;
   double max_area = -1.0;
   std::size_t max_steiner = 0;
   bool max_steiner_given = false;  // --max-steiner 0 is a budget of no Steiner points
@@ -74,6 +76,7 @@ int run_triangulate(const TriangulateArgs& a) {
   options.strict = a.strict;
   options.bundle = a.bundle;
   options.time_budget_seconds = a.time_limit;
+  options.exact_polish = a.exact_polish;
   try {
     check_options(options);
   } catch (const std::invalid_argument& e) {
@@ -169,6 +172,10 @@ void register_triangulate(CLI::App& app, Action& action) {
             return "must be a positive number of seconds, found '" + s + "'";
           },
           "> 0"));
+  sub->add_flag("--exact-polish", args->exact_polish,
+                "opt: also search from the exact minimum weight triangulation (MWT) of each start's "
+                "vertices, and after the search replace the mesh by the MWT of its vertices when one is "
+                "found (within size limits) and lighter, search again, repeat; never heavier, slower");
   sub->add_option("--json", args->json, "Write the JSON report to FILE ('-' = standard output)")
       ->type_name("FILE");
   sub->add_option("--draw", args->draw, "Draw the mesh to FILE.png, .svg or .pdf")->type_name("FILE");
