@@ -19,26 +19,12 @@
 #include "mwst/optimize.hpp"
 #include "mwst/pipeline.hpp"
 
+#include "test_helpers.hpp"
+
 namespace mwst {
 namespace {
 
-// The mesh as the independent checker sees it (domain triangles and subsegments).
-CheckResult check_mesh(const Pslg& g, const Mesh& m) {
-  std::vector<std::array<std::uint32_t, 3>> tris;
-  std::vector<Segment> subsegments;
-  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
-    if (!m.in_domain(t)) continue;
-    tris.push_back(m.triangles[t].v);
-    for (unsigned e = 0; e < 3; ++e) {
-      const Handle h = make_handle(t, e);
-      const TriangleId other = m.sym(h) >> 2;
-      if (m.is_segment(h) && (!m.in_domain(other) || other > t)) {
-        subsegments.push_back({m.org(h), m.dest(h), m.marker(h)});
-      }
-    }
-  }
-  return check_triangulation(g, m.points, tris, subsegments);
-}
+using test::check_mesh;
 
 struct PolishCase {
   std::string file;

@@ -19,26 +19,12 @@
 #include "mwst/pipeline.hpp"
 #include "mwst/pslg.hpp"
 
+#include "test_helpers.hpp"
+
 namespace {
 
 using namespace mwst;
-
-// The mesh as `mwst check` sees it after write_mesh().
-CheckResult check_mesh(const Pslg& input, const Mesh& m) {
-  std::vector<std::array<std::uint32_t, 3>> triangles;
-  std::vector<Segment> subsegments;
-  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
-    if (!m.in_domain(t)) continue;
-    triangles.push_back(m.triangles[t].v);
-    for (unsigned e = 0; e < 3; ++e) {
-      const Handle h = make_handle(t, e);
-      if (!m.is_segment(h)) continue;
-      const TriangleId other = m.sym(h) >> 2;
-      if (!m.in_domain(other) || other > t) subsegments.push_back({m.org(h), m.dest(h), m.marker(h)});
-    }
-  }
-  return check_triangulation(input, m.points, triangles, subsegments);
-}
+using mwst::test::check_mesh;
 
 // Runs the method; an InputError is an answer, anything else must give a checked mesh.
 void expect_valid_or_input_error(const Pslg& pslg, const TriangulateOptions& options) {

@@ -1,5 +1,5 @@
 // tests/test_helpers.hpp — shared utilities of the Delaunay and constrained Delaunay suites
-// (tests/test_delaunay.cpp, tests/test_cdt.cpp, tests/cgal/test_cgal_delaunay.cpp).
+// (tests/test_delaunay.cpp, tests/test_cdt.cpp, tests/cgal/test_cgal_delaunay.cpp; check_mesh for every suite).
 //
 // 1. Point-set generators: uniform, Kuzmin (Blelloch et al. 1999), integer grids (many cocircular
 //    4-tuples), exactly cocircular lattice points (all n points on one circle), points on a few lines
@@ -32,6 +32,7 @@
 #include <utility>
 #include <vector>
 
+#include "mwst/check.hpp"
 #include "mwst/geometry.hpp"
 #include "mwst/mesh.hpp"
 #include "mwst/pslg.hpp"
@@ -277,6 +278,24 @@ inline std::vector<Tri> canonical(std::vector<Tri> tris) {
   for (auto& t : tris) std::sort(t.begin(), t.end());
   std::sort(tris.begin(), tris.end());
   return tris;
+}
+
+// The mesh as `mwst check` sees it after write_mesh(): its domain triangles and each subsegment
+// bordering the domain once, handed to the library's file-level checker (check_triangulation).
+inline CheckResult check_mesh(const Pslg& input, const Mesh& m) {
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  std::vector<Segment> subsegments;
+  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+    if (!m.in_domain(t)) continue;
+    triangles.push_back(m.triangles[t].v);
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle h = make_handle(t, e);
+      if (!m.is_segment(h)) continue;
+      const TriangleId other = m.sym(h) >> 2;
+      if (!m.in_domain(other) || other > t) subsegments.push_back({m.org(h), m.dest(h), m.marker(h)});
+    }
+  }
+  return check_triangulation(input, m.points, triangles, subsegments);
 }
 
 // The subsegments of a mesh as undirected (min, max) pairs, sorted.

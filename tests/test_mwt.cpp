@@ -25,8 +25,12 @@
 #include "mwst/optimize.hpp"
 #include "mwst/pipeline.hpp"
 
+#include "test_helpers.hpp"
+
 namespace mwst {
 namespace {
+
+using test::check_mesh;
 
 using EdgeSet = std::set<std::pair<VertexId, VertexId>>;
 
@@ -49,22 +53,6 @@ EdgeSet domain_edges(const Mesh& m) {
     for (unsigned e = 0; e < 3; ++e) s.insert(std::minmax(m.org(make_handle(t, e)), m.dest(make_handle(t, e))));
   }
   return s;
-}
-
-CheckResult check_mesh(const Pslg& g, const Mesh& m) {
-  std::vector<std::array<std::uint32_t, 3>> triangles;
-  std::vector<Segment> segs;
-  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
-    if (!m.in_domain(t)) continue;
-    triangles.push_back(m.triangles[t].v);
-    for (unsigned e = 0; e < 3; ++e) {
-      const Handle h = make_handle(t, e);
-      if (!m.is_segment(h)) continue;
-      const TriangleId other = m.sym(h) >> 2;
-      if (!m.in_domain(other) || other > t) segs.push_back({m.org(h), m.dest(h), m.marker(h)});
-    }
-  }
-  return check_triangulation(g, m.points, triangles, segs);
 }
 
 // Exhaustive search: the lightest maximal set of pairwise non-crossing edges among `edges` that

@@ -17,8 +17,12 @@
 #include "mwst/optimize.hpp"
 #include "mwst/refine.hpp"
 
+#include "test_helpers.hpp"
+
 namespace mwst {
 namespace {
+
+using test::check_mesh;
 
 // Exhaustive minimum over all triangulations of a convex polygon (Catalan many; d ≤ 9).
 double brute_force_convex_mwt(const std::vector<Point>& P) {
@@ -88,24 +92,6 @@ TEST(PolygonMwt, NonConvexPolygonUsesOnlyInteriorDiagonals) {
 TEST(PolygonMwt, RejectsASelfIntersectingPolygon) {
   const std::vector<Point> bowtie{{0, 0}, {2, 2}, {2, 0}, {0, 2}};
   EXPECT_FALSE(std::isfinite(polygon_mwt(bowtie, nullptr)));
-}
-
-// The mesh as the independent checker sees it.
-CheckResult check_mesh(const Pslg& g, const Mesh& m) {
-  std::vector<std::array<std::uint32_t, 3>> tris;
-  std::vector<Segment> subsegments;
-  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
-    if (!m.in_domain(t)) continue;
-    tris.push_back(m.triangles[t].v);
-    for (unsigned e = 0; e < 3; ++e) {
-      const Handle h = make_handle(t, e);
-      const TriangleId other = m.sym(h) >> 2;
-      if (m.is_segment(h) && (!m.in_domain(other) || other > t)) {
-        subsegments.push_back({m.org(h), m.dest(h), m.marker(h)});
-      }
-    }
-  }
-  return check_triangulation(g, m.points, tris, subsegments);
 }
 
 class OptimizeDataSet : public ::testing::TestWithParam<std::string> {};

@@ -763,6 +763,10 @@ class TextBuffer {
     if (data_ == nullptr) throw std::bad_alloc();
   }
   void put(char c) { *end_++ = c; }
+  void put(std::string_view text) {
+    std::memcpy(end_, text.data(), text.size());
+    end_ += text.size();
+  }
   void put_int(std::int64_t v) { end_ = std::to_chars(end_, end_ + 24, v).ptr; }
   void put_double(double v) { end_ = std::to_chars(end_, end_ + 32, v).ptr; }  // shortest round-trip
   std::string_view view() const { return {data_.get(), static_cast<std::size_t>(end_ - data_.get())}; }
@@ -829,9 +833,9 @@ void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index) {
   constexpr std::size_t kEleLine = 4 * (kMaxIntChars + 1);
   TextBuffer node_head(64), ele_head(64);
   node_head.put_int(static_cast<std::int64_t>(nv));
-  for (const char c : std::string_view(" 2 0 1\n")) node_head.put(c);
+  node_head.put(" 2 0 1\n");
   ele_head.put_int(count_first + count_second);
-  for (const char c : std::string_view(" 3 0\n")) ele_head.put(c);
+  ele_head.put(" 3 0\n");
   TextBuffer node_first(node_split * kNodeLine + 1), node_second((nv - node_split) * kNodeLine + 1);
   TextBuffer ele_first(static_cast<std::size_t>(count_first) * kEleLine + 1);
   TextBuffer ele_second(static_cast<std::size_t>(count_second) * kEleLine + 1);
@@ -870,9 +874,9 @@ void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index) {
   }
   TextBuffer poly(segments * 4 * (kMaxIntChars + 1) + 64);
   if (segments > 0) {
-    for (const char c : std::string_view("0 2 0 1\n")) poly.put(c);
+    poly.put("0 2 0 1\n");
     poly.put_int(static_cast<std::int64_t>(segments));
-    for (const char c : std::string_view(" 1\n")) poly.put(c);
+    poly.put(" 1\n");
     std::int64_t number = base;
     for (TriangleId t = 0; t < slots; ++t) {
       if (!mesh.in_domain(t)) continue;
@@ -891,7 +895,7 @@ void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index) {
         poly.put('\n');
       }
     }
-    for (const char c : std::string_view("0\n")) poly.put(c);
+    poly.put("0\n");
   }
 
   // Each file is atomic; if a later one fails, the earlier ones are removed again so that a

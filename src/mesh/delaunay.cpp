@@ -399,57 +399,43 @@ void merge_halves(Mesh& left, Mesh&& right) {
       r = v;
     }
   }
-  const VertexId l_start = l, r_start = r;
-  // Lower common tangent: every point on or left of l→r.
-  for (bool moved = true; moved;) {
-    moved = false;
-    while (orient2d(P[l], P[r], P[cw(l)]) < 0) {
-      l = cw(l);
-      moved = true;
+  // A common tangent of the two hulls, walked from the innermost pair (l, r) found above. The
+  // lower one has every point on or left of l→r: l walks clockwise and r counter-clockwise while
+  // the next vertex lies right of l→r. The upper one is the mirror image (every point on or right
+  // of l→r). Then, so that no vertex lies on the open bridge, each end slides along a collinear
+  // hull edge towards the other.
+  auto next_on_hull = [&](VertexId v, bool counter_clockwise) { return counter_clockwise ? ccw(v) : cw(v); };
+  auto common_tangent = [&](bool lower) {
+    const int outside = lower ? -1 : 1;  // the side of l→r no point may lie on
+    VertexId a = l, b = r;
+    for (bool moved = true; moved;) {
+      moved = false;
+      while (orient2d(P[a], P[b], P[next_on_hull(a, !lower)]) == outside) {
+        a = next_on_hull(a, !lower);
+        moved = true;
+      }
+      while (orient2d(P[a], P[b], P[next_on_hull(b, lower)]) == outside) {
+        b = next_on_hull(b, lower);
+        moved = true;
+      }
     }
-    while (orient2d(P[l], P[r], P[ccw(r)]) < 0) {
-      r = ccw(r);
-      moved = true;
+    for (bool moved = true; moved;) {
+      moved = false;
+      const VertexId lc = next_on_hull(a, lower), rc = next_on_hull(b, !lower);
+      if (orient2d(P[a], P[b], P[lc]) == 0 && strictly_between(a, b, lc)) {
+        a = lc;
+        moved = true;
+      } else if (orient2d(P[a], P[b], P[rc]) == 0 && strictly_between(a, b, rc)) {
+        b = rc;
+        moved = true;
+      }
     }
-  }
-  // No vertex may lie on the open bridge: slide along collinear hull edges towards each other.
-  for (bool moved = true; moved;) {
-    moved = false;
-    const VertexId lc = ccw(l), rc = cw(r);
-    if (orient2d(P[l], P[r], P[lc]) == 0 && strictly_between(l, r, lc)) {
-      l = lc;
-      moved = true;
-    } else if (orient2d(P[l], P[r], P[rc]) == 0 && strictly_between(l, r, rc)) {
-      r = rc;
-      moved = true;
-    }
-  }
-  const VertexId l0 = l, r0 = r;
-  // Upper common tangent (every point on or right of l→r), found the same way from the same
-  // start, and with the same sliding so that no vertex lies on its open bridge.
-  VertexId lt = l_start, rt = r_start;
-  for (bool moved = true; moved;) {
-    moved = false;
-    while (orient2d(P[lt], P[rt], P[ccw(lt)]) > 0) {
-      lt = ccw(lt);
-      moved = true;
-    }
-    while (orient2d(P[lt], P[rt], P[cw(rt)]) > 0) {
-      rt = cw(rt);
-      moved = true;
-    }
-  }
-  for (bool moved = true; moved;) {
-    moved = false;
-    const VertexId lc = cw(lt), rc = ccw(rt);
-    if (orient2d(P[lt], P[rt], P[lc]) == 0 && strictly_between(lt, rt, lc)) {
-      lt = lc;
-      moved = true;
-    } else if (orient2d(P[lt], P[rt], P[rc]) == 0 && strictly_between(lt, rt, rc)) {
-      rt = rc;
-      moved = true;
-    }
-  }
+    return std::pair<VertexId, VertexId>{a, b};
+  };
+  const auto [l0, r0] = common_tangent(true);
+  const auto [lt, rt] = common_tangent(false);
+  l = l0;
+  r = r0;
   // The chains the ladder zips: L's hull counter-clockwise from l0 to lt, R's clockwise from r0
   // to rt. A half can be pinched: when the other half's outliers wrap around it, both tangents
   // touch the same vertex (lt == l0) and its whole hull faces the gap, so its chain is the full
