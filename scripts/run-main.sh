@@ -8,7 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 bash scripts/install-deps.sh cmake ninja-build g++ pkg-config \
-  libcli11-dev nlohmann-json3-dev libcairo2-dev gnuplot-nox
+  libcli11-dev nlohmann-json3-dev libcairo2-dev libgmp-dev gnuplot-nox
 
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release \
   -DMWST_BUILD_TESTS=OFF -DMWST_BUILD_CGAL_TESTS=OFF

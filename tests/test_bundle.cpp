@@ -40,6 +40,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "mwst/brh.hpp"
 #include "mwst/bundle.hpp"
 #include "mwst/delaunay.hpp"
 #include "mwst/error.hpp"
@@ -664,6 +665,86 @@ TEST(Bundle, InKBundleAgreesWithPerTriangleValues) {
     }
   }
   EXPECT_GT(local_answers, 0u);
+}
+
+// Bundle removal on a point set splits the long hull edges; the split points are rounded off the
+// hull line, so DT(V) has flat triangles of nearly collinear hull vertices whose circumdisks have
+// radii near 10¹⁷ and bulge into the mesh by less than the rounding of the incircle values of the
+// mesh vertices. Whether a mesh edge crosses such a disk is a degree-8 sign that rounding got
+// wrong (circumdisks "meeting" 60 triangles that meet 3, so in_k_bundle's cheap circumdisk test
+// disagreed with the pencil sweep). Checked against exact rational circumdisks: the cheap per-
+// triangle circumdisk counts, and in_k_bundle against per_triangle for every triangle.
+TEST(Bundle, FlatHullCircumdisksAreCountedExactly) {
+  for (const std::uint64_t seed : {3u}) {
+    SCOPED_TRACE(seed);
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    Pslg pslg;
+    pslg.points.resize(seed == 3 ? 300 : 1000);
+    for (auto& p : pslg.points) p = {unit(rng), unit(rng)};
+    Mesh m = constrained_delaunay(pslg);
+    BrhOptions options;
+    options.min_angle_deg = 20.0;
+    options.bundle_k = 8;
+    bundle_removal(m, options);
+    ASSERT_TRUE(validate(m).empty());
+    std::vector<TriangleId> in_domain;
+    std::vector<std::array<QPoint, 3>> exact_triangles;
+    std::vector<std::array<double, 4>> boxes;  // x min, x max, y min, y max
+    for (TriangleId t = 0; t < m.triangle_slots(); ++t) {
+      if (!m.in_domain(t)) continue;
+      in_domain.push_back(t);
+      std::array<QPoint, 3> q;
+      std::array<double, 4> box{1e300, -1e300, 1e300, -1e300};
+      for (int i = 0; i < 3; ++i) {
+        const Point& p = m.points[m.triangles[t].v[i]];
+        q[i] = {Q(p.x), Q(p.y)};
+        box = {std::min(box[0], p.x), std::max(box[1], p.x), std::min(box[2], p.y), std::max(box[3], p.y)};
+      }
+      exact_triangles.push_back(q);
+      boxes.push_back(box);
+    }
+    // The exact circumdisk count per triangle: the largest number of in-domain triangles met by the
+    // circumdisk of a triangle of DT(V) that meets it (V: every point, all are vertices here).
+    std::vector<std::uint32_t> expected(m.triangle_slots(), 0);
+    const Mesh dt = delaunay(m.points);
+    std::vector<std::size_t> met;
+    std::size_t flat = 0;
+    for (TriangleId d = 0; d < dt.triangle_slots(); ++d) {
+      if (!dt.in_domain(d)) continue;
+      const auto& v = dt.triangles[d].v;
+      const QPoint a{Q(dt.points[v[0]].x), Q(dt.points[v[0]].y)};
+      const QPoint ba = sub(QPoint{Q(dt.points[v[1]].x), Q(dt.points[v[1]].y)}, a);
+      const QPoint ca = sub(QPoint{Q(dt.points[v[2]].x), Q(dt.points[v[2]].y)}, a);
+      const Q den = 2 * cross(ba, ca);
+      const Q ux = (ca.y * dot(ba, ba) - ba.y * dot(ca, ca)) / den;
+      const Q uy = (ba.x * dot(ca, ca) - ca.x * dot(ba, ba)) / den;
+      const QPoint centre{a.x + ux, a.y + uy};
+      const Q r2 = ux * ux + uy * uy;
+      const double cx = centre.x.get_d(), cy = centre.y.get_d(), r = std::sqrt(r2.get_d());
+      if (r > 1e6) ++flat;
+      met.clear();
+      for (std::size_t i = 0; i < in_domain.size(); ++i) {
+        const auto& box = boxes[i];
+        const double gx = std::max({box[0] - cx, cx - box[1], 0.0});
+        const double gy = std::max({box[2] - cy, cy - box[3], 0.0});
+        if (std::hypot(gx, gy) > r * (1.0 + 1e-9) + 1e-300) continue;  // clearly apart
+        if (disk_meets(centre, r2, exact_triangles[i])) met.push_back(i);
+      }
+      for (const std::size_t i : met) {
+        expected[in_domain[i]] = std::max(expected[in_domain[i]], static_cast<std::uint32_t>(met.size()));
+      }
+    }
+    EXPECT_GT(flat, 0u);  // the case this test is about is there
+    EXPECT_EQ(circumdisk_bundle_per_triangle(m, 1), expected);
+    const BundleResult per = bundle_number(m, {.per_triangle = true});
+    for (const std::uint32_t k : {6u, 8u, 12u}) {
+      const std::vector<std::uint8_t> in = in_k_bundle(m, k, in_domain, nullptr, 1);
+      for (std::size_t i = 0; i < in_domain.size(); ++i) {
+        EXPECT_EQ(in[i] != 0, per.per_triangle[in_domain[i]] >= k) << "k " << k << " triangle " << in_domain[i];
+      }
+    }
+  }
 }
 
 // The local path of in_k_bundle copies only a region of the mesh around the queries (and gives up

@@ -97,9 +97,10 @@ BundleResult bundle_number(const std::vector<Point>& points,
 // The cheap variant for bundle removal: for every triangle slot of `mesh`, the largest number of
 // in-domain triangles met by a circumdisk of a triangle of DT(V) that meets it (0 for slots not in
 // the domain). A lower bound of BundleResult::per_triangle (circumdisks are the ends of the
-// pencils); no pencil sweep, so several times faster. A triangle edge that touches a circumdisk
-// only tangentially at an interior point of the edge is decided in floating point (vertices on the
-// circle are decided exactly).
+// pencils); no pencil sweep, so several times faster. Exact: whether a triangle edge crosses a
+// circumdisk between two corners outside it is a degree-8 sign, decided by a filter with rigorous
+// error bounds and otherwise in integer arithmetic (GMP) — the flat Delaunay triangles of nearly
+// collinear hull vertices have circumdisks of radius 10¹⁷ that rounding cannot place.
 std::vector<std::uint32_t> circumdisk_bundle_per_triangle(const Mesh& mesh, unsigned threads = 0);
 
 // What in_k_bundle did.

@@ -64,6 +64,8 @@
 #include <utility>
 #include <vector>
 
+#include <gmp.h>
+
 #include "geometry/expansion.hpp"
 #include "mwst/delaunay.hpp"
 #include "mwst/error.hpp"
@@ -145,6 +147,154 @@ int enters_circle(const Point& p, const Point& q, const Point& u, const Point& w
     s = sign(pl * cq - ql * cp);
   }
   return s * orient_pqu;
+}
+
+// Does the open segment u→w meet the open disk bounded by the circle through the
+// counter-clockwise a, b, c, given that u and w lie strictly outside that circle? Along
+// x = u + λ(w − u) the incircle determinant is the concave quadratic
+//   g(λ) = g_u + S λ − C λ²,  C = orient(a, b, c) · |w − u|² > 0,  S = g_w − g_u + C = g'(0),
+// so the segment meets the disk iff the top of the parabola lies inside (0, 1) — g'(0) = S > 0 and
+// g'(1) = S − 2C < 0 — and is positive there: S² + 4 C g_u > 0 (g_u < 0). That is a polynomial of
+// degree 8 in the coordinates. Its rounded value is useless for the flat Delaunay triangles of
+// nearly collinear hull vertices (circles of radius 10¹⁷ around a unit mesh: S and C are smaller
+// than the rounding of g_u and g_w), so each of the three signs is decided from a rigorous forward
+// error bound when it can be and otherwise exactly, in integers (GMP): every coordinate is an
+// integer multiple of 2^E for the smallest exponent E among them, so the polynomial is evaluated
+// on integers without rounding, overflow or underflow anywhere in the supported range.
+bool segment_meets_open_circumdisk_exact(const Point& a, const Point& b, const Point& c, const Point& u,
+                                         const Point& w) {
+  const Point* const points[5] = {&a, &b, &c, &u, &w};
+  int min_exponent = std::numeric_limits<int>::max();
+  for (const Point* p : points) {
+    for (const double v : {p->x, p->y}) {
+      if (v == 0.0) continue;
+      int e = 0;
+      std::frexp(v, &e);
+      min_exponent = std::min(min_exponent, e - 53);
+    }
+  }
+  // v = m · 2^(e − 53) with |m| < 2^53 an integer; as an integer multiple of 2^min_exponent.
+  auto to_integer = [min_exponent](mpz_t out, double v) {
+    if (v == 0.0) {
+      mpz_set_ui(out, 0);
+      return;
+    }
+    int e = 0;
+    const double m = std::ldexp(std::frexp(v, &e), 53);
+    mpz_set_d(out, m);  // exact: m is an integer below 2^53 in magnitude
+    mpz_mul_2exp(out, out, static_cast<mp_bitcnt_t>(e - 53 - min_exponent));
+  };
+  // Coordinates relative to u: A, B, Cc (circle), E = w − u.
+  mpz_t ux, uy, ax, ay, bx, by, cx, cy, ex, ey, t1, t2, lift_a, lift_b, lift_c, gu, gw, orient, coef, slope, disc;
+  mpz_t* const all[] = {&ux, &uy, &ax, &ay, &bx, &by, &cx, &cy, &ex, &ey, &t1, &t2, &lift_a,
+                        &lift_b, &lift_c, &gu, &gw, &orient, &coef, &slope, &disc};
+  for (mpz_t* z : all) mpz_init(*z);
+  to_integer(ux, u.x);
+  to_integer(uy, u.y);
+  auto relative = [&](mpz_t out_x, mpz_t out_y, const Point& p) {
+    to_integer(out_x, p.x);
+    to_integer(out_y, p.y);
+    mpz_sub(out_x, out_x, ux);
+    mpz_sub(out_y, out_y, uy);
+  };
+  relative(ax, ay, a);
+  relative(bx, by, b);
+  relative(cx, cy, c);
+  relative(ex, ey, w);
+  // cross(p, q) = p.x q.y − p.y q.x into `out`.
+  auto cross = [&](mpz_t out, const mpz_t px, const mpz_t py, const mpz_t qx, const mpz_t qy) {
+    mpz_mul(t1, px, qy);
+    mpz_mul(t2, py, qx);
+    mpz_sub(out, t1, t2);
+  };
+  auto lift = [&](mpz_t out, const mpz_t px, const mpz_t py) {
+    mpz_mul(t1, px, px);
+    mpz_mul(t2, py, py);
+    mpz_add(out, t1, t2);
+  };
+  // g at the origin (u) of the circle through A, B, Cc: the incircle determinant with d = u.
+  auto incircle_at_origin = [&](mpz_t out) {
+    lift(lift_a, ax, ay);
+    lift(lift_b, bx, by);
+    lift(lift_c, cx, cy);
+    mpz_t term;
+    mpz_init(term);
+    cross(term, bx, by, cx, cy);
+    mpz_mul(out, lift_a, term);
+    cross(term, cx, cy, ax, ay);
+    mpz_addmul(out, lift_b, term);
+    cross(term, ax, ay, bx, by);
+    mpz_addmul(out, lift_c, term);
+    mpz_clear(term);
+  };
+  incircle_at_origin(gu);
+  // g at w: shift the circle's points by −E.
+  mpz_sub(ax, ax, ex);
+  mpz_sub(ay, ay, ey);
+  mpz_sub(bx, bx, ex);
+  mpz_sub(by, by, ey);
+  mpz_sub(cx, cx, ex);
+  mpz_sub(cy, cy, ey);
+  incircle_at_origin(gw);
+  // orient(a, b, c) = cross(b − a, c − a) (translation invariant).
+  mpz_sub(bx, bx, ax);
+  mpz_sub(by, by, ay);
+  mpz_sub(cx, cx, ax);
+  mpz_sub(cy, cy, ay);
+  cross(orient, bx, by, cx, cy);
+  lift(lift_a, ex, ey);  // |E|²
+  mpz_mul(coef, orient, lift_a);
+  mpz_sub(slope, gw, gu);
+  mpz_add(slope, slope, coef);
+  bool meets = false;
+  if (mpz_sgn(slope) > 0) {
+    mpz_mul_2exp(t1, coef, 1);
+    if (mpz_cmp(slope, t1) < 0) {
+      mpz_mul(disc, slope, slope);
+      mpz_mul(t1, coef, gu);
+      mpz_mul_2exp(t1, t1, 2);
+      mpz_add(disc, disc, t1);
+      meets = mpz_sgn(disc) > 0;
+    }
+  }
+  for (mpz_t* z : all) mpz_clear(*z);
+  return meets;
+}
+
+// The same question, filtered: rounded values with rigorous error bounds decide when they can.
+bool segment_meets_open_circumdisk(const Point& a, const Point& b, const Point& c, const Point& u, const Point& w) {
+  const Approx gu = incircle_approx(a, b, c, u);
+  const Approx gw = incircle_approx(a, b, c, w);
+  const Approx orient = orient_approx(a, b, c);
+  // |w − u|²: each difference within half an ulp, the squares and the sum within a few more.
+  const double ex = w.x - u.x, ey = w.y - u.y;
+  const double e2 = ex * ex + ey * ey;
+  const double e2_error = 6.0 * kEps * e2;
+  // Products and sums of Approx values: |x·y − x̃·ỹ| ≤ |x̃|δy + |ỹ|δx + δxδy, plus the rounding.
+  auto mul = [](const Approx& x, const Approx& y) {
+    const double v = x.value * y.value;
+    return Approx{v, std::fabs(x.value) * y.error + std::fabs(y.value) * x.error + x.error * y.error +
+                         2.0 * kEps * std::fabs(v)};
+  };
+  auto add = [](const Approx& x, const Approx& y, double sign) {
+    const double v = x.value + sign * y.value;
+    return Approx{v, x.error + y.error + 2.0 * kEps * std::fabs(v)};
+  };
+  const Approx coef = mul(orient, Approx{e2, e2_error});
+  const Approx slope = add(add(gw, gu, -1.0), coef, 1.0);
+  const Approx top_right = add(add(coef, coef, 1.0), slope, -1.0);  // −g'(1) = 2C − S
+  const Approx disc = add(mul(slope, slope), mul(Approx{4.0 * coef.value, 4.0 * coef.error}, gu), 1.0);
+  // Decided only from finite values well clear of the subnormal range (where the bounds above,
+  // relative to the values, would no longer hold).
+  auto sign_of = [](const Approx& x) {
+    const double bound = 2.0 * x.error + 1e-280;
+    if (!std::isfinite(x.value) || !std::isfinite(bound)) return 2;
+    return x.value > bound ? 1 : (x.value < -bound ? -1 : 2);
+  };
+  const int s_slope = sign_of(slope), s_top = sign_of(top_right), s_disc = sign_of(disc);
+  if (s_slope == -1 || s_top == -1 || s_disc == -1) return false;
+  if (s_slope == 1 && s_top == 1 && s_disc == 1) return true;
+  return segment_meets_open_circumdisk_exact(a, b, c, u, w);
 }
 
 // ---- thresholds of one pencil -----------------------------------------------------------------
@@ -937,8 +1087,8 @@ class Worker {
 
   // Does mesh triangle t meet the open circumdisk of the vertices ca, cb, cc (counter-clockwise)?
   // A corner strictly inside (exact incircle), a corner on the circle whose edge enters the disk
-  // (exact), or an edge passing through between two corners outside (rounded: the maximum of the
-  // concave quadratic g along the edge).
+  // (exact), or an edge passing through between two corners outside (exact:
+  // segment_meets_open_circumdisk).
   bool meets_circumdisk(TriangleId t, VertexId ca, VertexId cb, VertexId cc) const {
     const Point& a = sh_.pts[ca];
     const Point& b = sh_.pts[cb];
@@ -972,19 +1122,10 @@ class Worker {
         if (enters_circle(p, q, pu, sh_.pts[tv[(i + k) % 3]], o) > 0) return true;
       }
     }
-    const double o = orient_approx(a, b, c).value;
     for (int i = 0; i < 3; ++i) {
       const int iu = (i + 1) % 3, iw = (i + 2) % 3;
       if (inside[iu] == 0 || inside[iw] == 0) continue;  // decided above
-      const Point& pu = sh_.pts[tv[iu]];
-      const Point& pw = sh_.pts[tv[iw]];
-      const double gu = incircle_approx(a, b, c, pu).value;
-      const double gw = incircle_approx(a, b, c, pw).value;
-      const double ex = pw.x - pu.x, ey = pw.y - pu.y;
-      const double coef = o * (ex * ex + ey * ey);
-      const double slope = gw - gu + coef;
-      const double lambda = coef > 0.0 ? std::clamp(slope / (2.0 * coef), 0.0, 1.0) : 0.0;
-      if (lambda > 0.0 && lambda < 1.0 && gu + lambda * (slope - coef * lambda) > 0.0) return true;
+      if (segment_meets_open_circumdisk(a, b, c, sh_.pts[tv[iu]], sh_.pts[tv[iw]])) return true;
     }
     return false;
   }
