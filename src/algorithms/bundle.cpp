@@ -185,10 +185,26 @@ bool segment_meets_open_circumdisk_exact(const Point& a, const Point& b, const P
     mpz_mul_2exp(out, out, static_cast<mp_bitcnt_t>(e - 53 - min_exponent));
   };
   // Coordinates relative to u: A, B, Cc (circle), E = w − u.
-  mpz_t ux, uy, ax, ay, bx, by, cx, cy, ex, ey, t1, t2, lift_a, lift_b, lift_c, gu, gw, orient, coef, slope, disc;
-  mpz_t* const all[] = {&ux, &uy, &ax, &ay, &bx, &by, &cx, &cy, &ex, &ey, &t1, &t2, &lift_a,
-                        &lift_b, &lift_c, &gu, &gw, &orient, &coef, &slope, &disc};
-  for (mpz_t* z : all) mpz_init(*z);
+  // Integers of a few hundred bits; one set per thread, allocated once.
+  struct Registers {
+    mpz_t ux, uy, ax, ay, bx, by, cx, cy, ex, ey, t1, t2, term, lift_a, lift_b, lift_c, gu, gw, orient, coef,
+        slope, disc;
+    Registers() {
+      for (mpz_t* z : all()) mpz_init2(*z, 512);
+    }
+    ~Registers() {
+      for (mpz_t* z : all()) mpz_clear(*z);
+    }
+    Registers(const Registers&) = delete;
+    Registers& operator=(const Registers&) = delete;
+    std::array<mpz_t*, 22> all() {
+      return {&ux, &uy, &ax, &ay, &bx, &by, &cx, &cy, &ex, &ey, &t1, &t2, &term, &lift_a, &lift_b, &lift_c,
+              &gu, &gw, &orient, &coef, &slope, &disc};
+    }
+  };
+  thread_local Registers r;
+  auto& [ux, uy, ax, ay, bx, by, cx, cy, ex, ey, t1, t2, term, lift_a, lift_b, lift_c, gu, gw, orient, coef, slope,
+         disc] = r;
   to_integer(ux, u.x);
   to_integer(uy, u.y);
   auto relative = [&](mpz_t out_x, mpz_t out_y, const Point& p) {
@@ -217,15 +233,12 @@ bool segment_meets_open_circumdisk_exact(const Point& a, const Point& b, const P
     lift(lift_a, ax, ay);
     lift(lift_b, bx, by);
     lift(lift_c, cx, cy);
-    mpz_t term;
-    mpz_init(term);
     cross(term, bx, by, cx, cy);
     mpz_mul(out, lift_a, term);
     cross(term, cx, cy, ax, ay);
     mpz_addmul(out, lift_b, term);
     cross(term, ax, ay, bx, by);
     mpz_addmul(out, lift_c, term);
-    mpz_clear(term);
   };
   incircle_at_origin(gu);
   // g at w: shift the circle's points by −E.
@@ -257,35 +270,51 @@ bool segment_meets_open_circumdisk_exact(const Point& a, const Point& b, const P
       meets = mpz_sgn(disc) > 0;
     }
   }
-  for (mpz_t* z : all) mpz_clear(*z);
   return meets;
 }
 
 // The same question, filtered: rounded values with rigorous error bounds decide when they can.
 bool segment_meets_open_circumdisk(const Point& a, const Point& b, const Point& c, const Point& u, const Point& w) {
-  const Approx gu = incircle_approx(a, b, c, u);
-  const Approx gw = incircle_approx(a, b, c, w);
-  const Approx orient = orient_approx(a, b, c);
-  // |w − u|²: each difference within half an ulp, the squares and the sum within a few more.
-  const double ex = w.x - u.x, ey = w.y - u.y;
-  const double e2 = ex * ex + ey * ey;
-  const double e2_error = 6.0 * kEps * e2;
-  // Products and sums of Approx values: |x·y − x̃·ỹ| ≤ |x̃|δy + |ỹ|δx + δxδy, plus the rounding.
+  // The filter does not form S from g_w − g_u (which cancels for flat circles) but from the centre:
+  // with O = orient(a, b, c), Y = 2O·(centre − a) (degree 3, from B = b − a, C = c − a) and
+  // X = 2O·(centre − u) = Y + 2O·(a − u):
+  //   S = g'(0) = X·e,   2C − S = 2O|e|² − X·e,   S² + 4C g_u = |e|²|Y|² − cross(e, X)²
+  // (the last: 4O²(r²|e|² − cross(e, centre − u)²), Lagrange's identity). These cancel only when
+  // the geometry is borderline (the foot of the centre at an end of the segment, the line tangent
+  // to the circle); then the exact integer evaluation decides.
+  // Rounded values with rigorous forward error bounds: |x·y − x̃·ỹ| ≤ |x̃|δy + |ỹ|δx + δxδy, and
+  // each operation's own rounding at most 2ε of its result.
   auto mul = [](const Approx& x, const Approx& y) {
     const double v = x.value * y.value;
     return Approx{v, std::fabs(x.value) * y.error + std::fabs(y.value) * x.error + x.error * y.error +
                          2.0 * kEps * std::fabs(v)};
   };
-  auto add = [](const Approx& x, const Approx& y, double sign) {
-    const double v = x.value + sign * y.value;
+  auto add = [](const Approx& x, const Approx& y) {
+    const double v = x.value + y.value;
     return Approx{v, x.error + y.error + 2.0 * kEps * std::fabs(v)};
   };
-  const Approx coef = mul(orient, Approx{e2, e2_error});
-  const Approx slope = add(add(gw, gu, -1.0), coef, 1.0);
-  const Approx top_right = add(add(coef, coef, 1.0), slope, -1.0);  // −g'(1) = 2C − S
-  const Approx disc = add(mul(slope, slope), mul(Approx{4.0 * coef.value, 4.0 * coef.error}, gu), 1.0);
-  // Decided only from finite values well clear of the subnormal range (where the bounds above,
-  // relative to the values, would no longer hold).
+  auto sub = [](const Approx& x, const Approx& y) {
+    const double v = x.value - y.value;
+    return Approx{v, x.error + y.error + 2.0 * kEps * std::fabs(v)};
+  };
+  auto diff = [](double x, double y) {
+    const double v = x - y;
+    return Approx{v, 2.0 * kEps * std::fabs(v)};
+  };
+  const Approx o = orient_approx(a, b, c);
+  const Approx two_o{2.0 * o.value, 2.0 * o.error};
+  const Approx bx = diff(b.x, a.x), by = diff(b.y, a.y), cx = diff(c.x, a.x), cy = diff(c.y, a.y);
+  const Approx b2 = add(mul(bx, bx), mul(by, by)), c2 = add(mul(cx, cx), mul(cy, cy));
+  const Approx yx = sub(mul(cy, b2), mul(by, c2)), yy = sub(mul(bx, c2), mul(cx, b2));
+  const Approx xx = add(yx, mul(two_o, diff(a.x, u.x))), xy = add(yy, mul(two_o, diff(a.y, u.y)));
+  const Approx ex = diff(w.x, u.x), ey = diff(w.y, u.y);
+  const Approx e2 = add(mul(ex, ex), mul(ey, ey));
+  const Approx slope = add(mul(xx, ex), mul(xy, ey));
+  const Approx top_right = sub(mul(two_o, e2), slope);
+  const Approx cross_ex = sub(mul(ex, xy), mul(ey, xx));
+  const Approx disc = sub(mul(e2, add(mul(yx, yx), mul(yy, yy))), mul(cross_ex, cross_ex));
+  // Decided only from finite values well clear of the subnormal range (where bounds relative to
+  // the values would no longer hold); a margin of 2 on every bound.
   auto sign_of = [](const Approx& x) {
     const double bound = 2.0 * x.error + 1e-280;
     if (!std::isfinite(x.value) || !std::isfinite(bound)) return 2;
