@@ -273,8 +273,12 @@ bool segment_meets_open_circumdisk_exact(const Point& a, const Point& b, const P
   return meets;
 }
 
-// The same question, filtered: rounded values with rigorous error bounds decide when they can.
-bool segment_meets_open_circumdisk(const Point& a, const Point& b, const Point& c, const Point& u, const Point& w) {
+// The same question, filtered: rounded values with rigorous error bounds decide when they can;
+// +1 meets, 0 does not, −1 undecided. Also right when u or w lies on the circle (g ≤ 0 at both
+// ends: then g(1) = S − C ≤ 0 rules out S ≥ 2C, and the three conditions still say whether g is
+// positive somewhere inside).
+int segment_meets_open_circumdisk_filtered(const Point& a, const Point& b, const Point& c, const Point& u,
+                                           const Point& w) {
   // The filter does not form S from g_w − g_u (which cancels for flat circles) but from the centre:
   // with O = orient(a, b, c), Y = 2O·(centre − a) (degree 3, from B = b − a, C = c − a) and
   // X = 2O·(centre − u) = Y + 2O·(a − u):
@@ -321,9 +325,15 @@ bool segment_meets_open_circumdisk(const Point& a, const Point& b, const Point& 
     return x.value > bound ? 1 : (x.value < -bound ? -1 : 2);
   };
   const int s_slope = sign_of(slope), s_top = sign_of(top_right), s_disc = sign_of(disc);
-  if (s_slope == -1 || s_top == -1 || s_disc == -1) return false;
-  if (s_slope == 1 && s_top == 1 && s_disc == 1) return true;
-  return segment_meets_open_circumdisk_exact(a, b, c, u, w);
+  if (s_slope == -1 || s_top == -1 || s_disc == -1) return 0;
+  if (s_slope == 1 && s_top == 1 && s_disc == 1) return 1;
+  return -1;
+}
+
+// Exact: the filter, then integers.
+bool segment_meets_open_circumdisk(const Point& a, const Point& b, const Point& c, const Point& u, const Point& w) {
+  const int filtered = segment_meets_open_circumdisk_filtered(a, b, c, u, w);
+  return filtered >= 0 ? filtered == 1 : segment_meets_open_circumdisk_exact(a, b, c, u, w);
 }
 
 // ---- thresholds of one pencil -----------------------------------------------------------------
@@ -1111,7 +1121,12 @@ class Worker {
     const double gmax = gu.value + lambda * (slope - a * lambda);
     const double slack = 2.0 * (gu.error + gw.error + a_error +
                                 8.0 * kEps * (std::fabs(gu.value) + std::fabs(gw.value) + a));
-    return gmax > -slack;
+    if (gmax <= -slack) return false;
+    if (gmax > slack) return true;
+    // Undecided: g_w − g_u cancels for the huge circles of flat Delaunay triangles (nearly
+    // collinear hull vertices), which would flood along the whole hull; the centre-based filter
+    // rules most such edges out.
+    return segment_meets_open_circumdisk_filtered(circle_[0], circle_[1], circle_[2], pu, pw) != 0;
   }
 
   // Does mesh triangle t meet the open circumdisk of the vertices ca, cb, cc (counter-clockwise)?
