@@ -274,8 +274,10 @@ TEST(QuadtreeCells, PolygonProgramIsValidAndMaximisesTheSmallestAngle) {
 // either in place or warped to an input point in one of the three other leaves around it (all of
 // the cell's size, by the warp rule), at an offset in [0, 1/2]² towards that leaf; or the cell holds
 // the point itself and one corner moves inwards. Points must lie outside each other's extended
-// cells (the splitting rule), sides next to a warped corner or a point's leaf have no midpoint,
-// other sides may. The cell program's worst smallest angle over this grid is the point-set bound.
+// cells (the splitting rule: the leaf grown by half its size on every side), sides next to a
+// warped corner or a point's leaf have no midpoint, other sides may. (A point's extended cell
+// holds the claim squares of all its leaf's corners, so a cell holding a point has no other
+// corner warped.) The cell program's worst smallest angle over this grid is the point-set bound.
 TEST(QuadtreeCells, WarpedPointSetCellsKeepEighteenDegrees) {
   const Point corner[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
   const double offsets[] = {0.0, 0.125, 0.25, 0.375, 0.5};
@@ -316,7 +318,10 @@ TEST(QuadtreeCells, WarpedPointSetCellsKeepEighteenDegrees) {
           if (i == j) continue;
           if (warps[i].ex == warps[j].ex && warps[i].ey == warps[j].ey) return;
           const Point& q = warps[j].p;
-          if (q.x >= warps[i].ex - 1 && q.x <= warps[i].ex + 2 && q.y >= warps[i].ey - 1 && q.y <= warps[i].ey + 2) return;
+          if (q.x >= warps[i].ex - 0.5 && q.x <= warps[i].ex + 1.5 && q.y >= warps[i].ey - 0.5 &&
+              q.y <= warps[i].ey + 1.5) {
+            return;
+          }
         }
       }
       bool no_midpoint[4] = {false, false, false, false};
@@ -490,11 +495,12 @@ TEST_P(QuadtreeDataSet, LeafSizeFollowsTheLocalFeatureSize) {
     const Point centre{leaf.x + leaf.size / 2, leaf.y + leaf.size / 2};
     const double lfs = local_feature_size(f, centre);
     if (leaf.meets_feature) {
-      // The splitting rule: every point x of a leaf that meets a feature has lfs(x) ≥ size.
+      // The splitting rule (the leaf grown by half its size sees the input simply): every point x
+      // of a leaf that meets a feature has lfs(x) ≥ size / 2.
       for (const Point& x : {centre, Point{leaf.x, leaf.y}, Point{leaf.x + leaf.size, leaf.y + leaf.size}}) {
         const double l = local_feature_size(f, x);
-        EXPECT_GE(l * (1 + 1e-12), leaf.size) << "leaf at (" << leaf.x << ", " << leaf.y << ") size " << leaf.size;
-        worst_upper = std::max(worst_upper, leaf.size / l);
+        EXPECT_GE(2 * l * (1 + 1e-12), leaf.size) << "leaf at (" << leaf.x << ", " << leaf.y << ") size " << leaf.size;
+        worst_upper = std::max(worst_upper, leaf.size / (2 * l));
       }
     } else {
       EXPECT_GE(2 * lfs * (1 + 1e-12), leaf.size);
@@ -505,7 +511,7 @@ TEST_P(QuadtreeDataSet, LeafSizeFollowsTheLocalFeatureSize) {
   RecordProperty("max_size_over_lfs", std::to_string(worst_upper));
   RecordProperty("max_lfs_over_size", std::to_string(worst_lower));
   // Conversely leaves are not much smaller than the local feature size: a leaf exists because its
-  // parent saw two features that do not touch within about 5.7 of its size, or by balance or the
+  // parent saw two features that do not touch within about 3.6 of its size, or by balance or the
   // warp rule next to such a leaf; lfs is 1-Lipschitz, so lfs(centre) ≤ 12·size (7.4 measured).
   EXPECT_LE(worst_lower, 12.0);
 }
@@ -534,6 +540,40 @@ TEST(Quadtree, RandomPointSets) {
     Pslg clustered;
     clustered.points = test::clustered_points(200 * seed, 3, seed);
     check_output(clustered, run(clustered));
+  }
+}
+
+// The splitting rule for points, checked on the leaves: a leaf holding a point holds only that
+// one, and no other point lies in the leaf grown by half its size (closed). The rule is not the
+// stricter 3×3 block: some point's leaf has another point within its full-size neighbourhood.
+TEST(Quadtree, PointLeavesAreAloneInTheirHalfGrownCell) {
+  for (std::uint64_t seed = 1; seed <= 2; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    Pslg g;
+    g.points = seed == 1 ? test::uniform_points(600, seed) : test::kuzmin_points(600, seed);
+    QuadtreeOptions options;
+    options.keep_leaves = true;
+    const Result r = run(g, options);
+    ASSERT_FALSE(r.stats.fallback) << r.stats.fallback_reason;
+    std::size_t holding = 0, closer_than_one_size = 0;
+    for (const QuadtreeLeaf& leaf : r.stats.leaf_cells) {
+      const double s = leaf.size;
+      std::size_t inside = 0, half = 0, full = 0;
+      for (const Point& p : g.points) {
+        const double dx = p.x < leaf.x ? leaf.x - p.x : p.x - (leaf.x + s);
+        const double dy = p.y < leaf.y ? leaf.y - p.y : p.y - (leaf.y + s);
+        if (p.x >= leaf.x && p.x < leaf.x + s && p.y >= leaf.y && p.y < leaf.y + s) ++inside;
+        if (dx <= 0.5 * s && dy <= 0.5 * s) ++half;
+        if (dx <= s && dy <= s) ++full;
+      }
+      if (inside == 0) continue;
+      ++holding;
+      EXPECT_EQ(inside, 1u) << "leaf at (" << leaf.x << ", " << leaf.y << ") size " << s;
+      EXPECT_EQ(half, 1u) << "leaf at (" << leaf.x << ", " << leaf.y << ") size " << s;
+      closer_than_one_size += full > 1 ? 1 : 0;
+    }
+    EXPECT_EQ(holding, g.points.size());
+    EXPECT_GT(closer_than_one_size, 0u);
   }
 }
 

@@ -11,11 +11,17 @@
 //     When the domain is the convex hull (a point set, or --convex-hull) the hull edges are
 //     features too: they bound the domain.
 //  2. Split. A square root cell, at least twice the input's bounding box, is split until every
-//     leaf C that meets a feature sees the input "simply" in its extended cell B(C) (C grown by its
-//     own size on every side: the 3×3 block of same-size cells): at most one vertex; with one
-//     vertex, only segments incident to it; with none, segments that share an endpoint (at most
-//     one segment, or one vertex's segments). For a point set this is BEG's rule: each point is
-//     alone in its leaf and its same-size neighbourhood holds no other point.
+//     leaf C of size s that meets a feature sees the input "simply" in its extended cell B(C): the
+//     vertices in C grown by s/2 on every side and the segments meeting C grown by s (the 3×3 block
+//     of same-size cells) are at most one vertex; with one vertex, only segments incident to it;
+//     with none, segments that share an endpoint (at most one segment, or one vertex's segments).
+//     For a point set: each point is alone in its leaf grown by half its size (hull edges keep the
+//     full block, as all segments do). Half is the least growth that keeps two points from
+//     claiming one corner in step 4 (the square of side s centred on a corner, where the points
+//     that move it lie, is inside each incident leaf grown by s/2); BEG's 3×3 block for vertices
+//     made 21 % more triangles on uniform points. Segments keep the full block: with half of it,
+//     cells cut near small input angles fell below the cut-cell bound (3.4° next to a 4.2° input
+//     angle in the star-polygon tests).
 //  3. Balance: edge-adjacent leaves differ in size by at most a factor 2. Warp rule: the four
 //     leaves around the corner a vertex will take have the vertex's leaf size (finer ones split
 //     the vertex's leaf, coarser ones are split).
@@ -50,11 +56,14 @@
 //    of subsegments; the domain's area equals the CDT's; Steiner points measure() counts lie in the
 //    closed domain (quadtree corners outside it stay in carved triangles and are not counted).
 //  - Leaf size s against the local feature size lfs (the radius of the smallest disk centred at x
-//    that meets two features that do not touch): s ≤ lfs(x) at every x of a leaf that meets a
-//    feature (the splitting rule), s ≤ 2·lfs(centre) for an empty leaf, and lfs(centre) ≤ 12·s
-//    (grading; 7.4 is the largest ratio on the 13 data sets).
+//    that meets two features that do not touch): s ≤ 2·lfs(x) at every x of a leaf that meets a
+//    feature (the splitting rule: a disk of radius below s/2 centred in C lies in C grown by s/2,
+//    where the features are pairwise touching), s ≤ 2·lfs(centre) for an empty leaf (a feature
+//    within s/2 of the centre would meet it), and lfs(centre) ≤ 12·s (grading; 7.4 is the
+//    largest ratio on the 13 data sets).
 //  - Angles. Untouched squares: [26.57°, 90°]. Warped squares of a point set: at least 18.3° (the
-//    worst case over an enumeration of their configurations, not a proof). Cells cut by segments
+//    worst case over an enumeration of their configurations with points outside each other's
+//    leaves grown by half, not a proof; BEG's 3×3 separation gives the same worst case). Cells cut by segments
 //    or the hull: no proof; on the data sets and the random tests the smallest angle is at least
 //    min(9°, 0.9 θ), θ the smallest input angle (between two segments at a vertex, or of the hull).
 //    BEG's point-set construction avoids obtuse triangles; this one does not (the largest angle

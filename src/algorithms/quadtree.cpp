@@ -15,7 +15,8 @@
 //    covers the wanted cell and descending again (Samet), O(1) on average.
 //  - Each leaf keeps the list of features (vertices as their ranks in Morton order, whose points
 //    the tree copies in that order so that the lists are scanned with few cache misses, and
-//    segment indices offset by the number of vertices) meeting its closed extended cell B(C).
+//    segment indices offset by the number of vertices) meeting its closed extended cell B(C)
+//    (vertices: the leaf grown by half its size; segments: grown by its size; see the header).
 //    Children filter their parent's list: a vertex sits in at most 9 lists per level and a segment
 //    in those of the cells along it (output), so the build costs O(n log n + output).
 //  - Vertices of the subdivision (leaf corners and the side midpoints smaller neighbours create)
@@ -39,6 +40,7 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -51,6 +53,13 @@
 namespace mwst {
 
 namespace {
+
+// Reserves room for n elements up front: the big arrays are written once, and growing them by
+// doubling would copy them (and touch their pages twice).
+template <class T>
+void reserve_room(std::vector<T>& v, std::size_t n) {
+  v.reserve(n);
+}
 
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) {
@@ -347,11 +356,6 @@ class Tree {
     return {X(n.ix, n.level), Y(n.iy, n.level), X(n.ix + 1, n.level),
             Y(n.iy + 1, n.level)};
   }
-  // The extended cell B(C): the cell grown by its own size on every side.
-  Box extended(const Node& n) const {
-    return {X(n.ix - 1, n.level), Y(n.iy - 1, n.level),
-            X(n.ix + 2, n.level), Y(n.iy + 2, n.level)};
-  }
 
   bool is_vertex(std::uint32_t f) const { return f < nv_; }
   const FeatureSegment& segment(std::uint32_t f) const { return in_.segments[f - nv_]; }
@@ -428,12 +432,18 @@ class Tree {
   // level, and push_back's growth check was a call per entry.)
   void filter_children(const Node& parent, const std::uint32_t* list, std::size_t count,
                        std::array<std::vector<std::uint32_t>, 4>& out) const {
+    // Vertices: each child grown by half its size (one grid step of level parent + 2), columns
+    // 4ix − 1 … 4ix + 3 and 4ix + 1 … 4ix + 5, the same for rows.
+    const unsigned h = parent.level + 2u;
+    const std::int64_t qx = parent.ix * 4, qy = parent.iy * 4;
+    const double xa1 = X(qx - 1, h), xa2 = X(qx + 3, h), xb1 = X(qx + 1, h), xb2 = X(qx + 5, h);
+    const double ya1 = Y(qy - 1, h), ya2 = Y(qy + 3, h), yb1 = Y(qy + 1, h), yb2 = Y(qy + 5, h);
+    // Segments: each child grown by its size, columns cx − 1 … cx + 2 and cx … cx + 3.
     const unsigned l = parent.level + 1u;
     const std::int64_t cx = parent.ix * 2, cy = parent.iy * 2;
-    // Extended boxes of the children: columns cx, cx+1 and rows cy, cy+1.
-    const double xa1 = X(cx - 1, l), xa2 = X(cx + 2, l), xb1 = X(cx, l), xb2 = X(cx + 3, l);
-    const double ya1 = Y(cy - 1, l), ya2 = Y(cy + 2, l), yb1 = Y(cy, l), yb2 = Y(cy + 3, l);
-    const Box boxes[4] = {{xa1, ya1, xa2, ya2}, {xb1, ya1, xb2, ya2}, {xa1, yb1, xa2, yb2}, {xb1, yb1, xb2, yb2}};
+    const double sa1 = X(cx - 1, l), sa2 = X(cx + 2, l), sb1 = X(cx, l), sb2 = X(cx + 3, l);
+    const double ta1 = Y(cy - 1, l), ta2 = Y(cy + 2, l), tb1 = Y(cy, l), tb2 = Y(cy + 3, l);
+    const Box boxes[4] = {{sa1, ta1, sa2, ta2}, {sb1, ta1, sb2, ta2}, {sa1, tb1, sa2, tb2}, {sb1, tb1, sb2, tb2}};
     std::size_t used[4];
     std::uint32_t* w[4];
     for (unsigned k = 0; k < 4; ++k) {
@@ -466,19 +476,24 @@ class Tree {
     // Room for what a uniform point set needs (about 19 nodes and 29 list entries per point), so
     // that the big arrays are not copied while they grow; unused room is never touched.
     const std::size_t feature_count = rank_id_.size() + in_.segments.size();
-    nodes.reserve(20 * feature_count + 64);
-    hint_.reserve(20 * feature_count + 64);
-    features.reserve(30 * feature_count + 64);
+    reserve_room(nodes, 20 * feature_count + 64);
+    reserve_room(hint_, 20 * feature_count + 64);
+    reserve_room(features, 30 * feature_count + 64);
     nodes.push_back(Node{});
     hint_.assign(1, {kNone, kNone, kNone, kNone});
     std::vector<std::uint32_t> pool, next_pool;
-    pool.reserve(in_.vertices.size() + in_.segments.size());
+    // A level's lists hold each vertex up to four times (its cell and the neighbours whose grown
+    // cells reach it) and each segment once per cell along it.
+    reserve_room(pool, 4 * feature_count + 64);
+    reserve_room(next_pool, 4 * feature_count + 64);
     for (std::uint32_t r = 0; r < rank_id_.size(); ++r) pool.push_back(r);
     for (std::uint32_t s = 0; s < in_.segments.size(); ++s) pool.push_back(nv_ + s);
     struct Item {
       std::uint32_t node, begin, count;
     };
     std::vector<Item> frontier{{0, 0, static_cast<std::uint32_t>(pool.size())}}, next;
+    reserve_room(frontier, 4 * feature_count + 64);
+    reserve_room(next, 4 * feature_count + 64);
     std::array<std::vector<std::uint32_t>, 4> lists;
     while (!frontier.empty()) {
       next.clear();
@@ -717,6 +732,7 @@ class Tree {
 
   // Balance and warp rule, to a fixed point.
   void finish() {
+    reserve_room(work_, nodes.size());
     for (std::uint32_t a = 0; a < nodes.size(); ++a) {
       if (is_leaf(a)) work_.push_back(a);
     }
@@ -736,7 +752,7 @@ class Tree {
   // children and spatial neighbours are mostly close in memory for the look-ups that follow.
   void relayout() {
     std::vector<Node> out;
-    out.reserve(nodes.size());
+    reserve_room(out, nodes.size());
     out.push_back(nodes[0]);
     std::vector<std::pair<std::uint32_t, std::uint32_t>> stack{{0, 0}};  // (old, new)
     while (!stack.empty()) {
@@ -786,6 +802,7 @@ class Tree {
   // Leaves in Morton (Z) order.
   std::vector<std::uint32_t> leaves_in_order() const {
     std::vector<std::uint32_t> out, stack{0};
+    reserve_room(out, nodes.size() - nodes.size() / 4 + 1);  // 4 children per inner node: ¾ leaves
     while (!stack.empty()) {
       const std::uint32_t a = stack.back();
       stack.pop_back();
@@ -972,13 +989,17 @@ class Builder {
 
 void Builder::number_vertices() {
   leaves_ = tree_.leaves_in_order();
+  reserve_room(leaf_index_, tree_.nodes.size());
   leaf_index_.assign(tree_.nodes.size(), kNone);
   for (std::uint32_t k = 0; k < leaves_.size(); ++k) leaf_index_[leaves_[k]] = k;
+  reserve_room(own_base_, leaves_.size());
+  reserve_room(own_mask_, leaves_.size());
   own_base_.resize(leaves_.size());
   own_mask_.resize(leaves_.size());
   std::uint32_t next = 0;
   gpos_.clear();
-  gpos_.reserve(leaves_.size() + leaves_.size() / 4 + 16);
+  // (Room for the crossing points and centres made later, so that the array is not copied.)
+  reserve_room(gpos_, leaves_.size() + leaves_.size() / 2 + 16);
   for (std::uint32_t k = 0; k < leaves_.size(); ++k) {
     const std::uint32_t a = leaves_[k];
     const Node& n = tree_.nodes[a];
@@ -1017,6 +1038,7 @@ void Builder::number_vertices() {
 }
 
 void Builder::build_loops() {
+  reserve_room(loops_, 8 * leaves_.size());
   loops_.assign(8 * leaves_.size(), kNone);
   glevel_.assign(grid_count_, 0);
   gtop_.assign(grid_count_, 255);
@@ -1073,8 +1095,11 @@ void Builder::build_loops() {
 }
 
 void Builder::warp() {
+  reserve_room(gwarp_, gpos_.capacity());
   gwarp_.assign(grid_count_, kNone);
+  gmoved_.reserve(gpos_.capacity());
   gmoved_.assign(grid_count_, false);
+  reserve_room(input_gv_, pts_.size());
   input_gv_.assign(pts_.size(), kNone);
   // Each leaf knows the input vertex in its half-open square (at most one: the splitting rule).
   for (std::uint32_t k = 0; k < leaves_.size(); ++k) {
@@ -1102,6 +1127,7 @@ void Builder::warp() {
 void Builder::segments_pass() {
   if (in_.segments.empty()) return;
   const std::uint32_t nv = tree_.vertex_count();
+  reserve_room(gseg_, gpos_.capacity());
   gseg_.assign(grid_count_, kNone);
   // The leaves that have a segment in their list (the only ones the passes below look at).
   std::vector<std::uint32_t> near;
@@ -1326,11 +1352,12 @@ void Builder::triangulate_cells(Mesh& mesh) {
   // Vertex positions are read from the mesh (run() has released gpos_).
   auto pos = [&](std::uint32_t g) -> const Point& { return mesh.points[final_id_[g]]; };
   const auto& plain = plain_cells();
+  reserve_room(cell_bound_, leaves_.size() + 1);
   cell_bound_.assign(leaves_.size() + 1, CellBound{});
   bound_.clear();
-  bound_.reserve(leaves_.size() * 5);
+  reserve_room(bound_, leaves_.size() * 5);
   outer_.clear();
-  mesh.triangles.reserve(leaves_.size() * 3);
+  reserve_room(mesh.triangles, leaves_.size() * 3);
   std::size_t next_crossing = 0;
   // Scratch for the program cells.
   std::vector<std::uint32_t> poly;           // vertices of the cell polygon
@@ -1759,12 +1786,13 @@ Mesh Builder::run(const std::vector<Point>& holes) {
   mesh.vertex_marker = base.vertex_marker;
   mesh.duplicates = base.duplicates;
   mesh.input_vertex_count = base.input_vertex_count;
+  reserve_room(final_id_, gpos_.size() + leaves_.size() / 64 + 16);
   final_id_.resize(gpos_.size());
   std::size_t steiner = 0;
   for (std::uint32_t g = 0; g < gpos_.size(); ++g) steiner += gwarp_[g] == kNone ? 1 : 0;
-  mesh.points.reserve(mesh.points.size() + steiner);
-  mesh.vertex_kind.reserve(mesh.points.size() + steiner);
-  mesh.vertex_marker.reserve(mesh.points.size() + steiner);
+  reserve_room(mesh.points, mesh.points.size() + steiner + leaves_.size() / 64 + 16);
+  reserve_room(mesh.vertex_kind, mesh.points.capacity());
+  reserve_room(mesh.vertex_marker, mesh.points.capacity());
   for (std::uint32_t g = 0; g < gpos_.size(); ++g) {
     if (gwarp_[g] != kNone) {
       final_id_[g] = gwarp_[g];
