@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 
 #include "mwst/mesh.hpp"
 
@@ -18,6 +19,15 @@ struct OptimizeOptions {
   std::size_t kick_passes = 2;         // rounds of kicks (trial insertions/removals), 0 = none
   std::size_t max_kick_trials = 200000;  // total trial budget (deterministic, not a time limit)
   double kick_min_relative_gain = 1e-12; // a kick is kept if it lowers the weight by this fraction
+  // Cluster polish: a kick insertion that does not pay on its own is re-polished together with
+  // its free Steiner neighbours (flips and geometric medians) this many sweeps; 0 = off.
+  std::size_t kick_neighbour_sweeps = 0;
+  bool kick_pairs = false;  // pair kicks: two Steiner points at the thirds of each interior edge
+  // Iterated local search after the kicks: trials that scatter 1–3 Steiner points near a random
+  // triangle (seeded, deterministic) and run the local search, each kept only if lighter; 0 = off.
+  std::size_t perturbation_trials = 0;
+  std::uint64_t perturbation_seed = 0x5eed;
+  bool perturbation_focus = true;  // each trial's search visits only the perturbed neighbourhood
   std::size_t max_exact_polygon = 400;   // whole-domain MWT by dynamic programming up to this size
   std::size_t max_exact_convex_polygon = 2000;  // ... and up to this size if the domain is convex
   // Exact polish (off by default): after the search, replace the mesh by the exact MWT of its own
@@ -43,6 +53,8 @@ struct OptimizeStats {
   std::size_t flips = 0;
   std::size_t kick_insertions = 0;  // trial insertions kept after their local re-optimisation
   std::size_t kick_removals = 0;    // trial removals kept
+  std::size_t kick_pairs = 0;       // pair kicks kept (each also counts 2 kick_insertions)
+  std::size_t perturbations = 0;    // perturbation trials kept (iterated local search)
   std::size_t whole_polygon_mwt = 0;  // 1 if the domain was replaced by its exact MWT
   std::size_t exact_polishes = 0;     // exact MWTs of the vertex set kept by the exact polish
   std::size_t exact_polish_tries = 0; // exact MWTs computed (solved or not)
@@ -54,7 +66,9 @@ struct OptimizeStats {
 // Improves the weight of a carved mesh in place: the exact MWT of the domain when it is one small
 // polygon without interior vertices, the local search above, then kicks (trial insertions of free
 // and on-segment Steiner points and trial removals, each kept only if flips and relocations around
-// it bring the weight below where it was) alternating with the local search while they pay.
+// it bring the weight below where it was) alternating with the local search while they pay, and
+// with perturbation_trials > 0 an iterated local search (seeded random perturbations of 1–3
+// Steiner points, each kept only if the search after it ends lighter).
 // Input vertices and segments never change (a Steiner point on a segment only slides along its
 // subsegment line or is removed, merging its two subsegments); every kept move keeps the mesh
 // valid and strictly lowers the total weight, so the search terminates; results are deterministic

@@ -24,8 +24,14 @@
 //                  opposite corner, then flips and slides along the segment;
 //   kick remove    a free Steiner vertex whose star's MWT is heavier than its spokes, followed by
 //                  flips around the hole.
-// Kicks and rounds alternate while kicks pay, within a deterministic budget of trials. Everything
-// is sequential and ordered by ids or by weight, so results are deterministic.
+//   pair kick      (opt-in) two free Steiner vertices at the thirds of an interior edge, polished
+//                  together; cluster polish (opt-in): a kick that does not pay alone is polished
+//                  again with its free Steiner neighbours (a joint relocation of the cluster).
+// Kicks and rounds alternate while kicks pay, within a deterministic budget of trials. Then, when
+// perturbation_trials > 0, an iterated local search: 1–3 Steiner points scattered near a triangle
+// drawn with probability proportional to its perimeter (seeded mt19937_64), the local search
+// around them, kept only if the total weight drops. Everything is sequential and ordered by ids,
+// by weight or by the seeded generator, so results are deterministic.
 // Exact polish (opt-in, OptimizeOptions::exact_polish): flips only reach a local minimum, and the
 // exact minimum weight triangulation of the same vertices (exact_mwt, mwt.hpp: diamond test of
 // Drysdale–McElfresh–Snoeyink, LMT-skeleton, polygon DP) is often lighter; when it is solved and
@@ -38,6 +44,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <random>
 #include <tuple>
 #include <unordered_map>
 #include <vector>
@@ -331,6 +338,7 @@ class Optimizer {
     // Kicks: trial insertions and removals, each followed by a local re-optimisation and kept only
     // if the total weight drops; then the local search again, while the kicks pay.
     kicks_and_search();
+    perturbation_search();
     if (opt_.exact_polish) exact_polish();
     compact(m_);
     stats_.weight_after = measure(m_).weight_total;
@@ -342,10 +350,91 @@ class Optimizer {
     for (std::size_t pass = 0; pass < opt_.kick_passes; ++pass) {
       const std::size_t accepted =
           kick_insertions() + kick_edge_splits() + kick_segment_insertions() + kick_removals() +
-          kick_segment_removals();
+          kick_segment_removals() + kick_pairs();
       if (accepted == 0) break;
       local_search();
     }
+  }
+
+  // Iterated local search: each trial scatters one to three free Steiner points over a domain
+  // triangle drawn at random and its surroundings (the triangle scaled 2.5 times about its
+  // centroid), runs the local search (flips, removals, relocations, region insertions) around
+  // them, and keeps the result only if the total weight is lower than before the trial;
+  // otherwise the mesh is restored. A final unfocused search follows the trials. A perturbation of several points reaches basins that single kicks (one point, one
+  // local polish) do not. The random numbers come from a seeded std::mt19937_64 mapped to
+  // doubles by bit arithmetic (no std distribution, whose output is library-defined), so
+  // results are the same on every platform and run; the budget counts trials, not seconds.
+  void perturbation_search() {
+    if (opt_.perturbation_trials == 0) return;
+    std::mt19937_64 rng(opt_.perturbation_seed);
+    const auto unit = [&rng] { return static_cast<double>(rng() >> 11) * 0x1.0p-53; };
+    double weight = measure(m_).weight_total;
+    std::vector<TriangleId> domain;
+    Mesh saved;
+    for (std::size_t trial = 0; trial < opt_.perturbation_trials; ++trial) {
+      // A triangle drawn with probability proportional to its perimeter (long edges are where
+      // weight can be saved).
+      domain.clear();
+      cumulative_.clear();
+      double total = 0.0;
+      for (TriangleId t = 0; t < m_.triangles.size(); ++t) {
+        if (!m_.in_domain(t)) continue;
+        const Triangle& T = m_.triangles[t];
+        total += distance(m_.points[T.v[0]], m_.points[T.v[1]]) + distance(m_.points[T.v[1]], m_.points[T.v[2]]) +
+                 distance(m_.points[T.v[2]], m_.points[T.v[0]]);
+        domain.push_back(t);
+        cumulative_.push_back(total);
+      }
+      if (domain.empty()) return;
+      const auto pick = std::upper_bound(cumulative_.begin(), cumulative_.end(), unit() * total);
+      const TriangleId t =
+          domain[std::min<std::size_t>(static_cast<std::size_t>(pick - cumulative_.begin()), domain.size() - 1)];
+      const Triangle& T = m_.triangles[t];
+      const Point a = m_.points[T.v[0]], b = m_.points[T.v[1]], c = m_.points[T.v[2]];
+      const Point centroid{(a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0};
+      const std::size_t count = 1 + static_cast<std::size_t>(rng() % 3);
+      saved = m_;
+      double ignored = 0.0;
+      std::size_t inserted = 0;
+      for (std::size_t i = 0; i < count; ++i) {
+        double r1 = unit(), r2 = unit();
+        if (r1 + r2 > 1.0) {
+          r1 = 1.0 - r1;
+          r2 = 1.0 - r2;
+        }
+        const Point in_t{a.x + r1 * (b.x - a.x) + r2 * (c.x - a.x), a.y + r1 * (b.y - a.y) + r2 * (c.y - a.y)};
+        const Point q{snap_to_range(centroid.x + 2.5 * (in_t.x - centroid.x)),
+                      snap_to_range(centroid.y + 2.5 * (in_t.y - centroid.y))};
+        if (insert_free_point(q, ignored) != kInfinite) ++inserted;
+      }
+      if (inserted == 0) {
+        m_ = std::move(saved);
+        continue;
+      }
+      // The search visits only vertices, triangles and edges near the perturbation (a box three
+      // times the size of the scattered region).
+      const double reach = 3.0 * 2.5 *
+                           std::max({std::fabs(a.x - centroid.x), std::fabs(b.x - centroid.x), std::fabs(c.x - centroid.x),
+                                     std::fabs(a.y - centroid.y), std::fabs(b.y - centroid.y), std::fabs(c.y - centroid.y)});
+      focus_lo_ = {centroid.x - reach, centroid.y - reach};
+      focus_hi_ = {centroid.x + reach, centroid.y + reach};
+      focused_ = opt_.perturbation_focus;
+      local_search();
+      focused_ = false;
+      const double now = measure(m_).weight_total;
+      if (now < weight * (1.0 - opt_.kick_min_relative_gain)) {
+        weight = now;
+        ++stats_.perturbations;
+        compact(m_);
+      } else {
+        m_ = std::move(saved);
+      }
+    }
+    local_search();  // unfocused: what the focused searches left elsewhere
+  }
+
+  bool in_focus(const Point& p) const {
+    return !focused_ || (focus_lo_.x <= p.x && p.x <= focus_hi_.x && focus_lo_.y <= p.y && p.y <= focus_hi_.y);
   }
 
   // The exact polish: replace the triangulation by the MWT of its own vertices with its segments
@@ -376,13 +465,13 @@ class Optimizer {
     double weight = measure(m_).weight_total;
     for (std::size_t round = 0; round < opt_.max_rounds; ++round) {
       ++stats_.rounds;
-      const FlipStats f = flip_to_local_minimum(m_);
-      stats_.flips += f.flips;
+      focused_flips();
       rebuild_vertex_handles();
       const std::size_t n = m_.points.size();
       for (VertexId v = m_.input_vertex_count; v < n; ++v) {
         const VertexKind kind = m_.vertex_kind[v];
         if (kind != VertexKind::kSteiner && kind != VertexKind::kSteinerOnSegment) continue;
+        if (!in_focus(m_.points[v])) continue;
         // Decide by the mesh, not the label: a vertex with subsegment spokes lies on a segment
         // (a free Steiner point can land exactly on one).
         const int on_segment = segment_spokes(v);
@@ -399,8 +488,22 @@ class Optimizer {
       weight = now;
       if (!(gain > opt_.min_relative_gain * now)) break;
     }
-    const FlipStats f = flip_to_local_minimum(m_);
-    stats_.flips += f.flips;
+    focused_flips();
+  }
+
+  // EFH's flips to a local minimum; in a focused search (perturbation_search) only from the edges
+  // of the triangles in focus (and the edges those flips expose), which is what a local
+  // perturbation can change.
+  void focused_flips() {
+    if (!focused_) {
+      stats_.flips += flip_to_local_minimum(m_).flips;
+      return;
+    }
+    for (TriangleId t = 0; t < m_.triangles.size(); ++t) {
+      if (!m_.in_domain(t) || !in_focus(m_.points[m_.triangles[t].v[0]])) continue;
+      for (unsigned e = 0; e < 3; ++e) flip_stack_.push_back(make_handle(t, e));
+    }
+    local_flips();
   }
 
   // ---- kicks: moves that first raise the weight, then re-optimise locally ---------------------
@@ -500,6 +603,7 @@ class Optimizer {
     double delta = distance(p, a) + distance(p, b) + distance(p, c);
     const auto opposite = m_.split_triangle(t, v);
     delta += polish_vertex(v, opposite[0]);
+    if (!(delta < -opt_.kick_min_relative_gain * weight)) delta += polish_neighbours(v);
     if (delta < -opt_.kick_min_relative_gain * weight) {
       ++stats_.kick_insertions;
       return true;
@@ -546,11 +650,8 @@ class Optimizer {
     return accepted;
   }
 
-  // Tries a free Steiner vertex at the midpoint of each interior edge (longest first): the edge
-  // and its two triangles split in four (or, when the rounded midpoint misses the edge, the
-  // triangle holding it in three), then polished; kept only if the weight drops.
-  std::size_t kick_edge_splits() {
-    const double weight = measure(m_).weight_total;
+  // The interior non-segment edges of the domain, longest first (ties by ids): (−length, org, dest).
+  std::vector<std::tuple<double, VertexId, VertexId>> interior_edges_longest_first() const {
     std::vector<std::tuple<double, VertexId, VertexId>> edges;
     for (TriangleId t = 0; t < m_.triangles.size(); ++t) {
       if (!m_.in_domain(t)) continue;
@@ -562,6 +663,15 @@ class Optimizer {
       }
     }
     std::sort(edges.begin(), edges.end());
+    return edges;
+  }
+
+  // Tries a free Steiner vertex at the midpoint of each interior edge (longest first): the edge
+  // and its two triangles split in four (or, when the rounded midpoint misses the edge, the
+  // triangle holding it in three), then polished; kept only if the weight drops.
+  std::size_t kick_edge_splits() {
+    const double weight = measure(m_).weight_total;
+    const std::vector<std::tuple<double, VertexId, VertexId>> edges = interior_edges_longest_first();
     std::size_t accepted = 0;
     for (const auto& [key, ia, ib] : edges) {
       (void)key;
@@ -601,8 +711,125 @@ class Optimizer {
         near = m_.split_triangle(m_.sym(h) >> 2, v)[0];
       }
       delta += polish_vertex(v, near);
+      if (!(delta < -opt_.kick_min_relative_gain * weight)) delta += polish_neighbours(v);
       if (delta < -opt_.kick_min_relative_gain * weight) {
         ++stats_.kick_insertions;
+        ++accepted;
+      } else {
+        m_ = backup_;
+      }
+    }
+    return accepted;
+  }
+
+  // A handle with org u if u is a free Steiner vertex whose spokes are no subsegments and whose
+  // triangles are all finite (one the relocation may move), else kNone.
+  Handle free_steiner_handle(VertexId u) const {
+    if (u >= m_.points.size() || m_.vertex_kind[u] != VertexKind::kSteiner) return kNone;
+    const Handle h = handle_near(u, m_.any_live_handle());
+    if (h == kNone) return kNone;
+    Handle s = h;
+    std::size_t guard = 0;
+    do {
+      if (m_.is_segment(s) || m_.is_ghost(s >> 2)) return kNone;
+      s = m_.onext(s);
+    } while (s != h && ++guard < 4096);
+    return h;
+  }
+
+  // The cluster polish after a kick at v: the free Steiner neighbours of v polished (flips around
+  // each, then each moved to the geometric median of its new neighbours), then v again, in two
+  // sweeps — a joint relocation of the Steiner points around the kick, so that a kick that pays
+  // only once its neighbours move is found. Returns the weight change (≤ 0: each step only lowers
+  // the weight).
+  double polish_neighbours(VertexId v) {
+    double delta = 0.0;
+    for (std::size_t sweep = 0; sweep < opt_.kick_neighbour_sweeps; ++sweep) {
+      const Handle h = handle_near(v, m_.any_live_handle());
+      if (h == kNone) break;
+      neighbours_.clear();
+      Handle s = h;
+      std::size_t guard = 0;
+      do {
+        const VertexId u = m_.dest(s);
+        if (u != kInfinite && m_.vertex_kind[u] == VertexKind::kSteiner) neighbours_.push_back(u);
+        s = m_.onext(s);
+      } while (s != h && ++guard < 4096);
+      for (const VertexId u : neighbours_) {
+        const Handle hu = free_steiner_handle(u);
+        if (hu != kNone) delta += polish_vertex(u, hu);
+      }
+      const Handle hv = handle_near(v, m_.any_live_handle());
+      if (hv == kNone) break;
+      delta += polish_vertex(v, hv);
+    }
+    return delta;
+  }
+
+  // Adds a free Steiner vertex at q if q lies strictly inside a domain triangle (split 1 → 3) or
+  // on an edge between two domain triangles that is no subsegment (split 2 → 4); adds the weight
+  // change to `delta` and returns the vertex, or kInfinite if q is elsewhere.
+  VertexId insert_free_point(const Point& q, double& delta) {
+    if (!in_supported_range(q)) return kInfinite;
+    const Location loc = m_.locate(q, m_.any_live_handle());
+    const Handle h = loc.handle;
+    if (loc.kind == Location::Kind::kInTriangle) {
+      const TriangleId t = h >> 2;
+      if (!m_.in_domain(t)) return kInfinite;
+      const Triangle& T = m_.triangles[t];
+      const Point a = m_.points[T.v[0]], b = m_.points[T.v[1]], c = m_.points[T.v[2]];
+      if (orient2d(a, b, q) <= 0 || orient2d(b, c, q) <= 0 || orient2d(c, a, q) <= 0) return kInfinite;
+      const VertexId v = m_.add_vertex(q, VertexKind::kSteiner, 0);
+      delta += distance(q, a) + distance(q, b) + distance(q, c);
+      m_.split_triangle(t, v);
+      return v;
+    }
+    if (loc.kind != Location::Kind::kOnEdge) return kInfinite;
+    if (m_.is_segment(h) || !m_.in_domain(h >> 2) || !m_.in_domain(m_.sym(h) >> 2)) return kInfinite;
+    const Point a = m_.points[m_.org(h)], b = m_.points[m_.dest(h)];
+    const Point c = m_.points[m_.apex(h)], d = m_.points[m_.apex(m_.sym(h))];
+    const VertexId v = m_.add_vertex(q, VertexKind::kSteiner, 0);
+    delta += distance(q, a) + distance(q, b) + distance(q, c) + distance(q, d) - distance(a, b);
+    m_.split_edge(h, v);
+    return v;
+  }
+
+  // Pair kicks: two free Steiner vertices at a third and two thirds of each interior edge
+  // (longest first), polished jointly (flips and geometric medians, alternately, with their
+  // Steiner neighbours); kept only if the weight drops. A long edge crossing a bundle is often
+  // replaced by a chain of two Steiner points where one point alone does not pay.
+  std::size_t kick_pairs() {
+    if (!opt_.kick_pairs) return 0;
+    const double weight = measure(m_).weight_total;
+    const std::vector<std::tuple<double, VertexId, VertexId>> edges = interior_edges_longest_first();
+    std::size_t accepted = 0;
+    for (const auto& [key, ia, ib] : edges) {
+      (void)key;
+      if (kick_trials_ >= opt_.max_kick_trials) break;
+      if (m_.vertex_kind[ia] == VertexKind::kRemoved || m_.vertex_kind[ib] == VertexKind::kRemoved) continue;
+      const Point a = m_.points[ia], b = m_.points[ib];
+      const Point q1{a.x + (b.x - a.x) / 3.0, a.y + (b.y - a.y) / 3.0};
+      const Point q2{a.x + 2.0 * (b.x - a.x) / 3.0, a.y + 2.0 * (b.y - a.y) / 3.0};
+      ++kick_trials_;
+      backup_ = m_;
+      double delta = 0.0;
+      const VertexId v1 = insert_free_point(q1, delta);
+      const VertexId v2 = v1 == kInfinite ? kInfinite : insert_free_point(q2, delta);
+      if (v2 == kInfinite) {
+        m_ = backup_;
+        continue;
+      }
+      for (int sweep = 0; sweep < 3; ++sweep) {
+        for (const VertexId v : {v1, v2}) {
+          const Handle h = handle_near(v, m_.any_live_handle());
+          if (h != kNone) delta += polish_vertex(v, h);
+        }
+      }
+      delta += polish_neighbours(v1);
+      delta += polish_neighbours(v2);
+      if (delta < -opt_.kick_min_relative_gain * weight) {
+        stats_.kick_insertions += 2;
+        ++stats_.kick_pairs;
         ++accepted;
       } else {
         m_ = backup_;
@@ -1148,7 +1375,17 @@ class Optimizer {
     const double mwt = polygon_mwt(polygon_, &local_);
     double star_weight = std::numeric_limits<double>::infinity();
     Point q{0.0, 0.0};
-    if (opt_.insert && allow_star) {
+    // A lower bound on any star's spokes: by the triangle inequality, a point's distances to two
+    // corners sum to at least the corners' distance, so pairing corner i with corner i + d/2
+    // bounds the spoke sum from below. When even that cannot beat the region's edges or its
+    // MWT, Weiszfeld's iteration (the costly part) is skipped; it could not win.
+    double star_lower_bound = 0.0;
+    {
+      const std::size_t d = polygon_.size(), half = d / 2;
+      for (std::size_t i = 0; i < half; ++i) star_lower_bound += distance(polygon_[i], polygon_[i + half]);
+    }
+    const bool star_may_win = star_lower_bound < std::min(current, mwt) * (1.0 + 1e-9);
+    if (opt_.insert && allow_star && star_may_win) {
       centroid.x /= static_cast<double>(polygon_.size());
       centroid.y /= static_cast<double>(polygon_.size());
       q = geometric_median(centroid, polygon_);
@@ -1196,7 +1433,7 @@ class Optimizer {
     const auto slots = static_cast<TriangleId>(m_.triangles.size());
     std::vector<TriangleId> tris;
     for (TriangleId t = 0; t < slots; ++t) {
-      if (!m_.in_domain(t)) continue;
+      if (!m_.in_domain(t) || !in_focus(m_.points[m_.triangles[t].v[0]])) continue;
       // Region 1: the triangle and its neighbours (a hexagon at most).
       tris.assign(1, t);
       if (add_neighbours(t, tris) && tris.size() >= 2 && try_region(tris)) continue;
@@ -1226,6 +1463,11 @@ class Optimizer {
   std::vector<Handle> flip_stack_;
   std::vector<Point> slide_spokes_;
   std::vector<std::pair<VertexId, VertexId>> slide_triangles_;
+  std::vector<VertexId> neighbours_;
+  std::vector<double> cumulative_;  // perimeter prefix sums (perturbation_search)
+  bool focused_ = false;  // local_search visits only what lies in [focus_lo_, focus_hi_]
+  Point focus_lo_{0.0, 0.0};
+  Point focus_hi_{0.0, 0.0};
   std::size_t kick_trials_ = 0;
 };
 

@@ -144,8 +144,9 @@ void flip_phase(Mesh& mesh, Report& report) {
 
 // Our optimiser (method opt): the local search of optimize.hpp from several starting meshes —
 // BRH at the given (A, K) followed by EFH, DR at 5°, 10°, 15° and 20°, and the CDT — keeping the
-// lightest result. Since every search only lowers the weight of its start, opt is never heavier
-// than BRH+EFH with the same parameters. Phase "optimize".
+// lightest result (the starts within 5% of the best get the kicks and the iterated local search).
+// Since every search only lowers the weight of its start, opt is never heavier than BRH+EFH with
+// the same parameters. Phase "optimize".
 Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::time_point start,
                     Report& report) {
   Mesh best = constrained_delaunay_phase(pslg, options, report);
@@ -210,7 +211,13 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
     Start& s = starts[i];
     OptimizeStats os;
     if (local_weight[i] <= 1.05 * lightest) {
-      os = optimize(s.mesh, kicks);
+      // The iterated local search of optimize.hpp (perturbation_trials) follows the kicks; its
+      // budget counts trials, scaled by this start's own size (each trial copies the mesh), so
+      // that the exact polish's extra starts leave every original start's search unchanged.
+      OptimizeOptions o = kicks;
+      const std::size_t triangles = std::max<std::size_t>(1, s.mesh.domain_triangle_count());
+      o.perturbation_trials = std::min<std::size_t>(600, 300000 / triangles);
+      os = optimize(s.mesh, o);
     } else {
       os.weight_before = os.weight_after = local_weight[i];
     }
@@ -233,6 +240,7 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
                               {"region_retriangulations", best_stats.region_retriangulations},
                               {"kick_insertions", best_stats.kick_insertions},
                               {"kick_removals", best_stats.kick_removals},
+                              {"perturbations", best_stats.perturbations},
                               {"whole_polygon_mwt", best_stats.whole_polygon_mwt},
                               {"flips", best_stats.flips},
                               {"weight_before", best_stats.weight_before},
