@@ -203,8 +203,12 @@ bool segment_meets_open_circumdisk_exact(const Point& a, const Point& b, const P
     }
   };
   thread_local Registers r;
-  auto& [ux, uy, ax, ay, bx, by, cx, cy, ex, ey, t1, t2, term, lift_a, lift_b, lift_c, gu, gw, orient, coef, slope,
-         disc] = r;
+  // Named references (not a structured binding: lambdas below use them).
+  auto& ux = r.ux; auto& uy = r.uy; auto& ax = r.ax; auto& ay = r.ay; auto& bx = r.bx; auto& by = r.by;
+  auto& cx = r.cx; auto& cy = r.cy; auto& ex = r.ex; auto& ey = r.ey; auto& t1 = r.t1;
+  auto& t2 = r.t2; auto& term = r.term; auto& lift_a = r.lift_a; auto& lift_b = r.lift_b;
+  auto& lift_c = r.lift_c; auto& gu = r.gu; auto& gw = r.gw; auto& orient = r.orient;
+  auto& coef = r.coef; auto& slope = r.slope; auto& disc = r.disc;
   to_integer(ux, u.x);
   to_integer(uy, u.y);
   auto relative = [&](mpz_t out_x, mpz_t out_y, const Point& p) {
