@@ -5,31 +5,19 @@
 #include <algorithm>
 #include <filesystem>
 #include <random>
-#include <set>
 
 #include "mwst/delaunay.hpp"
 #include "mwst/flip.hpp"
 #include "mwst/io.hpp"
 #include "mwst/metrics.hpp"
+#include "test_helpers.hpp"
 
 namespace mwst {
 namespace {
 
-std::set<std::pair<VertexId, VertexId>> subsegments(const Mesh& m) {
-  std::set<std::pair<VertexId, VertexId>> s;
-  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
-    if (!m.in_domain(t)) continue;
-    for (unsigned e = 0; e < 3; ++e) {
-      const Handle h = make_handle(t, e);
-      if (m.is_segment(h)) s.insert(std::minmax(m.org(h), m.dest(h)));
-    }
-  }
-  return s;
-}
-
 void check_flipped(Mesh& m) {
   const Metrics before = measure(m);
-  const auto segments_before = subsegments(m);
+  const auto segments_before = test::domain_subsegments(m);
   const FlipStats stats = flip_to_local_minimum(m);
   const Metrics after = measure(m);
   EXPECT_TRUE(validate(m).empty());
@@ -46,7 +34,7 @@ void check_flipped(Mesh& m) {
   // The boundary edges are the same (checked exactly just below); their lengths are summed in
   // triangle-slot order, which flips permute, so the sums may differ by rounding (n·ε relative).
   EXPECT_NEAR(after.weight_boundary, before.weight_boundary, 1e-13 * before.weight_boundary);
-  EXPECT_EQ(subsegments(m), segments_before);
+  EXPECT_EQ(test::domain_subsegments(m), segments_before);
 }
 
 TEST(Flip, ConvexQuadrilateralTakesTheShorterDiagonal) {

@@ -314,6 +314,19 @@ inline std::vector<std::pair<std::uint32_t, std::uint32_t>> subsegments(const Me
   return {s.begin(), s.end()};
 }
 
+// The subsegments bordering in-domain triangles (carved ones left out) as (min, max) pairs.
+inline std::set<std::pair<VertexId, VertexId>> domain_subsegments(const Mesh& m) {
+  std::set<std::pair<VertexId, VertexId>> s;
+  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+    if (!m.in_domain(t)) continue;
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle h = make_handle(t, e);
+      if (m.is_segment(h)) s.insert(std::minmax(m.org(h), m.dest(h)));
+    }
+  }
+  return s;
+}
+
 // ---- the independent checker -------------------------------------------------------------------
 
 struct CheckOptions {

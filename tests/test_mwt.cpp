@@ -34,18 +34,6 @@ using test::check_mesh;
 
 using EdgeSet = std::set<std::pair<VertexId, VertexId>>;
 
-EdgeSet subsegments(const Mesh& m) {
-  EdgeSet s;
-  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
-    if (!m.in_domain(t)) continue;
-    for (unsigned e = 0; e < 3; ++e) {
-      const Handle h = make_handle(t, e);
-      if (m.is_segment(h)) s.insert(std::minmax(m.org(h), m.dest(h)));
-    }
-  }
-  return s;
-}
-
 EdgeSet domain_edges(const Mesh& m) {
   EdgeSet s;
   for (TriangleId t = 0; t < m.triangles.size(); ++t) {
@@ -119,7 +107,7 @@ std::vector<std::pair<VertexId, VertexId>> visible_pairs(const Mesh& m, const st
   std::set<VertexId> used;
   for (TriangleId t = 0; t < m.triangles.size(); ++t)
     if (m.in_domain(t)) used.insert(m.triangles[t].v.begin(), m.triangles[t].v.end());
-  const EdgeSet segs = subsegments(m);
+  const EdgeSet segs = test::domain_subsegments(m);
   std::vector<std::pair<VertexId, VertexId>> out;
   for (VertexId a : used) {
     for (VertexId b : used) {
@@ -157,7 +145,7 @@ void expect_solved_and_valid(const Pslg& g, const Mesh& input, const MwtResult& 
   EXPECT_TRUE(problems.empty()) << problems.front();
   const CheckResult check = check_mesh(g, r.mesh);
   EXPECT_TRUE(check.ok()) << (check.messages.empty() ? "" : check.messages.front());
-  EXPECT_EQ(subsegments(r.mesh), subsegments(input));
+  EXPECT_EQ(test::domain_subsegments(r.mesh), test::domain_subsegments(input));
   EXPECT_EQ(measure(r.mesh).vertices, measure(input).vertices);
   EXPECT_EQ(measure(r.mesh).triangles, measure(input).triangles);
   EXPECT_DOUBLE_EQ(r.weight, measure(r.mesh).weight_total);
@@ -217,7 +205,7 @@ TEST(ExactMwt, MatchesExhaustiveSearchWithSegments) {
     ConstrainOptions copt;
     copt.convex_hull = true;  // keep the hull: the segments are constraints inside it
     const Mesh cdt = constrained_delaunay(g, copt);
-    const EdgeSet forced = subsegments(cdt);
+    const EdgeSet forced = test::domain_subsegments(cdt);
     const double brute = exhaustive_mwt(cdt.points, visible_pairs(cdt, {}), forced);
     const MwtResult r = exact_mwt(cdt);
     ASSERT_TRUE(r.solved) << r.reason;
@@ -226,7 +214,7 @@ TEST(ExactMwt, MatchesExhaustiveSearchWithSegments) {
     for (const auto& s : forced) EXPECT_TRUE(domain_edges(r.mesh).count(s));
     EXPECT_NEAR(r.weight, brute, 1e-12 * brute) << "trial " << trial << " route " << r.route;
     EXPECT_TRUE(validate(r.mesh).empty());
-    EXPECT_EQ(subsegments(r.mesh), forced);
+    EXPECT_EQ(test::domain_subsegments(r.mesh), forced);
   }
   EXPECT_GE(with_segments, 30);  // the trials do constrain something
   EXPECT_GT(by_visibility, 0);   // both routes are exercised: the point set's MWT misses a
@@ -254,7 +242,7 @@ TEST(ExactMwt, MatchesExhaustiveSearchOnConcavePolygons) {
       g.points.push_back({0.5 + 0.1 * (u(rng) - 0.5), 0.5 + 0.1 * (u(rng) - 0.5)});
     }
     const Mesh cdt = constrained_delaunay(g);
-    const EdgeSet forced = subsegments(cdt);
+    const EdgeSet forced = test::domain_subsegments(cdt);
     const double brute = exhaustive_mwt(cdt.points, visible_pairs(cdt, boundary), forced);
     for (bool diamond : {true, false}) {
       MwtOptions options;

@@ -211,11 +211,15 @@ bool segment_meets_open_circumdisk_exact(const Point& a, const Point& b, const P
   auto& coef = r.coef; auto& slope = r.slope; auto& disc = r.disc;
   to_integer(ux, u.x);
   to_integer(uy, u.y);
+  // p −= d, in place.
+  auto translate = [](mpz_t px, mpz_t py, const mpz_t dx, const mpz_t dy) {
+    mpz_sub(px, px, dx);
+    mpz_sub(py, py, dy);
+  };
   auto relative = [&](mpz_t out_x, mpz_t out_y, const Point& p) {
     to_integer(out_x, p.x);
     to_integer(out_y, p.y);
-    mpz_sub(out_x, out_x, ux);
-    mpz_sub(out_y, out_y, uy);
+    translate(out_x, out_y, ux, uy);
   };
   relative(ax, ay, a);
   relative(bx, by, b);
@@ -246,18 +250,13 @@ bool segment_meets_open_circumdisk_exact(const Point& a, const Point& b, const P
   };
   incircle_at_origin(gu);
   // g at w: shift the circle's points by −E.
-  mpz_sub(ax, ax, ex);
-  mpz_sub(ay, ay, ey);
-  mpz_sub(bx, bx, ex);
-  mpz_sub(by, by, ey);
-  mpz_sub(cx, cx, ex);
-  mpz_sub(cy, cy, ey);
+  translate(ax, ay, ex, ey);
+  translate(bx, by, ex, ey);
+  translate(cx, cy, ex, ey);
   incircle_at_origin(gw);
   // orient(a, b, c) = cross(b − a, c − a) (translation invariant).
-  mpz_sub(bx, bx, ax);
-  mpz_sub(by, by, ay);
-  mpz_sub(cx, cx, ax);
-  mpz_sub(cy, cy, ay);
+  translate(bx, by, ax, ay);
+  translate(cx, cy, ax, ay);
   cross(orient, bx, by, cx, cy);
   lift(lift_a, ex, ey);  // |E|²
   mpz_mul(coef, orient, lift_a);
