@@ -724,3 +724,32 @@ TEST(IoPolyLarge, SegmentsAfterALargeVertexSectionKeepTheirLines) {
   ASSERT_EQ(p.segments.size(), 1u);
   EXPECT_EQ(p.segments[0].b, n - 1);
 }
+
+// Files of a megabyte or more are mapped rather than read: the parser must stop at the end of the
+// mapping even when the file ends exactly at a page boundary without a final newline (a read past
+// the end would fault there), and errors must still name the file and line.
+TEST(IoNodeLarge, MappedFilesEndingAtAPageBoundary) {
+  TempDir dir;
+  const std::size_t n = 60000;
+  std::string head = big_vertex_section(n, 1);
+  head.erase(head.rfind(std::to_string(n) + " "));  // drop the last record: it ends the file
+  const std::string last_record = std::to_string(n) + " " + std::to_string(static_cast<double>(n - 1) * 0.25) + " " +
+                                  std::to_string(-static_cast<double>(n - 1)) + " " + std::to_string((n - 1) % 7);
+  // A comment line pads the file so that it ends exactly at a 4096-byte boundary.
+  auto paged = [&](const std::string& final_line) {
+    const std::size_t unpadded = head.size() + 2 + final_line.size();  // "#" and "\n" of the comment
+    return head + "#" + std::string((4096 - unpadded % 4096) % 4096, 'p') + "\n" + final_line;
+  };
+  const std::string text = paged(last_record);
+  ASSERT_EQ(text.size() % 4096, 0u);
+  ASSERT_GE(text.size(), std::size_t{1} << 20);
+  const std::string path = dir.file("paged.node");
+  write_text(path, text);
+  expect_big_section(mwst::io::read_node(path), n, 1);
+
+  // The same file with its last record cut short (its y coordinate missing) at the page boundary.
+  const std::string cut = paged(std::to_string(n) + " " + std::to_string(static_cast<double>(n - 1) * 0.25));
+  ASSERT_EQ(cut.size() % 4096, 0u);
+  write_text(path, cut);
+  expect_error([&] { mwst::io::read_node(path); }, n + 2, "y coordinate", path);
+}

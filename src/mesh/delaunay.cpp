@@ -236,6 +236,23 @@ std::vector<std::uint32_t> hilbert_order(const std::vector<Point>& points, std::
   return order;
 }
 
+// Advises the kernel to back the reserved (not yet touched) storage of v with transparent huge
+// pages. The insertion walks and flips touch triangles and points all over arrays of tens of
+// megabytes, so with 4 KiB pages nearly every access misses the TLB; 2 MiB pages also cut the page
+// faults of first touch 512-fold. Advice only: without THP (or if it fails) nothing changes.
+template <class T>
+void advise_huge_pages(const std::vector<T>& v) {
+#ifdef MADV_HUGEPAGE
+  constexpr std::uintptr_t kHuge = std::uintptr_t{2} << 20;
+  const auto begin = reinterpret_cast<std::uintptr_t>(v.data());
+  const std::uintptr_t end = begin + v.capacity() * sizeof(T);
+  const std::uintptr_t first = (begin + kHuge - 1) / kHuge * kHuge, last = end / kHuge * kHuge;
+  if (last > first) ::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+#else
+  (void)v;
+#endif
+}
+
 // Builds the first real triangle on vertices (a, b, c), counter-clockwise, with its three ghosts.
 void make_first_triangle(Mesh& m, VertexId a, VertexId b, VertexId c) {
   const TriangleId t = m.new_triangle();
@@ -270,6 +287,7 @@ Degeneracy build_incremental(Mesh& m, std::vector<VertexId>& kept) {
   kept.assign(n, kNone);
   m.triangles.reserve(2 * n);
   m.flags.reserve(2 * n);
+  advise_huge_pages(m.triangles);
   // The first triangle: the first point, the next distinct one, the next not collinear with them.
   std::size_t second = 1;
   while (second < n && m.points[second] == m.points[0]) ++second;
@@ -593,7 +611,10 @@ Mesh delaunay(std::vector<Point> points, DelaunayStats* stats) {
     m.points.reserve(n);
     m.triangles.reserve(2 * n + 16);
     m.flags.reserve(2 * n + 16);
+    advise_huge_pages(m.points);
     m.points.resize(left_count);
+    right.points.reserve(n - left_count);
+    advise_huge_pages(right.points);
     right.points.resize(n - left_count);
     Degeneracy dl = Degeneracy::kValid, dr = Degeneracy::kValid;
     std::jthread worker([&] {
