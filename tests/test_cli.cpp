@@ -398,6 +398,30 @@ TEST(Cli, ExactPolishIsReportedValidAndNeverHeavier) {
   EXPECT_EQ(check.exit_code, 0) << describe(check);
 }
 
+// --opt-trials bounds the iterated local search: its kept trials never exceed the budget, 0 turns
+// it off, the budget is echoed in the report, and the mesh is valid either way.
+TEST(Cli, OptTrialsBoundTheSearch) {
+  Sandbox box;
+  const std::string input = data("Africa.poly");
+  for (const std::size_t trials : {std::size_t{0}, std::size_t{30}}) {
+    SCOPED_TRACE(trials);
+    const Outcome r = box.run({"triangulate", input, "-o", "t", "-q", "--method", "opt", "--opt-trials",
+                               std::to_string(trials), "--json", "t.json"});
+    ASSERT_EQ(r.exit_code, 0) << describe(r);
+    const auto j = nlohmann::json::parse(box.get("t.json"));
+    EXPECT_EQ(j.at("parameters").at("opt_trials").get<std::size_t>(), trials);
+    EXPECT_LE(j.at("optimize").at("perturbations").get<std::size_t>(), trials);
+    const Outcome check = box.run({"check", input, "t"});
+    EXPECT_EQ(check.exit_code, 0) << describe(check);
+  }
+  box.put("in.poly", kSquare + "4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n");
+  for (const std::string bad : {"-1", "abc", "1.5", ""}) {
+    const Outcome r = box.run({"triangulate", "in.poly", "-o", "bad", "--method", "opt", "--opt-trials", bad});
+    EXPECT_EQ(r.exit_code, 2) << "'" << bad << "'\n" << describe(r);
+    EXPECT_FALSE(box.has("bad.node")) << bad;
+  }
+}
+
 TEST(Cli, BadTimeLimitIsAUsageError) {
   Sandbox box;
   box.put("in.poly", kSquare + "4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n");
@@ -781,7 +805,8 @@ TEST(Cli, TwoRunsGiveIdenticalFiles) {
       {"Superior.poly", {"--method", "dt"}},    {"Superior.poly", {"--method", "dr"}},
       {"Plate.poly", {"--method", "dt"}},       {"Plate.poly", {"--method", "dr"}},
       {"Plate.poly", {"--method", "brh"}},      {"Plate.poly", {"--method", "qtr"}},
-      {"Plate.poly", {"--method", "opt"}},      {"Plate.poly", {"--method", "dt", "--flip"}},
+      {"Plate.poly", {"--method", "opt", "--opt-trials", "40"}},
+      {"Plate.poly", {"--method", "dt", "--flip"}},
       {"Plate.poly", {"--method", "brh", "--flip"}}};
   for (const auto& [name, method] : runs) {
     std::string trace = name;

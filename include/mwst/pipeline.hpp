@@ -41,6 +41,8 @@ std::optional<Method> parse_method(std::string_view name);
 std::string_view steiner_rule_name(SteinerRule rule);
 std::optional<SteinerRule> parse_steiner_rule(std::string_view name);
 
+inline constexpr std::size_t kDefaultOptTrials = std::numeric_limits<std::size_t>::max();
+
 struct TriangulateOptions {
   Method method = Method::kDt;
   double min_angle_deg = 20.0;                 // DR / BRH angle bound α; 0 = none
@@ -54,6 +56,10 @@ struct TriangulateOptions {
   bool bundle = false;                         // compute the exact bundle number of the result
   double time_budget_seconds = -1.0;           // ≤ 0: none
   bool exact_polish = false;                   // opt: exact MWT polish (OptimizeOptions::exact_polish)
+  // opt: iterated-local-search trials per start (OptimizeOptions::perturbation_trials). The default
+  // (kDefaultOptTrials) is min(600, 300000 / triangles of the start); fewer trials are faster and
+  // at most as thorough, 0 stops after the kicks.
+  std::size_t opt_trials = kDefaultOptTrials;
 };
 
 // The paper's lemma: a triangulation with minimum angle α is (4π/α + 3)-bundle-free, so the default

@@ -216,7 +216,9 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
       // that the exact polish's extra starts leave every original start's search unchanged.
       OptimizeOptions o = kicks;
       const std::size_t triangles = std::max<std::size_t>(1, s.mesh.domain_triangle_count());
-      o.perturbation_trials = std::min<std::size_t>(600, 300000 / triangles);
+      o.perturbation_trials = options.opt_trials != kDefaultOptTrials
+                                  ? options.opt_trials
+                                  : std::min<std::size_t>(600, 300000 / triangles);
       os = optimize(s.mesh, o);
     } else {
       os.weight_before = os.weight_after = local_weight[i];
@@ -414,6 +416,7 @@ nlohmann::json to_json(const Report& r) {
   if (o.max_area > 0.0) parameters["max_area"] = o.max_area;
   if (o.max_steiner != std::numeric_limits<std::size_t>::max()) parameters["max_steiner"] = o.max_steiner;
   if (o.time_budget_seconds > 0.0) parameters["time_budget"] = o.time_budget_seconds;
+  if (o.method == Method::kOpt && o.opt_trials != kDefaultOptTrials) parameters["opt_trials"] = o.opt_trials;
 
   nlohmann::json seconds = nlohmann::json::object();
   for (const auto& [phase, s] : r.seconds) {

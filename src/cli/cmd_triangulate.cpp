@@ -1,6 +1,6 @@
 // `mwst triangulate INPUT [-o PREFIX] [--method dt|dr|brh|qtr|opt] [--min-angle DEG]
 //  [--steiner offcenter|circumcenter] [--bundle-k K] [--flip] [--max-area A] [--max-steiner N]
-//  [--convex-hull] [--strict] [--bundle] [--time-limit SECONDS] [--exact-polish] [--json FILE]
+//  [--convex-hull] [--strict] [--bundle] [--time-limit SECONDS] [--exact-polish] [--opt-trials N] [--json FILE]
 //  [--draw FILE] [--quiet]`
 // Reads a Triangle .node/.poly, runs triangulate() (mwst/pipeline.hpp: the methods of Boyacı,
 // Erten, Üngör, "Triangulations Loosing Bundles and Weight", and ours) and writes PREFIX.node,
@@ -30,6 +30,7 @@ struct TriangulateArgs {
   std::size_t bundle_k = 0;
   bool flip = false;
   bool exact_polish = false;
+  std::size_t opt_trials = kDefaultOptTrials;
   double max_area = -1.0;
   std::size_t max_steiner = 0;
   bool max_steiner_given = false;  // --max-steiner 0 is a budget of no Steiner points
@@ -77,6 +78,7 @@ int run_triangulate(const TriangulateArgs& a) {
   options.bundle = a.bundle;
   options.time_budget_seconds = a.time_limit;
   options.exact_polish = a.exact_polish;
+  options.opt_trials = a.opt_trials;
   try {
     check_options(options);
   } catch (const std::invalid_argument& e) {
@@ -176,6 +178,11 @@ void register_triangulate(CLI::App& app, Action& action) {
                 "opt: also search from the exact minimum weight triangulation (MWT) of each start's "
                 "vertices, and after the search replace the mesh by the MWT of its vertices when one is "
                 "found (within size limits) and lighter, search again, repeat; never heavier, slower");
+  sub->add_option("--opt-trials", args->opt_trials,
+                  "opt: iterated local search trials per start (default min(600, 300000 / triangles)); "
+                  "fewer is faster, 0 stops after the kicks")
+      ->type_name("N")
+      ->check(CLI::NonNegativeNumber);
   sub->add_option("--json", args->json, "Write the JSON report to FILE ('-' = standard output)")
       ->type_name("FILE");
   sub->add_option("--draw", args->draw, "Draw the mesh to FILE.png, .svg or .pdf")->type_name("FILE");
