@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <random>
 
 #include "mwst/brh.hpp"
 #include "mwst/bundle.hpp"
@@ -89,6 +90,39 @@ TEST(Brh, UsesNoMoreSteinerPointsThanDelaunayRefinementInTotal) {
     brh_total += triangulate(g, o).steiner;
   }
   EXPECT_LT(brh_total, dr_total);
+}
+
+TEST(Brh, PointSetWithManySkinnyTrianglesLeft) {
+  // A point set (the convex hull as domain: long hull edges split, flat hull circumdisks) at K = 12,
+  // where over a thousand skinny triangles stay: from the second exact test on BRH asks only those
+  // not known clean (no triangle made by the last pass near them), and its sweeps reuse the last
+  // test's. Every skinny triangle left must still be in no K-bundle (exact oracle).
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  Pslg pslg;
+  pslg.points.resize(5000);
+  for (auto& p : pslg.points) p = {unit(rng), unit(rng)};
+  Mesh m = constrained_delaunay(pslg);
+  BrhOptions o;
+  o.min_angle_deg = 20.0;
+  o.bundle_k = 12;
+  const BrhStats stats = bundle_removal(m, o);
+  EXPECT_EQ(stats.stop_reason, "bound reached");
+  EXPECT_GE(stats.exact_evaluations, 3u);
+  EXPECT_GT(stats.known_clean, 0u);
+  EXPECT_GT(stats.skinny_left, 1024u);
+  ASSERT_TRUE(validate(m, {.delaunay = true}).empty());
+  const BundleResult exact = bundle_number(m, {.per_triangle = true});
+  std::size_t skinny = 0;
+  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+    if (!m.in_domain(t)) continue;
+    double a[3];
+    triangle_angles_deg(m, t, a);
+    if (std::min({a[0], a[1], a[2]}) >= o.min_angle_deg) continue;
+    ++skinny;
+    EXPECT_LT(exact.per_triangle[t], o.bundle_k) << "skinny triangle " << t << " is in a K-bundle";
+  }
+  EXPECT_EQ(skinny, stats.skinny_left);
 }
 
 TEST(Brh, LargeKLeavesTheDelaunayTriangulation) {

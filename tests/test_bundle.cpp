@@ -667,6 +667,114 @@ TEST(Bundle, InKBundleAgreesWithPerTriangleValues) {
   EXPECT_GT(local_answers, 0u);
 }
 
+// KBundleCache, what BRH keeps between its passes: (1) with it in_k_bundle answers exactly as
+// without it, on the same mesh (where sweeps are reused) and after refinement has changed part of
+// the mesh; (2) its reach boxes are sound: a query answered 0 whose box meets no triangle the
+// refinement made (the hull unchanged) is still answered 0 — what BRH's clean list relies on —
+// and each box holds its query.
+TEST(Bundle, KBundleCacheReusesSweepsAndBoundsWhatChangesAnAnswer) {
+  std::mt19937_64 rng(21);
+  for (const bool point_set : {false, true}) {
+    SCOPED_TRACE(point_set ? "point set refined by BRH" : "random Delaunay");
+    Mesh m;
+    if (point_set) {
+      // Flat hull circumdisks: large pencils, the ones the cache keeps.
+      Pslg pslg;
+      pslg.points = random_points(5000, rng);
+      m = constrained_delaunay(pslg);
+      BrhOptions bo;
+      bo.min_angle_deg = 20.0;
+      bo.bundle_k = 12;
+      bundle_removal(m, bo);
+    } else {
+      m = delaunay(random_points(3000, rng));
+    }
+    const std::uint32_t b = bundle_number(m).bundle_number;
+    std::size_t reused = 0;  // sweeps answered from the cache
+    for (const std::uint32_t k : {6u, b - 1}) {
+      SCOPED_TRACE(k);
+      Mesh mesh = m;
+      std::vector<TriangleId> queries;
+      for (TriangleId t = 0; t < mesh.triangle_slots(); ++t) {
+        if (!mesh.in_domain(t)) continue;
+        // On the point set, BRH's questions: the skinny triangles it left (near the hull, many
+        // need the sweeps of flat pencils).
+        double angle[3];
+        triangle_angles_deg(mesh, t, angle);
+        if (!point_set || std::min({angle[0], angle[1], angle[2]}) < 20.0) queries.push_back(t);
+      }
+      KBundleCache cache;
+      const std::vector<std::uint8_t> plain = in_k_bundle(mesh, k, queries, nullptr, 1);
+      KBundleStats first, second;
+      EXPECT_EQ(in_k_bundle(mesh, k, queries, &first, 1, &cache), plain);
+      const auto reach = cache.reach;
+      ASSERT_EQ(reach.size(), queries.size());
+      EXPECT_EQ(in_k_bundle(mesh, k, queries, &second, 2, &cache), plain);
+      EXPECT_EQ(first.pencils_reused, 0u);
+      EXPECT_LE(second.pencils_reused, second.pencils_swept);
+      reused += second.pencils_reused;
+      for (std::size_t i = 0; i < queries.size(); ++i) {
+        for (const VertexId v : mesh.triangles[queries[i]].v) {
+          const Point& p = mesh.points[v];
+          EXPECT_TRUE(reach[i][0] <= p.x && p.x <= reach[i][2] && reach[i][1] <= p.y && p.y <= reach[i][3]);
+        }
+      }
+      // Refine a little (a few Steiner points, below a tighter angle bound).
+      const std::vector<Triangle> before = mesh.triangles;
+      const std::vector<std::uint8_t> before_flags = mesh.flags;
+      RefineOptions ro;
+      ro.min_angle_deg = 25.0;
+      ro.max_steiner = 12;
+      refine(mesh, ro);
+      std::vector<std::array<double, 4>> made;
+      bool hull_changed = false;
+      for (TriangleId t = 0; t < mesh.triangle_slots(); ++t) {
+        if (t < before.size() && before[t].v == mesh.triangles[t].v && before_flags[t] == mesh.flags[t]) continue;
+        if (mesh.is_dead(t)) continue;
+        if (mesh.is_ghost(t)) {
+          hull_changed = true;
+          continue;
+        }
+        std::array<double, 4> box{1e300, 1e300, -1e300, -1e300};
+        for (const VertexId v : mesh.triangles[t].v) {
+          const Point& p = mesh.points[v];
+          box = {std::min(box[0], p.x), std::min(box[1], p.y), std::max(box[2], p.x), std::max(box[3], p.y)};
+        }
+        made.push_back(box);
+      }
+      ASSERT_FALSE(made.empty());
+      std::vector<TriangleId> still;  // queries alive with the same corners
+      std::vector<std::size_t> still_at;
+      for (std::size_t i = 0; i < queries.size(); ++i) {
+        const TriangleId t = queries[i];
+        if (!mesh.is_dead(t) && mesh.triangles[t].v == before[t].v && mesh.in_domain(t)) {
+          still.push_back(t);
+          still_at.push_back(i);
+        }
+      }
+      const std::vector<std::uint8_t> after = in_k_bundle(mesh, k, still, nullptr, 1);
+      KBundleStats third;
+      EXPECT_EQ(in_k_bundle(mesh, k, still, &third, 1, &cache), after);
+      if (hull_changed) continue;
+      std::size_t kept = 0;
+      for (std::size_t j = 0; j < still.size(); ++j) {
+        const auto& r = reach[still_at[j]];
+        const bool touched = std::any_of(made.begin(), made.end(), [&](const auto& box) {
+          return box[0] <= r[2] && r[0] <= box[2] && box[1] <= r[3] && r[1] <= box[3];
+        });
+        if (plain[still_at[j]] || touched) continue;
+        ++kept;
+        EXPECT_EQ(after[j], 0) << "triangle " << still[j] << " joined a " << k << "-bundle far from the change";
+      }
+      EXPECT_GT(kept, 0u);
+    }
+    // The large pencils (those kept) are the flat ones along the hull of a point set.
+    if (point_set) {
+      EXPECT_GT(reused, 0u);
+    }
+  }
+}
+
 // Bundle removal on a point set splits the long hull edges; the split points are rounded off the
 // hull line, so DT(V) has flat triangles of nearly collinear hull vertices whose circumdisks have
 // radii near 10¹⁷ and bulge into the mesh by less than the rounding of the incircle values of the

@@ -20,6 +20,7 @@ struct BrhOptions {
 struct BrhStats {
   std::size_t rounds = 0;             // refinement passes
   std::size_t exact_evaluations = 0;  // exact tests (in_k_bundle) between passes
+  std::size_t known_clean = 0;        // skinny triangles those tests did not ask again (see brh.cpp)
   std::size_t steiner_inserted = 0;
   std::size_t segment_splits = 0;
   std::size_t skinny_left = 0;        // skinny triangles left: each in no K-bundle
@@ -38,10 +39,16 @@ struct BrhStats {
 // reached"): every triangle left with an angle below A is in no K-bundle; when K ≥ ⌈4π/A⌉ + 3 the
 // mesh is K-bundle-free. Passes after the first are seeded (RefineOptions::seed_triangles) with
 // the triangles the exact test marked, and the skinny list is updated, not recounted, between
-// them. Cost on a 1M-triangle input (bench/bench_brh.cpp): about 3× DR's CPU time at the default K
-// (one exact test over all ~150k skinny triangles of the CDT, which builds DT(V)), 2.1–2.6× at
-// K = 6 and 2.5–3.0× at K = 8, where seven exact tests are needed, each local (its cost is that of
-// the mesh region around the skinny triangles, not of the mesh).
+// them. From the second exact test on, a skinny triangle the last test found in no K-bundle is not
+// asked again while no triangle made since lies near it (its "reach", KBundleCache::reach: a
+// disk putting it in a K-bundle would have to meet such a triangle), and pencil sweeps whose
+// inputs did not change are reused (KBundleCache). Cost on a 1M-triangle input
+// (bench/bench_brh.cpp): about 2.5–3× DR's CPU time at the default K (one exact test over all
+// ~150k skinny triangles of the CDT, which builds DT(V)), 2.2–2.7× at K = 6 and 2.5–2.8× at
+// K = 8, where seven exact tests are needed, each local (its cost is that of the mesh region
+// around the skinny triangles, not of the mesh); DR's own time swings ±15% between runs. On point
+// sets (hull edges split into nearly collinear pieces) the exact tests near the hull rebuild
+// DT(V): 200k uniform points take about 7× DR at K = 8 and 9–10× at K = 12.
 BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options);
 
 }  // namespace mwst

@@ -39,6 +39,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "mwst/geometry.hpp"
@@ -110,6 +111,7 @@ struct KBundleStats {
   std::size_t decided_by_bound = 0;        // queries no pencil of which could reach k candidates
   std::size_t decided_by_pencils = 0;      // queries found in a k-bundle by the pencil sweep
   std::size_t pencils_swept = 0;
+  std::size_t pencils_reused = 0;  // of those, answered from a KBundleCache
   bool local = false;  // answered from the Delaunay triangulation of the vertices near the queries
 };
 
@@ -126,7 +128,32 @@ struct KBundleStats {
 // mesh; it uses it only if every Delaunay triangle it needs has a vertex-empty circumdisk (so is
 // one of DT(V)); otherwise it builds DT(V) over the whole mesh. The answer is the same either way. What bundle removal (BRH) asks of its
 // skinny triangles.
+//
+// A pencil sweep's result (for each candidate triangle, the largest count of a disk of the pencil
+// meeting it) is a function of the pencil's edge pq, the apices of its two Delaunay triangles and
+// the candidate triangles (their vertices); `cache`, if given, keeps the results of the larger
+// pencils of one call, keyed by exactly those (mesh vertex ids), and the next call reuses a result
+// whose key matches in full, instead of sweeping again. Across BRH's passes the mesh changes only
+// near its splits, so most pencils, e.g. those of the flat circumdisks along the hull of a point
+// set, come back unchanged. The answers are the same with or without it.
+class KBundleCache {
+ public:
+  KBundleCache();
+  ~KBundleCache();
+  KBundleCache(const KBundleCache&) = delete;
+  KBundleCache& operator=(const KBundleCache&) = delete;
+  // After a call that used the cache: per query (in the order of `queries`), a box (x0, y0, x1,
+  // y1; closed) holding every mesh triangle that meets some vertex-empty open disk meeting the
+  // query. A query answered 0 stays 0 while its triangle, the vertices and the triangles meeting
+  // this box are unchanged, and the hull is (bundle removal relies on it between its passes: a
+  // disk putting it in a k-bundle after a change must meet a triangle made by the change).
+  std::vector<std::array<double, 4>> reach;
+  struct Impl;
+  std::unique_ptr<Impl> impl;
+};
+
 std::vector<std::uint8_t> in_k_bundle(const Mesh& mesh, std::uint32_t k, const std::vector<TriangleId>& queries,
-                                      KBundleStats* stats = nullptr, unsigned threads = 0);
+                                      KBundleStats* stats = nullptr, unsigned threads = 0,
+                                      KBundleCache* cache = nullptr);
 
 }  // namespace mwst

@@ -18,6 +18,11 @@
 // So the guarantee rests on the exact test alone; the local one (whose edge crossings are decided
 // in floating point) only makes the refinement fast, and a triangle it wrongly called bad would
 // only cost a Steiner point.
+//
+// Between passes the exact test is asked only about skinny triangles not known clean: one the last
+// test found in no K-bundle stays so while every triangle made since lies away from its reach box
+// (CleanQueries below), and pencil sweeps are reused across tests (KBundleCache, bundle.hpp). Both
+// give the answers a fresh test would, so the output does not depend on them.
 #include "mwst/brh.hpp"
 
 #include <algorithm>
@@ -26,6 +31,8 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <limits>
+#include <unordered_map>
 #include <unordered_set>
 #include <vector>
 
@@ -256,6 +263,90 @@ class LocalBundleTest {
   std::uint16_t epoch_ = 1;
 };
 
+// Skinny triangles the exact test found in no K-bundle, kept across passes while nothing near them
+// changes. Sound because vertices are only added: if a disk D (vertex-empty after a pass, hence
+// before it) puts such a triangle t in a K-bundle after the pass, D met fewer than K triangles
+// before it, so it meets a triangle the pass made; while the hull is unchanged that triangle lies
+// in the convex hull, where D meets only triangles inside t's reach box (KBundleCache::reach), so
+// the box of the made triangle meets t's box. A pass that changes the hull forgets every entry.
+class CleanQueries {
+ public:
+  bool empty() const { return boxes_.empty(); }
+  bool contains(const std::array<VertexId, 3>& triple) const { return boxes_.count(triple) != 0; }
+  void add(const std::array<VertexId, 3>& triple, const std::array<double, 4>& box) {
+    if (box[0] <= box[2] && box[1] <= box[3]) boxes_[triple] = box;  // an empty box: not kept
+  }
+  void clear() { boxes_.clear(); }
+
+  // Before a pass: the triangles as they are.
+  void snapshot(const Mesh& m) {
+    before_v_.resize(m.triangles.size());
+    for (TriangleId t = 0; t < m.triangles.size(); ++t) before_v_[t] = m.triangles[t].v;
+    before_flags_ = m.flags;
+  }
+
+  // After the pass: forgets the entries whose box meets the box of a triangle the pass made (a
+  // slot whose corners or flags changed; conservative when a triangle merely moved slot).
+  void update(const Mesh& m) {
+    made_.clear();
+    std::array<double, 4> all{kInf, kInf, -kInf, -kInf};
+    for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+      if (t < before_v_.size() && before_v_[t] == m.triangles[t].v && before_flags_[t] == m.flags[t]) continue;
+      if (m.is_dead(t)) continue;
+      if (m.is_ghost(t)) {  // the hull changed
+        boxes_.clear();
+        return;
+      }
+      std::array<double, 4> b{kInf, kInf, -kInf, -kInf};
+      for (const VertexId v : m.triangles[t].v) {
+        const Point& p = m.points[v];
+        b = {std::min(b[0], p.x), std::min(b[1], p.y), std::max(b[2], p.x), std::max(b[3], p.y)};
+      }
+      all = {std::min(all[0], b[0]), std::min(all[1], b[1]), std::max(all[2], b[2]), std::max(all[3], b[3])};
+      made_.push_back(b);
+    }
+    if (made_.empty()) return;
+    // A grid over the made boxes: the cells each covers are marked; an entry is forgotten if its box
+    // covers a marked cell. Cell indices are monotone in the coordinate, so two closed boxes that
+    // meet share a cell.
+    const double sx = all[2] > all[0] ? kGrid / (all[2] - all[0]) : 0.0;
+    const double sy = all[3] > all[1] ? kGrid / (all[3] - all[1]) : 0.0;
+    auto cell = [](double v, double v0, double scale) {
+      return static_cast<std::size_t>(std::clamp(std::floor((v - v0) * scale), 0.0, kGrid - 1.0));
+    };
+    marks_.assign(static_cast<std::size_t>(kGrid * kGrid), 0);
+    for (const auto& b : made_) {
+      for (std::size_t y = cell(b[1], all[1], sy); y <= cell(b[3], all[1], sy); ++y) {
+        for (std::size_t x = cell(b[0], all[0], sx); x <= cell(b[2], all[0], sx); ++x) {
+          marks_[y * static_cast<std::size_t>(kGrid) + x] = 1;
+        }
+      }
+    }
+    std::erase_if(boxes_, [&](const auto& entry) {
+      const auto& b = entry.second;
+      if (b[2] < all[0] || b[0] > all[2] || b[3] < all[1] || b[1] > all[3]) return false;
+      for (std::size_t y = cell(b[1], all[1], sy); y <= cell(b[3], all[1], sy); ++y) {
+        for (std::size_t x = cell(b[0], all[0], sx); x <= cell(b[2], all[0], sx); ++x) {
+          if (marks_[y * static_cast<std::size_t>(kGrid) + x]) return true;
+        }
+      }
+      return false;
+    });
+  }
+
+ private:
+  static constexpr double kInf = std::numeric_limits<double>::infinity();
+  static constexpr double kGrid = 256.0;
+  std::unordered_map<std::array<VertexId, 3>, std::array<double, 4>, TripleHash> boxes_;
+  std::vector<std::array<VertexId, 3>> before_v_;
+  std::vector<std::uint8_t> before_flags_;
+  std::vector<std::array<double, 4>> made_;
+  std::vector<std::uint8_t> marks_;
+};
+
+// Below this many skinny triangles the exact test is local and cheap: no clean-list bookkeeping.
+constexpr std::size_t kCleanQueriesFrom = 1024;
+
 }  // namespace
 
 BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
@@ -265,6 +356,9 @@ BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
   const std::uint32_t K = static_cast<std::uint32_t>(options.bundle_k);
   std::unordered_set<std::array<VertexId, 3>, TripleHash> marked;  // found by the exact test
   LocalBundleTest local(K);
+  // Pencil sweeps of one exact test reused by the next where nothing they read changed.
+  KBundleCache sweep_cache;
+  CleanQueries clean;
   const SkinnyTest is_skinny(A);
   RefineOptions ro = options.refine;
   ro.min_angle_deg = A;
@@ -356,7 +450,30 @@ BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
       any_local = local.in_bundle(mesh, skinny[i * (skinny.size() / sample)]);
     }
     if (!any_local || force_exact) {
-      const std::vector<std::uint8_t> exact = in_k_bundle(mesh, K, skinny);
+      // Ask only the skinny triangles not known clean (see CleanQueries).
+      std::vector<std::uint8_t> exact(skinny.size(), 0);
+      // From the second exact test on (the first pass changes most of the mesh; with the default K
+      // one test is often all there is).
+      const bool use_cache = stats.exact_evaluations >= 1;
+      const bool use_clean = use_cache && skinny.size() >= kCleanQueriesFrom;
+      if (!use_clean) clean.clear();
+      std::vector<TriangleId> asked;
+      std::vector<std::size_t> asked_at;
+      for (std::size_t i = 0; i < skinny.size(); ++i) {
+        if (use_clean && clean.contains(sorted_triple(mesh, skinny[i]))) {
+          ++stats.known_clean;
+          continue;
+        }
+        asked.push_back(skinny[i]);
+        asked_at.push_back(i);
+      }
+      if (!asked.empty()) {
+        const std::vector<std::uint8_t> answers = in_k_bundle(mesh, K, asked, nullptr, 0, use_cache ? &sweep_cache : nullptr);
+        for (std::size_t j = 0; j < asked.size(); ++j) {
+          exact[asked_at[j]] = answers[j];
+          if (use_clean && !answers[j]) clean.add(sorted_triple(mesh, asked[j]), sweep_cache.reach[j]);
+        }
+      }
       ++stats.exact_evaluations;
       ro.seed_triangles.clear();
       for (std::size_t i = 0; i < skinny.size(); ++i) {
@@ -382,7 +499,9 @@ BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
     ++stats.rounds;
     ro.max_steiner = steiner_budget;
     record_skinny = true;
+    if (!clean.empty()) clean.snapshot(mesh);
     const RefineStats rs = refine(mesh, ro);
+    if (!clean.empty()) clean.update(mesh);
     skinny_updated = record_skinny;
     record_skinny = false;
     const std::size_t added = rs.steiner_inserted + rs.segment_splits;

@@ -61,6 +61,7 @@
 #include <memory>
 #include <string>
 #include <thread>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -107,6 +108,27 @@ Approx orient_approx(const Point& a, const Point& b, const Point& c) {
   return {v, 4.0 * kEps * std::fabs(v)};
 }
 
+// The value of an exact expansion rounded, with a rigorous bound: summing from the smallest
+// component, each addition errs by at most ε of its rounded result (doubled for the rounding of
+// the bound itself).
+template <int N>
+Approx estimate_with_error(const exact::Expansion<N>& e) {
+  double sum = 0.0, partial = 0.0;
+  for (int i = 0; i < e.n; ++i) {
+    sum += e.c[i];
+    partial += std::fabs(sum);
+  }
+  return {sum, 2.0 * kEps * partial};
+}
+
+// x·y rounded, with a rigorous bound: |xy − x̃ỹ| ≤ |x̃|δy + |ỹ|δx + δxδy, plus the product's own
+// rounding (at most 2ε of it, with margin).
+Approx approx_mul(const Approx& x, const Approx& y) {
+  const double v = x.value * y.value;
+  return {v, std::fabs(x.value) * y.error + std::fabs(y.value) * x.error + x.error * y.error +
+                 2.0 * kEps * std::fabs(v)};
+}
+
 // Does the segment from u towards w, at u, enter the open disk bounded by the circle through p, q
 // and u? +1 enters, −1 leaves, 0 tangent. `orient_pqu` = orient2d(p, q, u) ≠ 0. With p' = p − u,
 // q' = q − u, e = w − u, the centre of that circle is u + c' with
@@ -144,7 +166,21 @@ int enters_circle(const Point& p, const Point& q, const Point& u, const Point& w
     compress(ql);
     compress(cq);
     compress(cp);
-    s = sign(pl * cq - ql * cp);
+    // Second stage: the four factors are exact expansions; their rounded sums carry a rigorous
+    // error bound (each addition's rounding is at most ε of the partial sum). The first stage fails
+    // when the cross products cancel (near-tangent hull edges of nearly collinear hull vertices:
+    // each cross is 10⁻¹⁶ of its products); the terms pl·cq and ql·cp rarely cancel then, and the
+    // products of 16 × 16 components are needed only when they do.
+    const Approx apl = estimate_with_error(pl), aql = estimate_with_error(ql);
+    const Approx acq = estimate_with_error(cq), acp = estimate_with_error(cp);
+    const Approx term_q = approx_mul(apl, acq), term_p = approx_mul(aql, acp);
+    const double det2 = term_q.value - term_p.value;
+    const double bound2 = 2.0 * (term_q.error + term_p.error + 2.0 * kEps * std::fabs(det2)) + 1e-290;
+    if (std::isfinite(det2) && std::isfinite(bound2) && std::fabs(det2) > bound2) {
+      s = det2 > 0.0 ? 1 : -1;
+    } else {
+      s = sign(pl * cq - ql * cp);
+    }
   }
   return s * orient_pqu;
 }
@@ -577,6 +613,7 @@ struct Shared {
 
   const Mesh& m;
   std::vector<Point> pts;                   // by renumbered vertex id
+  std::vector<VertexId> mesh_id;            // by renumbered vertex id: the mesh's id
   struct Slot {
     std::array<VertexId, 3> v;  // corners, renumbered (kInfinite for ghosts and dead slots)
     std::array<Handle, 3> n;    // neighbours, as in Triangle::n (renumbered slots in a region)
@@ -661,9 +698,11 @@ struct Shared {
     }
     std::vector<VertexId> renumber(nv, kInfinite);
     pts.resize(order.size());
+    mesh_id.resize(order.size());
     for (std::size_t i = 0; i < order.size(); ++i) {
       const auto v = static_cast<VertexId>(order[i] & 0xFFFFFFFFu);
       renumber[v] = static_cast<VertexId>(i);
+      mesh_id[i] = v;
       pts[i] = m.points[v];
       if (state[v] == 2) used = static_cast<std::uint32_t>(i + 1);
     }
@@ -711,10 +750,12 @@ struct Shared {
     std::vector<VertexId> renumber(ids.size(), kNone);  // by `ids` id
     pts.clear();
     pts.reserve(ids.size());
+    mesh_id.clear();
     for (std::uint32_t i = 0; i < w.size(); ++i) {
       if (!in_t[i]) continue;
       renumber[i] = static_cast<VertexId>(pts.size());
       pts.push_back(m.points[w[i]]);
+      mesh_id.push_back(w[i]);
     }
     used = static_cast<std::uint32_t>(pts.size());
     if (used == 0) return false;
@@ -722,6 +763,7 @@ struct Shared {
       if (renumber[i] != kNone) continue;
       renumber[i] = static_cast<VertexId>(pts.size());
       pts.push_back(m.points[ids.key(i)]);
+      mesh_id.push_back(ids.key(i));
     }
     outside = static_cast<TriangleId>(region.size());
     slots.resize(region.size() + 1);
@@ -794,6 +836,32 @@ struct EdgeInfo {
 constexpr std::int8_t kSideP = 2;
 constexpr std::int8_t kSideQ = 3;
 
+// A pencil sweep's result kept across in_k_bundle calls (KBundleCache): the key is everything the
+// sweep reads — the directed edge p→q, the apices (mesh vertex ids; kInfinite on the hull side)
+// and the candidate triangles as vertex triples (mesh ids, rotated to start at the smallest,
+// sorted) — and the value is, per candidate in that order, its largest count over the pencil.
+// Only pencils with at least kCachedCandidates candidates are kept: the small ones are cheap.
+constexpr std::size_t kCachedCandidates = 64;
+
+struct CachedSweep {
+  VertexId lv = kNone, rv = kNone;
+  std::vector<std::array<VertexId, 3>> triangles;
+  std::vector<std::uint32_t> best;
+};
+
+using SweepKey = std::uint64_t;  // p << 32 | q (mesh ids)
+
+}  // namespace
+
+struct KBundleCache::Impl {
+  std::unordered_map<SweepKey, CachedSweep> sweeps;
+};
+
+KBundleCache::KBundleCache() : impl(std::make_unique<Impl>()) {}
+KBundleCache::~KBundleCache() = default;
+
+namespace {
+
 class Worker {
  public:
   Worker(const Shared& shared, bool per_triangle, bool prune)
@@ -816,6 +884,16 @@ class Worker {
   std::size_t pencils = 0, candidate_pairs = 0, exact_comparisons = 0;
   std::uint32_t min_candidates = 0;  // pencils with fewer candidates are not swept
   bool escaped = false;              // a flood reached Shared::outside (see Shared::build_region)
+  // The bounding box (x0, y0, x1, y1) of the corners of every triangle the last flood visited
+  // (in the domain or not): it holds every mesh triangle meeting the circumdisk.
+  std::array<double, 4> flood_box{};
+  bool want_flood_box = false;
+  // Sweep results of an earlier call (read only while the workers run), the keys reused and the
+  // results made now (merged into the cache afterwards).
+  const KBundleCache::Impl* reuse = nullptr;
+  std::size_t pencils_reused = 0;
+  std::vector<SweepKey> reused_keys;
+  std::vector<std::pair<SweepKey, CachedSweep>> made;
   std::vector<std::uint32_t>& per_triangle() { return per_triangle_; }
 
   // ---- floods ----
@@ -826,6 +904,7 @@ class Worker {
   // hull is convex, and a path inside it avoiding vertices crosses edges at points inside the disk.
   void flood(TriangleId dtt, std::vector<TriangleId>& out) {
     out.clear();
+    flood_box = {kInf, kInf, -kInf, -kInf};
     const auto& v = sh_.dt.triangles[dtt].v;
     circle_[0] = sh_.pts[v[0]];
     circle_[1] = sh_.pts[v[1]];
@@ -845,6 +924,14 @@ class Worker {
       const TriangleId t = stack_.back();
       stack_.pop_back();
       if (sh_.in_domain(t)) out.push_back(t);
+      for (unsigned i = 0; i < 3 && want_flood_box; ++i) {
+        const VertexId c = sh_.slots[t].v[i];
+        const Point& pt = sh_.pts[c];
+        flood_box[0] = std::min(flood_box[0], pt.x);
+        flood_box[1] = std::min(flood_box[1], pt.y);
+        flood_box[2] = std::max(flood_box[2], pt.x);
+        flood_box[3] = std::max(flood_box[3], pt.y);
+      }
       for (unsigned e = 0; e < 3; ++e) {
         const Handle h = make_handle(t, e);
         const TriangleId n = triangle_of(sh_.sym(h));
@@ -913,6 +1000,45 @@ class Worker {
     // No disk of this pencil meets more triangles than it has candidates: below the count asked
     // for (in_k_bundle), the pencil cannot matter.
     if (candidates_.size() < min_candidates) return;
+    // A result of an earlier call with the same key (see CachedSweep).
+    const bool cacheable = reuse != nullptr && per_triangle_enabled_ && candidates_.size() >= kCachedCandidates;
+    SweepKey key = 0;
+    if (cacheable) {
+      key = SweepKey{sh_.mesh_id[pc_.pv]} << 32 | sh_.mesh_id[pc_.qv];
+      key_order_.resize(candidates_.size());
+      key_triangles_.resize(candidates_.size());
+      for (std::uint32_t i = 0; i < candidates_.size(); ++i) {
+        key_order_[i] = i;
+        const auto& tv = sh_.slots[candidates_[i].triangle].v;
+        std::array<VertexId, 3> m{sh_.mesh_id[tv[0]], sh_.mesh_id[tv[1]], sh_.mesh_id[tv[2]]};
+        while (m[0] > m[1] || m[0] > m[2]) m = {m[1], m[2], m[0]};
+        key_triangles_[i] = m;
+      }
+      std::sort(key_order_.begin(), key_order_.end(),
+                [this](std::uint32_t x, std::uint32_t y) { return key_triangles_[x] < key_triangles_[y]; });
+      const VertexId lm = sh_.mesh_id[lv], rm = rv == kInfinite ? kInfinite : sh_.mesh_id[rv];
+      const auto it = reuse->sweeps.find(key);
+      if (it != reuse->sweeps.end() && it->second.lv == lm && it->second.rv == rm &&
+          it->second.triangles.size() == candidates_.size()) {
+        const CachedSweep& c = it->second;
+        bool same = true;
+        for (std::size_t j = 0; j < key_order_.size() && same; ++j) same = c.triangles[j] == key_triangles_[key_order_[j]];
+        if (same) {
+          for (std::size_t j = 0; j < key_order_.size(); ++j) {
+            std::uint32_t& slot = per_triangle_[candidates_[key_order_[j]].triangle];
+            slot = std::max(slot, c.best[j]);
+          }
+          ++pencils_reused;
+          reused_keys.push_back(key);
+          return;
+        }
+      }
+      made.emplace_back(key, CachedSweep{lm, rm, {}, {}});
+      CachedSweep& c = made.back().second;
+      c.triangles.reserve(candidates_.size());
+      for (const std::uint32_t i : key_order_) c.triangles.push_back(key_triangles_[i]);
+      c.best.assign(candidates_.size(), 0);
+    }
     // No disk of this pencil meets more triangles than it has candidates. Its two circumdisks
     // are still counted (directly, when their lists could beat the best circumdisk so far).
     if (prune_ && candidates_.size() <= best_count) {
@@ -1032,6 +1158,7 @@ class Worker {
     if (counts_[best_j] > best_count) record_witness(index, best_j, counts_[best_j]);
 
     if (per_triangle_enabled_) {
+      if (cacheable) key_best_.assign(candidates_.size(), 0);
       prefix_max_.resize(counts_.size());
       suffix_max_.resize(counts_.size() + 1);
       std::uint32_t run = 0;
@@ -1055,6 +1182,11 @@ class Worker {
         }
         std::uint32_t& slot = per_triangle_[c.triangle];
         slot = std::max(slot, best);
+        if (cacheable) key_best_[candidate_index_[c.triangle]] = best;
+      }
+      if (cacheable) {
+        std::vector<std::uint32_t>& out = made.back().second.best;
+        for (std::size_t j = 0; j < key_order_.size(); ++j) out[j] = key_best_[key_order_[j]];
       }
     }
   }
@@ -1372,6 +1504,8 @@ class Worker {
   std::vector<std::uint32_t> edge_ref_;    // per candidate edge: its index in edge_info_
   std::vector<Event> events_;
   std::vector<std::uint32_t> group_start_, group_a_, group_b_, counts_, prefix_max_, suffix_max_;
+  std::vector<std::uint32_t> key_order_, key_best_;       // the cache key's order; results by candidate
+  std::vector<std::array<VertexId, 3>> key_triangles_;   // by candidate
 };
 
 // ---- driver -------------------------------------------------------------------------------------
@@ -1410,7 +1544,10 @@ void for_ranges(std::vector<std::unique_ptr<Worker>>& workers, std::size_t n, Bo
 // Fills sh.list / sh.list_begin: the candidates of every Delaunay triangle (or of those flagged in
 // `needed`; the others get empty lists), by floods.
 void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers,
-                 const std::vector<std::uint8_t>* needed = nullptr) {
+                 const std::vector<std::uint8_t>* needed = nullptr,
+                 std::vector<std::array<double, 4>>* boxes = nullptr) {
+  if (boxes) boxes->assign(sh.dt.triangle_slots(), {kInf, kInf, -kInf, -kInf});
+  for (auto& w : workers) w->want_flood_box = boxes != nullptr;
   const std::size_t slots = sh.dt.triangle_slots();
   std::vector<std::vector<TriangleId>> parts(workers.size());
   std::vector<std::uint32_t> local_begin(slots + 1, 0);
@@ -1423,6 +1560,7 @@ void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers,
       const auto dtt = static_cast<TriangleId>(t);
       if (sh.dt.is_dead(dtt) || sh.dt.is_ghost(dtt) || (needed && (*needed)[t] == 0)) continue;
       w.flood(dtt, one);
+      if (boxes) (*boxes)[t] = w.flood_box;
       part.insert(part.end(), one.begin(), one.end());
     }
   });
@@ -1569,7 +1707,8 @@ enum class Attempt : std::uint8_t { kAnswered, kGaveUp, kEscaped };
 // `sh` is built (DT(V): Shared::build(false); DT(W): Shared::build_region, `subset` true);
 // `queries` are slots of sh (kNone for a query outside the domain).
 Attempt in_k_bundle_attempt(Shared& sh, std::uint32_t k, const std::vector<TriangleId>& queries, KBundleStats& st,
-                            unsigned threads_requested, bool subset, std::vector<std::uint8_t>& answer) {
+                            unsigned threads_requested, bool subset, std::vector<std::uint8_t>& answer,
+                            KBundleCache* cache) {
   answer.assign(queries.size(), 0);
   st = {};
   auto in_domain = [&](TriangleId t) { return t < sh.slots.size() && sh.in_domain(t); };
@@ -1677,7 +1816,29 @@ Attempt in_k_bundle_attempt(Shared& sh, std::uint32_t k, const std::vector<Trian
   }
   const unsigned threads = thread_count(threads_requested, st.flooded);
   auto workers = make_workers(sh, threads, true, false);
-  build_lists(sh, workers, &needed);
+  std::vector<std::array<double, 4>> boxes;
+  build_lists(sh, workers, &needed, cache ? &boxes : nullptr);
+  if (cache) {
+    // Per query, the box of every mesh triangle meeting a circumdisk of S(t) or of a neighbour of
+    // S(t): every vertex-empty disk meeting t lies in two such circumdisks (or, on the hull side of
+    // a pencil, meets the mesh only inside one), so every triangle it meets is in the box.
+    cache->reach.assign(queries.size(), {kInf, kInf, -kInf, -kInf});
+    auto widen = [&](std::array<double, 4>& r, TriangleId d) {
+      const auto& b = boxes[d];
+      r = {std::min(r[0], b[0]), std::min(r[1], b[1]), std::max(r[2], b[2]), std::max(r[3], b[3])};
+    };
+    for (std::size_t qi = 0; qi < queries.size(); ++qi) {
+      auto& r = cache->reach[qi];
+      for (std::uint32_t i = s_begin[qi]; i < s_begin[qi + 1]; ++i) {
+        const TriangleId d = s_list[i];
+        widen(r, d);
+        for (unsigned e = 0; e < 3; ++e) {
+          const TriangleId n = triangle_of(dt.sym(make_handle(d, e)));
+          if (!dt.is_ghost(n)) widen(r, n);
+        }
+      }
+    }
+  }
   auto list_size = [&](TriangleId d) { return dt.is_ghost(d) ? 0u : sh.list_begin[d + 1] - sh.list_begin[d]; };
   if (subset) {
     // Each DT(W) triangle used must have a vertex-empty circumdisk: a vertex of V strictly inside
@@ -1740,7 +1901,11 @@ Attempt in_k_bundle_attempt(Shared& sh, std::uint32_t k, const std::vector<Trian
         const TriangleId n = triangle_of(dt.sym(h));
         if (list_size(d) + list_size(n) < k) continue;
         any = true;
-        pencils.push_back(dt.is_ghost(n) || d < n ? h : dt.sym(h));
+        // Each edge once, directed from its smaller mesh vertex id (so that a KBundleCache key
+        // does not depend on the slots of this call's Delaunay triangulation); a hull edge with
+        // its finite side on the left.
+        const Handle hs = dt.sym(h);
+        pencils.push_back(dt.is_ghost(n) || sh.mesh_id[dt.org(h)] < sh.mesh_id[dt.dest(h)] ? h : hs);
       }
     }
     if (!any) ++st.decided_by_bound;
@@ -1750,10 +1915,27 @@ Attempt in_k_bundle_attempt(Shared& sh, std::uint32_t k, const std::vector<Trian
   st.pencils_swept = pencils.size();
   if (!pencils.empty()) {
     sh.pencils = std::move(pencils);
-    for (auto& w : workers) w->min_candidates = k;
+    for (auto& w : workers) {
+      w->min_candidates = k;
+      if (cache) w->reuse = cache->impl.get();
+    }
     for_ranges(workers, sh.pencils.size(), [&](Worker& w, std::size_t begin, std::size_t end, std::size_t) {
       for (std::size_t i = begin; i < end; ++i) w.sweep(i);
     });
+    if (cache) {
+      // Keep what this call used or made; drop the rest (stale keys of the mesh before).
+      std::unordered_map<SweepKey, CachedSweep> next;
+      auto& old = cache->impl->sweeps;
+      for (auto& w : workers) {
+        st.pencils_reused += w->pencils_reused;
+        for (const SweepKey key : w->reused_keys) {
+          const auto it = old.find(key);
+          if (it != old.end()) next.insert_or_assign(key, std::move(it->second));
+        }
+        for (auto& [key, sweep] : w->made) next.insert_or_assign(key, std::move(sweep));
+      }
+      old = std::move(next);
+    }
     for (std::size_t qi = 0; qi < queries.size(); ++qi) {
       const TriangleId t = queries[qi];
       if (!in_domain(t) || answer[qi]) continue;
@@ -1832,11 +2014,12 @@ void local_region(const Mesh& mesh, const std::vector<TriangleId>& queries, std:
 }  // namespace
 
 std::vector<std::uint8_t> in_k_bundle(const Mesh& mesh, std::uint32_t k, const std::vector<TriangleId>& queries,
-                                      KBundleStats* stats, unsigned threads) {
+                                      KBundleStats* stats, unsigned threads, KBundleCache* cache) {
   std::vector<std::uint8_t> answer(queries.size(), 0);
   KBundleStats local_stats;
   KBundleStats& st = stats ? *stats : local_stats;
   st = {};
+  if (cache) cache->reach.assign(queries.size(), {kInf, kInf, -kInf, -kInf});  // empty: nothing known
   if (queries.empty()) return answer;
   // Few queries in a large mesh: try the Delaunay triangulation of the vertices within a few
   // rings of mesh triangles around them (verified, see in_k_bundle_attempt) before DT(V), over a
@@ -1853,7 +2036,7 @@ std::vector<std::uint8_t> in_k_bundle(const Mesh& mesh, std::uint32_t k, const s
       if (!sh.build_region(region, region_ids, w)) break;
       std::vector<TriangleId> local_queries(queries.size());
       for (std::size_t qi = 0; qi < queries.size(); ++qi) local_queries[qi] = region_ids.find(queries[qi]);
-      a = in_k_bundle_attempt(sh, k, local_queries, st, threads, true, answer);
+      a = in_k_bundle_attempt(sh, k, local_queries, st, threads, true, answer, cache);
       if (a == Attempt::kAnswered) {
         st.local = true;
         return answer;
@@ -1864,7 +2047,7 @@ std::vector<std::uint8_t> in_k_bundle(const Mesh& mesh, std::uint32_t k, const s
       // Floods reach far (long Delaunay disks, e.g. along the hull of a point set): the same
       // attempt over the whole mesh, still cheaper than DT(V).
       Shared sh(mesh);
-      if (sh.build(false, &w) && in_k_bundle_attempt(sh, k, queries, st, threads, true, answer) == Attempt::kAnswered) {
+      if (sh.build(false, &w) && in_k_bundle_attempt(sh, k, queries, st, threads, true, answer, cache) == Attempt::kAnswered) {
         st.local = true;
         return answer;
       }
@@ -1874,9 +2057,10 @@ std::vector<std::uint8_t> in_k_bundle(const Mesh& mesh, std::uint32_t k, const s
   if (!sh.build(false)) {
     st = {};
     answer.assign(queries.size(), 0);
+    if (cache) cache->reach.assign(queries.size(), {kInf, kInf, -kInf, -kInf});  // nothing known
     return answer;
   }
-  in_k_bundle_attempt(sh, k, queries, st, threads, false, answer);
+  in_k_bundle_attempt(sh, k, queries, st, threads, false, answer, cache);
   return answer;
 }
 
