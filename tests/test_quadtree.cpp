@@ -746,5 +746,47 @@ TEST(Quadtree, Deterministic) {
   EXPECT_EQ(test::canonical(test::finite_triangles(a.mesh, true)), test::canonical(test::finite_triangles(b.mesh, true)));
 }
 
+// Two threads change nothing: the same points, triangles (ids and neighbour links), flags, kinds,
+// markers and statistics as one thread, on inputs with segments, holes and crossings (forced
+// threads, so that the small chunks and the hand-offs between them are exercised) and on a
+// point set large enough for the default split.
+TEST(Quadtree, TwoThreadsGiveTheSameMeshAsOne) {
+  auto same = [](const Pslg& g, unsigned threads) -> Result {
+    QuadtreeOptions one, two;
+    one.threads = 1;
+    two.threads = threads;
+    const Result a = run(g, one), b = run(g, two);
+    EXPECT_FALSE(a.stats.fallback);
+    EXPECT_EQ(a.stats.leaves, b.stats.leaves);
+    EXPECT_EQ(a.stats.splits_balance, b.stats.splits_balance);
+    EXPECT_EQ(a.stats.splits_warp, b.stats.splits_warp);
+    EXPECT_EQ(a.stats.centres, b.stats.centres);
+    EXPECT_TRUE(a.mesh.points == b.mesh.points);
+    EXPECT_TRUE(a.mesh.vertex_kind == b.mesh.vertex_kind);
+    EXPECT_TRUE(a.mesh.vertex_marker == b.mesh.vertex_marker);
+    EXPECT_EQ(a.mesh.triangles.size(), b.mesh.triangles.size());
+    bool triangles_equal = a.mesh.triangles.size() == b.mesh.triangles.size();
+    for (std::size_t t = 0; t < a.mesh.triangles.size() && triangles_equal; ++t) {
+      const Triangle &x = a.mesh.triangles[t], &y = b.mesh.triangles[t];
+      triangles_equal = std::equal(std::begin(x.v), std::end(x.v), std::begin(y.v)) &&
+                        std::equal(std::begin(x.n), std::end(x.n), std::begin(y.n));
+    }
+    EXPECT_TRUE(triangles_equal);
+    EXPECT_TRUE(a.mesh.flags == b.mesh.flags);
+    EXPECT_TRUE(a.mesh.segment_marker == b.mesh.segment_marker);
+    return b;
+  };
+  for (const char* name : {"Superior.poly", "Kuzmin2K.node", "Plate.poly", "Florida.poly"}) {
+    SCOPED_TRACE(name);
+    const Pslg g = io::read_input(std::string(MWST_DATA_DIR) + "/" + name);
+    check_output(g, same(g, 2));
+  }
+  Pslg uniform;
+  uniform.points = test::uniform_points(12000, 5);  // about 140 000 leaves: the default split
+  const Result r = same(uniform, 0);
+  EXPECT_GE(r.stats.leaves, std::size_t{65536});
+  check_output(uniform, r);
+}
+
 }  // namespace
 }  // namespace mwst

@@ -94,6 +94,9 @@ struct QuadtreeOptions {
   // are then still distinct doubles for inputs near the origin).
   unsigned max_depth = 50;
   bool keep_leaves = false;    // fill QuadtreeStats::leaf_cells (used by the tests)
+  // 0: two threads on large inputs (about 10^4 points and up); 1: one thread; 2: two threads
+  // whatever the size (testing). The output is byte-identical in all three.
+  unsigned threads = 0;
   // Testing only: skip the quadtree route and build the fallback (see QuadtreeStats::fallback).
   bool force_fallback = false;
 };

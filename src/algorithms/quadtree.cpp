@@ -28,6 +28,16 @@
 //    cells across them as soon as it is made: those come earlier in the order (it is monotone in
 //    x and in y), so their triangles are still close in cache; no separate linking pass.
 //
+// Two threads (large inputs only; the output is byte-identical to one thread, whatever the timing):
+//  - build(): each level's split decisions and children are computed in two halves of the
+//    frontier, with every new node and list placed by prefix sums in frontier order;
+//  - finish(): the first round of checks (every leaf) is a read-only scan in two halves; only the
+//    leaves that fail it enter the work list, in the order they would have been processed;
+//  - the per-leaf passes of the mesh (ownership, loops, vertex ids) run in two halves;
+//  - cells are prepared (dynamic program, exact checks, adjacency inside the cell) on a second
+//    thread a few chunks ahead of the thread that writes them into the mesh in leaf order.
+// The balance / warp work list itself stays sequential: its result depends on its order.
+//
 // Robustness: all sign decisions are exact (orient2d); constructed points (warped corners moved
 // onto segments, crossing points) are rounded once. Every cell triangulation is checked exactly
 // (strictly counter-clockwise triangles, diagonals inside). If any check fails — which needs
@@ -37,13 +47,16 @@
 #include "mwst/quadtree.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <exception>
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -64,6 +77,42 @@ void reserve_room(std::vector<T>& v, std::size_t n) {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+// Runs body(begin, end) over [0, count) in two halves on two threads when count is large (the
+// halves write disjoint ranges). An exception of the first half wins, as it would in one pass.
+template <class Body>
+void in_two_halves(std::size_t count, std::size_t threshold, Body&& body) {
+  if (count < threshold || count < 2) {
+    body(std::size_t{0}, count);
+    return;
+  }
+  const std::size_t half = count / 2;
+  std::exception_ptr second_error;
+  std::exception_ptr first_error;
+  {
+    std::jthread worker([&] {
+      try {
+        body(half, count);
+      } catch (...) {
+        second_error = std::current_exception();
+      }
+    });
+    try {
+      body(std::size_t{0}, half);
+    } catch (...) {
+      first_error = std::current_exception();
+    }
+  }
+  if (first_error) std::rethrow_exception(first_error);
+  if (second_error) std::rethrow_exception(second_error);
+}
+
+// The size from which a pass splits over two threads: `large` by default, never with
+// QuadtreeOptions::threads = 1, always with 2.
+std::size_t threads_from(const QuadtreeOptions& options, std::size_t large) {
+  if (options.threads == 1) return std::numeric_limits<std::size_t>::max();
+  return options.threads == 2 ? 0 : large;
 }
 
 // The quadtree route could not finish (see the file comment); the caller builds the fallback.
@@ -270,6 +319,10 @@ CleanInput clean_point_set(const Pslg& pslg) {
 // ---- the quadtree ---------------------------------------------------------------------------------
 
 constexpr std::uint8_t kFresh = 1;  // created after the first build: still to be checked
+// Node::state bit (kBalanced << d): the hint in direction d is at the parent's level or there is
+// no cell that way, so no edge neighbour that way is ever more than one level coarser (check()
+// then skips reading the hint's node, a cache miss per leaf).
+constexpr std::uint8_t kBalanced = 2;
 
 struct Node {
   std::int64_t ix = 0, iy = 0;         // cell index at its level
@@ -289,9 +342,21 @@ struct Box {
 
 class Tree {
  public:
+  // build(): a frontier cell and its list of features in the level's pool.
+  struct Item {
+    std::uint32_t node, begin, count;
+  };
+  // build(): what one half of a level's frontier makes: its children and their lists.
+  struct HalfOutput {
+    std::vector<Item> items;
+    std::vector<std::uint32_t> pool;
+    std::array<std::vector<std::uint32_t>, 4> lists;
+  };
+
   Tree(const CleanInput& in, const QuadtreeOptions& options, QuadtreeStats& stats)
       : in_(in), pts_(in.vertices_only.points), nv_(static_cast<std::uint32_t>(pts_.size())),
-        max_level_(std::min(options.max_depth, 52u)), stats_(stats) {
+        max_level_(std::min(options.max_depth, 52u)), stats_(stats),
+        threaded_items_(threads_from(options, 8192)), threaded_nodes_(threads_from(options, 65536)) {
     // Root: a power-of-two square at least twice the bounding box, its corner aligned to 1/16 of
     // its side, so every vertex lies at least 3/16 of the root inside it: a warp target or a corner
     // moved onto a segment is never on the root's border (which must stay the convex hull).
@@ -470,7 +535,11 @@ class Tree {
     for (unsigned k = 0; k < 4; ++k) out[k].resize(used[k]);
   }
 
-  // First build: breadth first, splitting by the feature rule.
+  // First build: breadth first, splitting by the feature rule. Each level runs in three steps:
+  // decide which frontier cells split, give every new node and leaf list its place by prefix
+  // sums in frontier order, then fill them in; the first and last steps run in two halves of the
+  // frontier on two threads (they only read the levels above and write their own places), and the
+  // result is the same arrays, index for index, as one pass in frontier order.
   void build() {
     nodes.clear();
     // Room for what a uniform point set needs (about 19 nodes and 29 list entries per point), so
@@ -488,46 +557,91 @@ class Tree {
     reserve_room(next_pool, 4 * feature_count + 64);
     for (std::uint32_t r = 0; r < rank_id_.size(); ++r) pool.push_back(r);
     for (std::uint32_t s = 0; s < in_.segments.size(); ++s) pool.push_back(nv_ + s);
-    struct Item {
-      std::uint32_t node, begin, count;
-    };
     std::vector<Item> frontier{{0, 0, static_cast<std::uint32_t>(pool.size())}}, next;
     reserve_room(frontier, 4 * feature_count + 64);
     reserve_room(next, 4 * feature_count + 64);
-    std::array<std::vector<std::uint32_t>, 4> lists;
+    std::vector<std::uint32_t> place;  // per frontier item: first child, or its list's place in features
+    std::vector<std::uint8_t> splits;
+    std::array<HalfOutput, 2> half;
     while (!frontier.empty()) {
+      const std::size_t count = frontier.size();
+      splits.resize(count);
+      place.resize(count);
+      // 1. Which cells split.
+      in_two_halves(count, threaded_items_, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) {
+          const Item& item = frontier[i];
+          const Node& n = nodes[item.node];
+          splits[i] = n.level < max_level_ && feature_split(n, pool.data() + item.begin, item.count) ? 1 : 0;
+        }
+      });
+      // 2. Places, in frontier order.
+      auto next_node = static_cast<std::uint32_t>(nodes.size());
+      std::size_t next_feature = features.size();
+      for (std::size_t i = 0; i < count; ++i) {
+        if (splits[i]) {
+          if (nodes[frontier[i].node].level >= 2) ++stats_.splits_feature;
+          place[i] = next_node;
+          next_node += 4;
+        } else {
+          place[i] = static_cast<std::uint32_t>(next_feature);
+          next_feature += frontier[i].count;
+        }
+      }
+      if (next_feature > std::numeric_limits<std::uint32_t>::max()) throw RouteFailure{"too many feature list entries"};
+      nodes.resize(next_node);
+      hint_.resize(next_node);
+      features.resize(next_feature);
+      // 3. Leaves and children (each half collects its children's lists, appended below in order).
+      in_two_halves(count, threaded_items_, [&](std::size_t begin, std::size_t end) {
+        HalfOutput& out = half[begin == 0 ? 0 : 1];
+        out.items.clear();
+        out.pool.clear();
+        for (std::size_t i = begin; i < end; ++i) {
+          const Item& item = frontier[i];
+          const std::uint32_t* list = pool.data() + item.begin;
+          if (!splits[i]) {
+            Node& leaf = nodes[item.node];
+            leaf.feat_begin = place[i];
+            leaf.feat_count = item.count;
+            std::copy(list, list + item.count, features.begin() + place[i]);
+            leaf.vertex = vertex_in(leaf);
+            continue;
+          }
+          const Node n = nodes[item.node];
+          for (auto& l : out.lists) l.clear();
+          filter_children(n, list, item.count, out.lists);
+          const std::uint32_t first = place[i];
+          nodes[item.node].child = first;
+          for (unsigned k = 0; k < 4; ++k) {
+            Node& c = nodes[first + k];
+            c = Node{};
+            c.ix = 2 * n.ix + (k & 1);
+            c.iy = 2 * n.iy + (k >> 1);
+            c.parent = item.node;
+            c.level = static_cast<std::uint8_t>(n.level + 1);
+            out.items.push_back({first + k, static_cast<std::uint32_t>(out.pool.size()),
+                                 static_cast<std::uint32_t>(out.lists[k].size())});
+            out.pool.insert(out.pool.end(), out.lists[k].begin(), out.lists[k].end());
+          }
+          set_child_hints(item.node);
+        }
+      });
       next.clear();
       next_pool.clear();
-      for (const Item& item : frontier) {
-        const std::uint32_t* list = pool.data() + item.begin;
-        const Node n = nodes[item.node];
-        const bool split = n.level < max_level_ && feature_split(n, list, item.count);
-        if (!split) {
-          Node& leaf = nodes[item.node];
-          leaf.feat_begin = static_cast<std::uint32_t>(features.size());
-          leaf.feat_count = item.count;
-          features.insert(features.end(), list, list + item.count);
-          leaf.vertex = vertex_in(leaf);
-          continue;
+      for (const HalfOutput& out : half) {
+        if (out.items.empty()) continue;
+        const auto offset = static_cast<std::uint32_t>(next_pool.size());
+        if (next_pool.size() + out.pool.size() > std::numeric_limits<std::uint32_t>::max()) {
+          throw RouteFailure{"too many feature list entries"};
         }
-        if (n.level >= 2) ++stats_.splits_feature;
-        for (auto& l : lists) l.clear();
-        filter_children(n, list, item.count, lists);
-        const auto first = static_cast<std::uint32_t>(nodes.size());
-        nodes[item.node].child = first;
-        for (unsigned k = 0; k < 4; ++k) {
-          Node c;
-          c.ix = 2 * n.ix + (k & 1);
-          c.iy = 2 * n.iy + (k >> 1);
-          c.parent = item.node;
-          c.level = static_cast<std::uint8_t>(n.level + 1);
-          nodes.push_back(c);
-          next.push_back({first + k, static_cast<std::uint32_t>(next_pool.size()),
-                          static_cast<std::uint32_t>(lists[k].size())});
-          next_pool.insert(next_pool.end(), lists[k].begin(), lists[k].end());
+        for (Item item : out.items) {
+          item.begin += offset;
+          next.push_back(item);
         }
-        set_child_hints(item.node);
+        next_pool.insert(next_pool.end(), out.pool.begin(), out.pool.end());
       }
+      for (HalfOutput& out : half) out.items.clear();
       frontier.swap(next);
       pool.swap(next_pool);
     }
@@ -593,7 +707,12 @@ class Tree {
     const std::uint32_t c = nodes[p].child;
     if (hint_.size() < nodes.size()) hint_.resize(nodes.size());
     std::array<std::uint32_t, 4> outer{};
-    for (unsigned d = 0; d < 4; ++d) outer[d] = neighbour(p, d);
+    std::array<bool, 4> outer_fine{};
+    const unsigned parent_level = nodes[p].level;
+    for (unsigned d = 0; d < 4; ++d) {
+      outer[d] = neighbour(p, d);
+      outer_fine[d] = outer[d] == kNone || nodes[outer[d]].level == parent_level;
+    }
     for (std::uint32_t k = 0; k < 4; ++k) {
       const std::uint32_t kx = k & 1u, ky = k >> 1;
       auto& h = hint_[c + k];
@@ -601,6 +720,11 @@ class Tree {
       h[2] = kx == 1 ? c + k - 1 : outer[2];
       h[1] = ky == 0 ? c + k + 2 : outer[1];
       h[3] = ky == 1 ? c + k - 2 : outer[3];
+      std::uint8_t state = nodes[c + k].state;
+      for (unsigned d = 0; d < 4; ++d) {
+        if (outer_fine[d]) state = static_cast<std::uint8_t>(state | (kBalanced << d));
+      }
+      nodes[c + k].state = state;
     }
   }
 
@@ -687,10 +811,11 @@ class Tree {
     // are its siblings (never coarser); across the other two, the hint covers the parent's
     // neighbour cell, and a hint at level l − 1 already proves the neighbour fine enough.
     const bool odd_x = (n.ix & 1) != 0, odd_y = (n.iy & 1) != 0;  // (n may move when b splits)
+    const std::uint8_t state = n.state;
     for (unsigned d = 0; d < 4; ++d) {
       if (l == 0) break;
       const bool sibling = d == 0 ? !odd_x : d == 2 ? odd_x : d == 1 ? !odd_y : odd_y;
-      if (sibling) continue;
+      if (sibling || (state & (kBalanced << d)) != 0) continue;
       const std::uint32_t h = hint_[a][d];
       if (h == kNone || nodes[h].level + 1u >= l) continue;
       const std::uint32_t b = neighbour(a, d);
@@ -730,12 +855,57 @@ class Tree {
     return false;
   }
 
+  // Would check(a) split anything now? (The same tests, read only.)
+  bool fails_check(std::uint32_t a) const {
+    const Node& n = nodes[a];
+    const unsigned l = n.level;
+    if (n.state & kFresh) return true;
+    if (l > 0) {
+      const bool odd_x = (n.ix & 1) != 0, odd_y = (n.iy & 1) != 0;
+      for (unsigned d = 0; d < 4; ++d) {
+        const bool sibling = d == 0 ? !odd_x : d == 2 ? odd_x : d == 1 ? !odd_y : odd_y;
+        if (sibling || (n.state & (kBalanced << d)) != 0) continue;
+        const std::uint32_t h = hint_[a][d];
+        if (h == kNone || nodes[h].level + 1u >= l) continue;
+        const std::uint32_t b = neighbour(a, d);
+        if (b != kNone && nodes[b].level + 1u < l) return true;
+      }
+    }
+    const std::uint32_t v = n.vertex;
+    if (v == kNone) return false;
+    unsigned qx = 0, qy = 0;
+    nearest_corner(n, rank_point_[v], qx, qy);
+    for (int dy = -1; dy <= 0; ++dy) {
+      for (int dx = -1; dx <= 0; ++dx) {
+        const std::uint32_t b = cell_at(a, static_cast<int>(qx) + dx, static_cast<int>(qy) + dy);
+        if (b == kNone || b == a) continue;
+        if (nodes[b].level < l) return true;
+        if (is_leaf(b)) continue;
+        return l < max_level_;
+      }
+    }
+    return false;
+  }
+
   // Balance and warp rule, to a fixed point.
   void finish() {
+    // The first round checks every leaf, and almost all pass: that round is done as a read-only
+    // scan in two halves on two threads, and only the leaves that fail it are queued, in the same
+    // order. This changes nothing: a leaf that passed at the start and is changed later is queued
+    // again by the change (below) and checked after it, so its first-round check would have been
+    // a no-op too.
+    const auto node_count = static_cast<std::uint32_t>(nodes.size());
+    std::vector<std::uint8_t> fails(node_count, 0);
+    in_two_halves(node_count, threaded_nodes_, [&](std::size_t begin, std::size_t end) {
+      for (auto a = static_cast<std::uint32_t>(begin); a < end; ++a) {
+        fails[a] = is_leaf(a) && fails_check(a) ? 1 : 0;
+      }
+    });
     reserve_room(work_, nodes.size());
-    for (std::uint32_t a = 0; a < nodes.size(); ++a) {
-      if (is_leaf(a)) work_.push_back(a);
+    for (std::uint32_t a = 0; a < node_count; ++a) {
+      if (fails[a]) work_.push_back(a);
     }
+    std::vector<std::uint8_t>().swap(fails);
     // The work list is complete: a balance violation needs a new leaf (each new leaf is
     // queued), and a warp-rule violation needs a split next to the vertex's leaf (the leaves
     // around every split node are queued).
@@ -745,35 +915,8 @@ class Tree {
       check(a);
     }
     stats_.unresolved = count_unresolved();
-    relayout();
-  }
-
-  // Stores the nodes depth first, each node's four children together, so that a node's parent,
-  // children and spatial neighbours are mostly close in memory for the look-ups that follow.
-  void relayout() {
-    std::vector<Node> out;
-    reserve_room(out, nodes.size());
-    out.push_back(nodes[0]);
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> stack{{0, 0}};  // (old, new)
-    while (!stack.empty()) {
-      const auto [old_index, new_index] = stack.back();
-      stack.pop_back();
-      const std::uint32_t c = nodes[old_index].child;
-      if (c == kNone) continue;
-      const auto first = static_cast<std::uint32_t>(out.size());
-      out[new_index].child = first;
-      for (std::uint32_t k = 0; k < 4; ++k) {
-        out.push_back(nodes[c + k]);
-        out.back().parent = new_index;
-      }
-      for (std::uint32_t k = 4; k-- > 0;) stack.emplace_back(c + k, first + k);
-    }
-    nodes.swap(out);
-    // Parents precede their children in the new order: the hints follow top down.
-    hint_.assign(nodes.size(), {kNone, kNone, kNone, kNone});
-    for (std::uint32_t a = 0; a < nodes.size(); ++a) {
-      if (!is_leaf(a)) set_child_hints(a);
-    }
+    // (The nodes stay in creation order, breadth first and then split by split: copying them depth
+    // first for locality cost more than it saved later, 1.0–1.5 s of 14 at a million points.)
   }
 
   // Leaves at the deepest level that still break the feature rule or the warp rule.
@@ -835,6 +978,8 @@ class Tree {
   std::vector<std::array<std::uint32_t, 4>> hint_;   // per node: see neighbour()
   std::vector<VertexId> rank_id_;                    // vertex feature (Morton rank) → vertex id
   std::vector<Point> rank_point_;                    // vertex feature → its point
+  std::size_t threaded_items_;                       // build(): frontier size for two threads
+  std::size_t threaded_nodes_;                       // finish(): tree size for two threads
 };
 
 // ---- from the quadtree to the mesh ----------------------------------------------------------------
@@ -887,6 +1032,10 @@ class Builder {
   void warp();
   void segments_pass();
   void triangulate_cells(Mesh& mesh);
+  struct PreparedChunk;
+  void prepare_cells(const Mesh& mesh, PreparedChunk& out, std::uint32_t begin, std::uint32_t end,
+                     std::size_t& next_crossing) const;
+  void emit_cells(Mesh& mesh, const PreparedChunk& in);
   std::pair<std::uint32_t, std::uint32_t> side_range(std::uint32_t k, unsigned side) const;
   void link_cell(Mesh& mesh, std::uint32_t k);
   void close_border(Mesh& mesh);
@@ -985,7 +1134,19 @@ class Builder {
   };
   std::vector<Outer> outer_;                // boundary edges on the root's border
   std::vector<std::pair<Handle, std::uint32_t>> segment_edges_;  // (edge, segment) to mark
+  // triangulate_cells(): a prepared warped or cut cell, as ranges in its PreparedChunk.
+  struct SpecialCell {
+    std::uint32_t tri_begin = 0, tri_count = 0, centre_begin = 0, centre_count = 0;
+    std::uint32_t bound_begin = 0, bound_count = 0, segment_begin = 0, segment_count = 0;
+    std::uint32_t sides = 0;
+  };
+  static constexpr std::uint8_t kSpecialCell = 16;         // PreparedChunk::kind of such a cell
+  static constexpr std::uint32_t kCentre = 0x80000000u;    // a prepared triangle's j-th centre
+  std::size_t centre_base_ = 0;                            // first centre's vertex id
+  std::vector<Point> centre_points_;                       // centres in leaf order
+  std::size_t threaded_leaves_ = threads_from(options_, 65536);  // leaves for two threads
 };
+
 
 void Builder::number_vertices() {
   leaves_ = tree_.leaves_in_order();
@@ -996,100 +1157,120 @@ void Builder::number_vertices() {
   reserve_room(own_mask_, leaves_.size());
   own_base_.resize(leaves_.size());
   own_mask_.resize(leaves_.size());
+  // Which vertices each leaf owns (neighbour look-ups: two threads), then their ids by a prefix
+  // sum in leaf order, then their positions (two threads).
+  in_two_halves(leaves_.size(), threaded_leaves_, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) {
+      const std::uint32_t a = leaves_[k];
+      const Node& n = tree_.nodes[a];
+      const unsigned l = n.level;
+      const std::int64_t side = std::int64_t{1} << l;
+      unsigned mask = 1u << kOwnLL;
+      const std::uint32_t w = tree_.neighbour(a, 2);
+      if (w != kNone && tree_.nodes[w].level == l && !tree_.is_leaf(w)) mask |= 1u << kOwnLeftMid;
+      const std::uint32_t s = tree_.neighbour(a, 3);
+      if (s != kNone && tree_.nodes[s].level == l && !tree_.is_leaf(s)) mask |= 1u << kOwnBottomMid;
+      const bool top = n.iy + 1 == side, right = n.ix + 1 == side;
+      if (top) mask |= 1u << kOwnUL;
+      if (right) mask |= 1u << kOwnLR;
+      if (top && right) mask |= 1u << kOwnUR;
+      own_mask_[k] = static_cast<std::uint8_t>(mask);
+    }
+  });
   std::uint32_t next = 0;
-  gpos_.clear();
-  // (Room for the crossing points and centres made later, so that the array is not copied.)
-  reserve_room(gpos_, leaves_.size() + leaves_.size() / 2 + 16);
-  for (std::uint32_t k = 0; k < leaves_.size(); ++k) {
-    const std::uint32_t a = leaves_[k];
-    const Node& n = tree_.nodes[a];
-    const unsigned l = n.level;
-    const std::int64_t side = std::int64_t{1} << l, ix = n.ix, iy = n.iy;
-    unsigned mask = 1u << kOwnLL;
-    gpos_.push_back({tree_.X(ix, l), tree_.Y(iy, l)});
-    const std::uint32_t w = tree_.neighbour(a, 2);
-    if (w != kNone && tree_.nodes[w].level == l && !tree_.is_leaf(w)) {
-      mask |= 1u << kOwnLeftMid;
-      gpos_.push_back({tree_.X(ix, l), tree_.Y(2 * iy + 1, l + 1)});
-    }
-    const std::uint32_t s = tree_.neighbour(a, 3);
-    if (s != kNone && tree_.nodes[s].level == l && !tree_.is_leaf(s)) {
-      mask |= 1u << kOwnBottomMid;
-      gpos_.push_back({tree_.X(2 * ix + 1, l + 1), tree_.Y(iy, l)});
-    }
-    const bool top = iy + 1 == side, right = ix + 1 == side;
-    if (top) {
-      mask |= 1u << kOwnUL;
-      gpos_.push_back({tree_.X(ix, l), tree_.Y(iy + 1, l)});
-    }
-    if (right) {
-      mask |= 1u << kOwnLR;
-      gpos_.push_back({tree_.X(ix + 1, l), tree_.Y(iy, l)});
-    }
-    if (top && right) {
-      mask |= 1u << kOwnUR;
-      gpos_.push_back({tree_.X(ix + 1, l), tree_.Y(iy + 1, l)});
-    }
+  for (std::size_t k = 0; k < leaves_.size(); ++k) {
     own_base_[k] = next;
-    own_mask_[k] = static_cast<std::uint8_t>(mask);
-    next += static_cast<std::uint32_t>(std::popcount(mask));
+    next += static_cast<std::uint32_t>(std::popcount(static_cast<unsigned>(own_mask_[k])));
   }
   grid_count_ = next;
+  gpos_.clear();
+  // (Room for the crossing points and centres made later, so that the array is not copied.)
+  reserve_room(gpos_, std::max<std::size_t>(grid_count_, leaves_.size() + leaves_.size() / 2) + 16);
+  gpos_.resize(grid_count_);
+  in_two_halves(leaves_.size(), threaded_leaves_, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) {
+      const Node& n = tree_.nodes[leaves_[k]];
+      const unsigned l = n.level;
+      const std::int64_t ix = n.ix, iy = n.iy;
+      const unsigned mask = own_mask_[k];
+      Point* out = gpos_.data() + own_base_[k];
+      *out++ = {tree_.X(ix, l), tree_.Y(iy, l)};
+      if ((mask >> kOwnLeftMid) & 1u) *out++ = {tree_.X(ix, l), tree_.Y(2 * iy + 1, l + 1)};
+      if ((mask >> kOwnBottomMid) & 1u) *out++ = {tree_.X(2 * ix + 1, l + 1), tree_.Y(iy, l)};
+      if ((mask >> kOwnUL) & 1u) *out++ = {tree_.X(ix, l), tree_.Y(iy + 1, l)};
+      if ((mask >> kOwnLR) & 1u) *out++ = {tree_.X(ix + 1, l), tree_.Y(iy, l)};
+      if ((mask >> kOwnUR) & 1u) *out++ = {tree_.X(ix + 1, l), tree_.Y(iy + 1, l)};
+    }
+  });
 }
 
 void Builder::build_loops() {
   reserve_room(loops_, 8 * leaves_.size());
   loops_.assign(8 * leaves_.size(), kNone);
+  std::vector<std::uint8_t> leaf_level(leaves_.size());
+  in_two_halves(leaves_.size(), threaded_leaves_, [&](std::size_t begin, std::size_t end) {
+    for (auto k = static_cast<std::uint32_t>(begin); k < end; ++k) {
+      const std::uint32_t a = leaves_[k];
+      const Node& n = tree_.nodes[a];
+      const unsigned l = n.level;
+      leaf_level[k] = static_cast<std::uint8_t>(l);
+      const std::int64_t side = std::int64_t{1} << l, ix = n.ix, iy = n.iy;
+      const bool top = iy + 1 == side, right = ix + 1 == side;
+      std::uint32_t* loop = &loops_[8 * std::size_t{k}];
+      loop[kBL] = own(k, kOwnLL);
+      if ((own_mask_[k] >> kOwnBottomMid) & 1u) loop[kBottom] = own(k, kOwnBottomMid);
+      if ((own_mask_[k] >> kOwnLeftMid) & 1u) loop[kLeft] = own(k, kOwnLeftMid);
+      loop[kBR] = right ? own(k, kOwnLR) : vertex_at(leaf_sw(tree_.neighbour(a, 0)), l, ix + 1, iy);
+      if (top && right) {
+        loop[kTR] = own(k, kOwnUR);
+      } else if (top) {
+        // The leaf to the east along the root's top border: (xR, yT) is its upper-left corner.
+        std::uint32_t d = tree_.neighbour(a, 0);
+        while (!tree_.is_leaf(d)) d = tree_.nodes[d].child + 2;
+        loop[kTR] = own(leaf_of(d), kOwnUL);
+      } else if (right) {
+        std::uint32_t d = tree_.neighbour(a, 1);
+        while (!tree_.is_leaf(d)) d = tree_.nodes[d].child + 1;
+        loop[kTR] = own(leaf_of(d), kOwnLR);
+      } else {
+        loop[kTR] = vertex_at(leaf_sw(tree_.cell_at(a, 1, 1)), l, ix + 1, iy + 1);
+      }
+      loop[kTL] = top ? own(k, kOwnUL) : vertex_at(leaf_sw(tree_.neighbour(a, 1)), l, ix, iy + 1);
+      if (!right) {
+        const std::uint32_t r = tree_.neighbour(a, 0);
+        if (tree_.nodes[r].level == l && !tree_.is_leaf(r)) {
+          const std::uint32_t nw = tree_.nodes[r].child + 2;
+          if (!tree_.is_leaf(nw)) throw RouteFailure{"unbalanced quadtree"};
+          loop[kRight] = own(leaf_of(nw), kOwnLL);
+        }
+      }
+      if (!top) {
+        const std::uint32_t t = tree_.neighbour(a, 1);
+        if (tree_.nodes[t].level == l && !tree_.is_leaf(t)) {
+          const std::uint32_t se = tree_.nodes[t].child + 1;
+          if (!tree_.is_leaf(se)) throw RouteFailure{"unbalanced quadtree"};
+          loop[kTop] = own(leaf_of(se), kOwnLL);
+        }
+      }
+    }
+  });
+  // The deepest and shallowest leaf level around each grid vertex: each thread takes one half of
+  // the vertices and reads every loop (the vertices of a loop belong to either half).
   glevel_.assign(grid_count_, 0);
   gtop_.assign(grid_count_, 255);
-  for (std::uint32_t k = 0; k < leaves_.size(); ++k) {
-    const std::uint32_t a = leaves_[k];
-    const Node& n = tree_.nodes[a];
-    const unsigned l = n.level;
-    const std::int64_t side = std::int64_t{1} << l, ix = n.ix, iy = n.iy;
-    const bool top = iy + 1 == side, right = ix + 1 == side;
-    std::uint32_t* loop = &loops_[8 * std::size_t{k}];
-    loop[kBL] = own(k, kOwnLL);
-    if ((own_mask_[k] >> kOwnBottomMid) & 1u) loop[kBottom] = own(k, kOwnBottomMid);
-    if ((own_mask_[k] >> kOwnLeftMid) & 1u) loop[kLeft] = own(k, kOwnLeftMid);
-    loop[kBR] = right ? own(k, kOwnLR) : vertex_at(leaf_sw(tree_.neighbour(a, 0)), l, ix + 1, iy);
-    if (top && right) {
-      loop[kTR] = own(k, kOwnUR);
-    } else if (top) {
-      // The leaf to the east along the root's top border: (xR, yT) is its upper-left corner.
-      std::uint32_t d = tree_.neighbour(a, 0);
-      while (!tree_.is_leaf(d)) d = tree_.nodes[d].child + 2;
-      loop[kTR] = own(leaf_of(d), kOwnUL);
-    } else if (right) {
-      std::uint32_t d = tree_.neighbour(a, 1);
-      while (!tree_.is_leaf(d)) d = tree_.nodes[d].child + 1;
-      loop[kTR] = own(leaf_of(d), kOwnLR);
-    } else {
-      loop[kTR] = vertex_at(leaf_sw(tree_.cell_at(a, 1, 1)), l, ix + 1, iy + 1);
-    }
-    loop[kTL] = top ? own(k, kOwnUL) : vertex_at(leaf_sw(tree_.neighbour(a, 1)), l, ix, iy + 1);
-    if (!right) {
-      const std::uint32_t r = tree_.neighbour(a, 0);
-      if (tree_.nodes[r].level == l && !tree_.is_leaf(r)) {
-        const std::uint32_t nw = tree_.nodes[r].child + 2;
-        if (!tree_.is_leaf(nw)) throw RouteFailure{"unbalanced quadtree"};
-        loop[kRight] = own(leaf_of(nw), kOwnLL);
+  const std::size_t leaf_count = leaves_.size();
+  in_two_halves(grid_count_, threaded_leaves_, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = 0; k < leaf_count; ++k) {
+      const std::uint8_t l = leaf_level[k];
+      const std::uint32_t* loop = &loops_[8 * k];
+      for (unsigned s = 0; s < 8; ++s) {
+        const std::uint32_t g = loop[s];
+        if (g == kNone || g < begin || g >= end) continue;
+        glevel_[g] = std::max(glevel_[g], l);
+        gtop_[g] = std::min(gtop_[g], l);
       }
     }
-    if (!top) {
-      const std::uint32_t t = tree_.neighbour(a, 1);
-      if (tree_.nodes[t].level == l && !tree_.is_leaf(t)) {
-        const std::uint32_t se = tree_.nodes[t].child + 1;
-        if (!tree_.is_leaf(se)) throw RouteFailure{"unbalanced quadtree"};
-        loop[kTop] = own(leaf_of(se), kOwnLL);
-      }
-    }
-    for (unsigned s = 0; s < 8; ++s) {
-      if (loop[s] == kNone) continue;
-      glevel_[loop[s]] = std::max(glevel_[loop[s]], static_cast<std::uint8_t>(l));
-      gtop_[loop[s]] = std::min(gtop_[loop[s]], static_cast<std::uint8_t>(l));
-    }
-  }
+  });
   std::vector<std::uint32_t>().swap(own_base_);
   std::vector<std::uint8_t>().swap(own_mask_);
 }
@@ -1130,16 +1311,22 @@ void Builder::segments_pass() {
   reserve_room(gseg_, gpos_.capacity());
   gseg_.assign(grid_count_, kNone);
   // The leaves that have a segment in their list (the only ones the passes below look at).
-  std::vector<std::uint32_t> near;
-  for (std::uint32_t k = 0; k < leaves_.size(); ++k) {
-    const Node& n = tree_.nodes[leaves_[k]];
-    for (std::uint32_t i = 0; i < n.feat_count; ++i) {
-      if (tree_.features[n.feat_begin + i] >= nv) {
-        near.push_back(k);
-        break;
+  // (Every leaf's list is read: two threads, each collecting its half in order.)
+  std::array<std::vector<std::uint32_t>, 2> near_half;
+  in_two_halves(leaves_.size(), threaded_leaves_, [&](std::size_t begin, std::size_t end) {
+    auto& out = near_half[begin == 0 ? 0 : 1];
+    for (auto k = static_cast<std::uint32_t>(begin); k < end; ++k) {
+      const Node& n = tree_.nodes[leaves_[k]];
+      for (std::uint32_t i = 0; i < n.feat_count; ++i) {
+        if (tree_.features[n.feat_begin + i] >= nv) {
+          out.push_back(k);
+          break;
+        }
       }
     }
-  }
+  });
+  std::vector<std::uint32_t> near = std::move(near_half[0]);
+  near.insert(near.end(), near_half[1].begin(), near_half[1].end());
   // 1. Corners exactly on a segment join its chain where they are.
   for (const std::uint32_t k : near) {
     const Node& n = tree_.nodes[leaves_[k]];
@@ -1312,6 +1499,7 @@ struct PlainCell {
   std::uint8_t tri[6][3];       // polygon positions, counter-clockwise
   std::int8_t boundary[6][3];   // polygon edge index or -1
   std::uint8_t twin[6][3];      // 3·triangle + edge across, for inner edges
+  std::uint32_t sides = 0;      // polygon positions of BR, TR, TL (8 bits each; CellBound::sides)
 };
 
 const std::array<PlainCell, 16>& plain_cells() {
@@ -1325,6 +1513,11 @@ const std::array<PlainCell, 16>& plain_cells() {
         if ((slot & 1) != 0 && (mask & (1u << (slot / 2))) == 0) continue;
         position[slot] = c.size;
         c.slots[c.size++] = slot;
+      }
+      for (unsigned q = 0; q < c.size; ++q) {
+        if (c.slots[q] == kBR) c.sides |= q;
+        if (c.slots[q] == kTR) c.sides |= q << 8;
+        if (c.slots[q] == kTL) c.sides |= q << 16;
       }
       c.count = static_cast<std::uint8_t>(cases[mask].size());
       for (std::size_t i = 0; i < cases[mask].size(); ++i) {
@@ -1348,20 +1541,31 @@ const std::array<PlainCell, 16>& plain_cells() {
   return table;
 }
 
-void Builder::triangulate_cells(Mesh& mesh) {
-  // Vertex positions are read from the mesh (run() has released gpos_).
+// One chunk of leaves prepared for emission (see triangulate_cells()): everything about a cell that
+// depends only on its own loop and the vertex positions, computed ahead of the emitting pass.
+struct Builder::PreparedChunk {
+  std::uint32_t begin = 0, end = 0;                // leaves [begin, end)
+  std::vector<std::uint8_t> kind;                  // per leaf: its case-table mask, or kSpecialCell
+  std::vector<SpecialCell> special;                // the warped or cut leaves, in order
+  std::vector<Tri> tris;                           // their triangles: grid ids or kCentre | j
+  std::vector<std::uint32_t> twin;                 // per triangle edge: 3·j + f inside the cell, or kNone
+  std::vector<std::uint32_t> bound_local;          // per polygon edge: 3·i + e of its triangle
+  std::vector<Point> centres;                      // the cells' vertex-average Steiner points
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> segment_edges;  // (3·i + e, segment)
+  std::uint32_t fail_leaf = kNone;                 // the first leaf whose preparation threw
+  std::exception_ptr error;
+};
+
+void Builder::prepare_cells(const Mesh& mesh, PreparedChunk& out, std::uint32_t begin, std::uint32_t end,
+                            std::size_t& next_crossing) const {
   auto pos = [&](std::uint32_t g) -> const Point& { return mesh.points[final_id_[g]]; };
   const auto& plain = plain_cells();
-  reserve_room(cell_bound_, leaves_.size() + 1);
-  cell_bound_.assign(leaves_.size() + 1, CellBound{});
-  bound_.clear();
-  reserve_room(bound_, leaves_.size() * 5);
-  outer_.clear();
-  reserve_room(mesh.triangles, leaves_.size() * 3);
-  std::size_t next_crossing = 0;
+  out.begin = begin;
+  out.end = end;
+  out.fail_leaf = kNone;
+  out.error = nullptr;
   // Scratch for the program cells.
   std::vector<std::uint32_t> poly;           // vertices of the cell polygon
-  std::vector<Tri> tris;
   std::vector<std::array<std::uint8_t, 3>> local;
   std::vector<Point> sub_points;
   struct Chord {
@@ -1369,79 +1573,67 @@ void Builder::triangulate_cells(Mesh& mesh) {
   };
   std::vector<Chord> chords;
   std::vector<std::pair<std::vector<std::uint32_t>, std::vector<Chord>>> pieces;  // polygon indices
-  for (std::uint32_t k = 0; k < leaves_.size(); ++k) {
-    const std::uint32_t* loop = &loops_[8 * std::size_t{k}];
-    cell_bound_[k].begin = static_cast<std::uint32_t>(bound_.size());
-    // Crossings on this leaf's edges.
-    const std::size_t cross_begin = next_crossing;
-    while (next_crossing < crossings_.size() && crossings_[next_crossing].leaf == k) ++next_crossing;
-    bool special = cross_begin != next_crossing;
-    for (unsigned s = 0; s < 8 && !special; ++s) {
-      const std::uint32_t g = loop[s];
-      if (g != kNone && (gmoved_[g] || (!gseg_.empty() && gseg_[g] != kNone))) special = true;
-    }
-    if (!special) {
-      // Untouched square: the case table, with its adjacency.
-      unsigned mask = 0;
-      for (unsigned side = 0; side < 4; ++side) {
-        if (loop[2 * side + 1] != kNone) mask |= 1u << side;
+  std::uint32_t k = begin;
+  try {
+    out.kind.assign(end - begin, 0);
+    out.special.clear();
+    out.tris.clear();
+    out.twin.clear();
+    out.bound_local.clear();
+    out.centres.clear();
+    out.segment_edges.clear();
+    for (; k < end; ++k) {
+      const std::uint32_t* loop = &loops_[8 * std::size_t{k}];
+      // Crossings on this leaf's edges.
+      const std::size_t cross_begin = next_crossing;
+      while (next_crossing < crossings_.size() && crossings_[next_crossing].leaf == k) ++next_crossing;
+      bool special = cross_begin != next_crossing;
+      for (unsigned s = 0; s < 8 && !special; ++s) {
+        const std::uint32_t g = loop[s];
+        if (g != kNone && (gmoved_[g] || (!gseg_.empty() && gseg_[g] != kNone))) special = true;
       }
-      const PlainCell& c = plain[mask];
-      const auto first = static_cast<TriangleId>(mesh.triangles.size());
-      bound_.resize(bound_.size() + c.size);
-      Handle* bound = bound_.data() + cell_bound_[k].begin;
-      for (unsigned i = 0; i < c.count; ++i) {
-        const VertexId a = final_id_[loop[c.slots[c.tri[i][0]]]];
-        const VertexId b = final_id_[loop[c.slots[c.tri[i][1]]]];
-        const VertexId d = final_id_[loop[c.slots[c.tri[i][2]]]];
-        if (orient2d(mesh.points[a], mesh.points[b], mesh.points[d]) <= 0) {
-          throw RouteFailure{"a cell triangle is not counter-clockwise"};
+      if (!special) {
+        // Untouched square: the case table (its triangles are checked here, emitted later).
+        unsigned mask = 0;
+        for (unsigned side = 0; side < 4; ++side) {
+          if (loop[2 * side + 1] != kNone) mask |= 1u << side;
         }
-        Triangle t{{a, b, d}, {kNone, kNone, kNone}};
-        for (unsigned e = 0; e < 3; ++e) {
-          if (c.boundary[i][e] >= 0) {
-            bound[c.boundary[i][e]] = make_handle(first + i, e);
-          } else {
-            t.n[e] = make_handle(first + c.twin[i][e] / 3u, c.twin[i][e] % 3u);
+        const PlainCell& c = plain[mask];
+        for (unsigned i = 0; i < c.count; ++i) {
+          if (orient2d(pos(loop[c.slots[c.tri[i][0]]]), pos(loop[c.slots[c.tri[i][1]]]),
+                       pos(loop[c.slots[c.tri[i][2]]])) <= 0) {
+            throw RouteFailure{"a cell triangle is not counter-clockwise"};
           }
         }
-        mesh.triangles.push_back(t);
+        out.kind[k - begin] = static_cast<std::uint8_t>(mask);
+        continue;
       }
-      std::uint32_t sides = 0;
-      for (unsigned q = 0; q < c.size; ++q) {
-        if (c.slots[q] == kBR) sides |= q;
-        if (c.slots[q] == kTR) sides |= q << 8;
-        if (c.slots[q] == kTL) sides |= q << 16;
+      out.kind[k - begin] = kSpecialCell;
+      SpecialCell cell;
+      cell.tri_begin = static_cast<std::uint32_t>(out.tris.size());
+      cell.centre_begin = static_cast<std::uint32_t>(out.centres.size());
+      cell.bound_begin = static_cast<std::uint32_t>(out.bound_local.size());
+      cell.segment_begin = static_cast<std::uint32_t>(out.segment_edges.size());
+      // The polygon: loop slots with the crossing points of each edge inserted in order.
+      poly.clear();
+      std::uint8_t side_index[4] = {0, 0, 0, 0};  // polygon index of BL, BR, TR, TL
+      for (unsigned s = 0; s < 8; ++s) {
+        if (loop[s] == kNone) continue;
+        if ((s & 1) == 0) side_index[s / 2] = static_cast<std::uint8_t>(poly.size());
+        poly.push_back(loop[s]);
+        if (cross_begin == next_crossing) continue;
+        const std::size_t before = poly.size();
+        for (std::size_t c = cross_begin; c < next_crossing; ++c) {
+          if (crossings_[c].slot == s) poly.push_back(crossings_[c].vertex);
+        }
+        if (poly.size() - before > 1) {
+          const Point origin = pos(loop[s]);
+          std::sort(poly.begin() + static_cast<std::ptrdiff_t>(before), poly.end(), [&](std::uint32_t p, std::uint32_t q) {
+            return squared_distance(origin, pos(p)) < squared_distance(origin, pos(q));
+          });
+        }
       }
-      cell_bound_[k].sides = sides;
-      cell_bound_[k + 1].begin = static_cast<std::uint32_t>(bound_.size());
-      link_cell(mesh, k);
-      ++stats_.table_cells;
-      continue;
-    }
-    // The polygon: loop slots with the crossing points of each edge inserted in order.
-    poly.clear();
-    std::uint8_t side_index[4] = {0, 0, 0, 0};  // polygon index of BL, BR, TR, TL
-    for (unsigned s = 0; s < 8; ++s) {
-      if (loop[s] == kNone) continue;
-      if ((s & 1) == 0) side_index[s / 2] = static_cast<std::uint8_t>(poly.size());
-      poly.push_back(loop[s]);
-      if (cross_begin == next_crossing) continue;
-      const std::size_t before = poly.size();
-      for (std::size_t c = cross_begin; c < next_crossing; ++c) {
-        if (crossings_[c].slot == s) poly.push_back(crossings_[c].vertex);
-      }
-      if (poly.size() - before > 1) {
-        const Point origin = pos(loop[s]);
-        std::sort(poly.begin() + static_cast<std::ptrdiff_t>(before), poly.end(), [&](std::uint32_t p, std::uint32_t q) {
-          return squared_distance(origin, pos(p)) < squared_distance(origin, pos(q));
-        });
-      }
-    }
-    if (poly.size() > 250) throw RouteFailure{"a cell has too many boundary vertices"};
-    tris.clear();
-    {
-      ++stats_.program_cells;
+      if (poly.size() > 250) throw RouteFailure{"a cell has too many boundary vertices"};
       // Chords: consecutive chain vertices that are both on this polygon and not adjacent on it.
       chords.clear();
       const std::size_t m = poly.size();
@@ -1468,21 +1660,17 @@ void Builder::triangulate_cells(Mesh& mesh) {
         if (!detail::triangulate_piece(sub_points, local, centre, used_centre)) {
           throw RouteFailure{"a warped or cut cell has no valid triangulation"};
         }
+        std::uint32_t centre_id = kNone;
         if (used_centre) {
           // BEG add such points to distorted cells; it lifts the worst warped point-set cell from
           // 13.4° to 18.3° (tests/test_quadtree.cpp enumerates the configurations).
-          gwarp_.push_back(kNone);
-          gmoved_.push_back(true);
-          if (!gseg_.empty()) gseg_.push_back(kNone);
-          final_id_.push_back(mesh.add_vertex(centre, VertexKind::kSteiner, 0));
-          ++stats_.centres;
+          centre_id = kCentre | (static_cast<std::uint32_t>(out.centres.size()) - cell.centre_begin);
+          out.centres.push_back(centre);
         }
         for (const auto& t : local) {
-          std::uint32_t v[3];
-          for (unsigned c = 0; c < 3; ++c) {
-            v[c] = t[c] == count ? static_cast<std::uint32_t>(final_id_.size() - 1) : poly[index[t[c]]];
-          }
-          tris.push_back({v[0], v[1], v[2]});
+          Tri v;
+          for (unsigned c = 0; c < 3; ++c) v[c] = t[c] == count ? centre_id : poly[index[t[c]]];
+          out.tris.push_back(v);
         }
       };
       if (chords.empty()) {
@@ -1538,70 +1726,226 @@ void Builder::triangulate_cells(Mesh& mesh) {
         }
         for (const auto& piece : pieces) triangulate(piece.first.data(), piece.first.size());
       }
-    }
-    // Emit the triangles; link the edges inside the cell; record the boundary edges.
-    const auto first = static_cast<TriangleId>(mesh.triangles.size());
-    const std::size_t m = poly.size();
-    bound_.resize(bound_.size() + m, kNone);
-    Handle* bound = bound_.data() + cell_bound_[k].begin;
-    for (const Tri& t : tris) {
-      const VertexId a = final_id_[t[0]], b = final_id_[t[1]], c = final_id_[t[2]];
-      if (orient2d(mesh.points[a], mesh.points[b], mesh.points[c]) <= 0) {
-        throw RouteFailure{"a cell triangle is not counter-clockwise"};
-      }
-      mesh.triangles.push_back(Triangle{{a, b, c}, {kNone, kNone, kNone}});
-    }
-    const auto count = static_cast<TriangleId>(tris.size());
-    for (TriangleId i = 0; i < count; ++i) {
-      for (unsigned e = 0; e < 3; ++e) {
-        const Handle h = make_handle(first + i, e);
-        // Edge e of triangle i runs from corner e+1 to corner e+2.
-        const std::uint32_t from = tris[i][next3(e)], to = tris[i][prev3(e)];
-        // A polygon edge?
-        bool boundary = false;
-        for (std::size_t q = 0; q < m; ++q) {
-          if (poly[q] == from && poly[q + 1 == m ? 0 : q + 1] == to) {
-            bound[q] = h;
-            boundary = true;
-            break;
-          }
+      // Check the triangles; find the edges inside the cell and the boundary edges.
+      const Tri* tris = out.tris.data() + cell.tri_begin;
+      const auto count = static_cast<std::uint32_t>(out.tris.size() - cell.tri_begin);
+      const std::uint32_t centre_base = cell.centre_begin;
+      auto position = [&](std::uint32_t g) -> const Point& {
+        return (g & kCentre) != 0 && g != kNone ? out.centres[centre_base + (g & ~kCentre)] : pos(g);
+      };
+      for (std::uint32_t i = 0; i < count; ++i) {
+        if (orient2d(position(tris[i][0]), position(tris[i][1]), position(tris[i][2])) <= 0) {
+          throw RouteFailure{"a cell triangle is not counter-clockwise"};
         }
-        if (boundary || mesh.triangles[first + i].n[e] != kNone) continue;
-        for (TriangleId j = i + 1; j < count && mesh.triangles[first + i].n[e] == kNone; ++j) {
-          for (unsigned f = 0; f < 3; ++f) {
-            if (tris[j][next3(f)] == to && tris[j][prev3(f)] == from) {
-              mesh.triangles[first + i].n[e] = make_handle(first + j, f);
-              mesh.triangles[first + j].n[f] = h;
+      }
+      out.twin.resize(out.twin.size() + 3 * std::size_t{count}, kNone);
+      out.bound_local.resize(out.bound_local.size() + m, kNone);
+      std::uint32_t* twin = out.twin.data() + 3 * std::size_t{cell.tri_begin};
+      std::uint32_t* bound = out.bound_local.data() + cell.bound_begin;
+      for (std::uint32_t i = 0; i < count; ++i) {
+        for (unsigned e = 0; e < 3; ++e) {
+          // Edge e of triangle i runs from corner e+1 to corner e+2.
+          const std::uint32_t from = tris[i][next3(e)], to = tris[i][prev3(e)];
+          // A polygon edge?
+          bool boundary = false;
+          for (std::size_t q = 0; q < m; ++q) {
+            if (poly[q] == from && poly[q + 1 == m ? 0 : q + 1] == to) {
+              bound[q] = 3 * i + e;
+              boundary = true;
               break;
             }
           }
+          if (boundary || twin[3 * i + e] != kNone) continue;
+          for (std::uint32_t j = i + 1; j < count && twin[3 * i + e] == kNone; ++j) {
+            for (unsigned f = 0; f < 3; ++f) {
+              if (tris[j][next3(f)] == to && tris[j][prev3(f)] == from) {
+                twin[3 * i + e] = 3 * j + f;
+                twin[3 * j + f] = 3 * i + e;
+                break;
+              }
+            }
+          }
+          if (twin[3 * i + e] == kNone) throw RouteFailure{"a cell triangulation is not closed"};
         }
-        if (mesh.triangles[first + i].n[e] == kNone) throw RouteFailure{"a cell triangulation is not closed"};
       }
-    }
-    for (std::size_t q = 0; q < m; ++q) {
-      if (bound[q] == kNone) throw RouteFailure{"a cell boundary edge has no triangle"};
-    }
-    cell_bound_[k].sides = static_cast<std::uint32_t>(side_index[1]) |
-                           (static_cast<std::uint32_t>(side_index[2]) << 8) |
-                           (static_cast<std::uint32_t>(side_index[3]) << 16);
-    cell_bound_[k + 1].begin = static_cast<std::uint32_t>(bound_.size());
-    link_cell(mesh, k);
-    // Segment edges: chords and boundary edges between consecutive chain vertices.
-    if (special && !chain_links_.empty()) {
-      for (TriangleId i = 0; i < count; ++i) {
-        for (unsigned e = 0; e < 3; ++e) {
-          const std::uint32_t from = tris[i][next3(e)], to = tris[i][prev3(e)];
-          if (!in_chain(from)) continue;
-          const auto [links_begin, links_end] = chain_of(from);
-          for (const ChainLink* link = links_begin; link != links_end; ++link) {
-            if (link->other == to) segment_edges_.emplace_back(make_handle(first + i, e), link->segment);
+      for (std::size_t q = 0; q < m; ++q) {
+        if (bound[q] == kNone) throw RouteFailure{"a cell boundary edge has no triangle"};
+      }
+      // Segment edges: chords and boundary edges between consecutive chain vertices.
+      if (!chain_links_.empty()) {
+        for (std::uint32_t i = 0; i < count; ++i) {
+          for (unsigned e = 0; e < 3; ++e) {
+            const std::uint32_t from = tris[i][next3(e)], to = tris[i][prev3(e)];
+            if ((from & kCentre) != 0 || !in_chain(from)) continue;
+            const auto [links_begin, links_end] = chain_of(from);
+            for (const ChainLink* link = links_begin; link != links_end; ++link) {
+              if (link->other == to) out.segment_edges.emplace_back(3 * i + e, link->segment);
+            }
           }
         }
+      }
+      cell.tri_count = count;
+      cell.centre_count = static_cast<std::uint32_t>(out.centres.size()) - cell.centre_begin;
+      cell.bound_count = static_cast<std::uint32_t>(m);
+      cell.segment_count = static_cast<std::uint32_t>(out.segment_edges.size()) - cell.segment_begin;
+      cell.sides = static_cast<std::uint32_t>(side_index[1]) | (static_cast<std::uint32_t>(side_index[2]) << 8) |
+                   (static_cast<std::uint32_t>(side_index[3]) << 16);
+      out.special.push_back(cell);
+    }
+  } catch (...) {
+    out.fail_leaf = k;
+    out.error = std::current_exception();
+  }
+}
+
+void Builder::emit_cells(Mesh& mesh, const PreparedChunk& in) {
+  const auto& plain = plain_cells();
+  std::size_t next_special = 0;
+  for (std::uint32_t k = in.begin; k < in.end; ++k) {
+    if (k == in.fail_leaf) std::rethrow_exception(in.error);
+    const std::uint32_t* loop = &loops_[8 * std::size_t{k}];
+    cell_bound_[k].begin = static_cast<std::uint32_t>(bound_.size());
+    const std::uint8_t kind = in.kind[k - in.begin];
+    const auto first = static_cast<TriangleId>(mesh.triangles.size());
+    if (kind != kSpecialCell) {
+      // Untouched square: the case table, with its adjacency.
+      const PlainCell& c = plain[kind];
+      bound_.resize(bound_.size() + c.size);
+      Handle* bound = bound_.data() + cell_bound_[k].begin;
+      for (unsigned i = 0; i < c.count; ++i) {
+        Triangle t{{final_id_[loop[c.slots[c.tri[i][0]]]], final_id_[loop[c.slots[c.tri[i][1]]]],
+                    final_id_[loop[c.slots[c.tri[i][2]]]]},
+                   {kNone, kNone, kNone}};
+        for (unsigned e = 0; e < 3; ++e) {
+          if (c.boundary[i][e] >= 0) {
+            bound[c.boundary[i][e]] = make_handle(first + i, e);
+          } else {
+            t.n[e] = make_handle(first + c.twin[i][e] / 3u, c.twin[i][e] % 3u);
+          }
+        }
+        mesh.triangles.push_back(t);
+      }
+      cell_bound_[k].sides = c.sides;
+      cell_bound_[k + 1].begin = static_cast<std::uint32_t>(bound_.size());
+      link_cell(mesh, k);
+      ++stats_.table_cells;
+      continue;
+    }
+    const SpecialCell& cell = in.special[next_special++];
+    ++stats_.program_cells;
+    // The cell's centres become vertices after all grid vertices, in leaf order.
+    const auto centre_first = static_cast<VertexId>(centre_base_ + centre_points_.size());
+    for (std::uint32_t j = 0; j < cell.centre_count; ++j) centre_points_.push_back(in.centres[cell.centre_begin + j]);
+    stats_.centres += cell.centre_count;
+    const Tri* tris = in.tris.data() + cell.tri_begin;
+    const std::uint32_t* twin = in.twin.data() + 3 * std::size_t{cell.tri_begin};
+    for (std::uint32_t i = 0; i < cell.tri_count; ++i) {
+      Triangle t{{0, 0, 0}, {kNone, kNone, kNone}};
+      for (unsigned c = 0; c < 3; ++c) {
+        const std::uint32_t g = tris[i][c];
+        t.v[c] = (g & kCentre) != 0 ? centre_first + (g & ~kCentre) : final_id_[g];
+      }
+      for (unsigned e = 0; e < 3; ++e) {
+        const std::uint32_t w = twin[3 * i + e];
+        if (w != kNone) t.n[e] = make_handle(first + w / 3u, w % 3u);
+      }
+      mesh.triangles.push_back(t);
+    }
+    bound_.resize(bound_.size() + cell.bound_count, kNone);
+    Handle* bound = bound_.data() + cell_bound_[k].begin;
+    for (std::uint32_t q = 0; q < cell.bound_count; ++q) {
+      const std::uint32_t b = in.bound_local[cell.bound_begin + q];
+      bound[q] = make_handle(first + b / 3u, b % 3u);
+    }
+    cell_bound_[k].sides = cell.sides;
+    cell_bound_[k + 1].begin = static_cast<std::uint32_t>(bound_.size());
+    link_cell(mesh, k);
+    for (std::uint32_t s = 0; s < cell.segment_count; ++s) {
+      const auto& [local_edge, segment] = in.segment_edges[cell.segment_begin + s];
+      segment_edges_.emplace_back(make_handle(first + local_edge / 3u, local_edge % 3u), segment);
+    }
+  }
+}
+
+// Cells are triangulated in two steps: prepare_cells() computes each leaf's triangles, their
+// adjacency inside the cell and their exact checks (the dynamic program of the warped and cut cells
+// is most of the work); emit_cells() writes them into the mesh in leaf order and links each cell to
+// the earlier cells across its left and bottom sides. On a large tree the preparation runs on a
+// second thread a few chunks ahead of the emission; the chunks are emitted in order and the
+// preparation reads nothing the emission writes, so the output does not depend on the timing.
+void Builder::triangulate_cells(Mesh& mesh) {
+  if (final_id_.size() >= kCentre) throw RouteFailure{"too many grid vertices"};
+  const auto leaf_count = static_cast<std::uint32_t>(leaves_.size());
+  reserve_room(cell_bound_, leaves_.size() + 1);
+  cell_bound_.assign(leaves_.size() + 1, CellBound{});
+  bound_.clear();
+  reserve_room(bound_, leaves_.size() * 5);
+  outer_.clear();
+  reserve_room(mesh.triangles, leaves_.size() * 3);
+  centre_base_ = mesh.points.size();
+  centre_points_.clear();
+  constexpr std::uint32_t kChunk = 4096;
+  const std::uint32_t chunks = (leaf_count + kChunk - 1) / kChunk;
+  if (leaf_count < threaded_leaves_) {
+    PreparedChunk chunk;
+    std::size_t next_crossing = 0;
+    for (std::uint32_t c = 0; c < chunks; ++c) {
+      prepare_cells(mesh, chunk, c * kChunk, std::min(leaf_count, (c + 1) * kChunk), next_crossing);
+      emit_cells(mesh, chunk);
+    }
+  } else {
+    constexpr std::uint32_t kSlots = 4;
+    std::array<PreparedChunk, kSlots> slots;
+    std::atomic<std::uint32_t> prepared{0}, consumed{0};
+    std::atomic<bool> stop{false};
+    {
+      std::jthread worker([&] {
+        std::size_t next_crossing = 0;
+        for (std::uint32_t c = 0; c < chunks; ++c) {
+          for (;;) {
+            const std::uint32_t done = consumed.load(std::memory_order_acquire);
+            if (stop.load(std::memory_order_acquire)) return;
+            if (c < done + kSlots) break;
+            consumed.wait(done, std::memory_order_acquire);
+          }
+          PreparedChunk& chunk = slots[c % kSlots];
+          prepare_cells(mesh, chunk, c * kChunk, std::min(leaf_count, (c + 1) * kChunk), next_crossing);
+          prepared.store(c + 1, std::memory_order_release);
+          prepared.notify_one();
+          if (chunk.error) return;
+        }
+      });
+      // Stops the worker (and lets it finish) when the emission throws.
+      struct Stopper {
+        std::atomic<bool>& stop;
+        std::atomic<std::uint32_t>& consumed;
+        ~Stopper() {
+          stop.store(true, std::memory_order_release);
+          consumed.fetch_add(kSlots, std::memory_order_acq_rel);
+          consumed.notify_one();
+        }
+      } stopper{stop, consumed};
+      for (std::uint32_t c = 0; c < chunks; ++c) {
+        for (;;) {
+          const std::uint32_t ready = prepared.load(std::memory_order_acquire);
+          if (ready > c) break;
+          prepared.wait(ready, std::memory_order_acquire);
+        }
+        emit_cells(mesh, slots[c % kSlots]);
+        consumed.store(c + 1, std::memory_order_release);
+        consumed.notify_one();
       }
     }
   }
   cell_bound_[leaves_.size()].begin = static_cast<std::uint32_t>(bound_.size());
+  // The centres, after all grid vertices (their grid ids follow the grid's, as before).
+  for (const Point& p : centre_points_) {
+    gwarp_.push_back(kNone);
+    gmoved_.push_back(true);
+    if (!gseg_.empty()) gseg_.push_back(kNone);
+    final_id_.push_back(mesh.add_vertex(p, VertexKind::kSteiner, 0));
+  }
+  std::vector<Point>().swap(centre_points_);
 }
 
 // Edges of leaf k on side `side` (0 bottom, 1 right, 2 top, 3 left), as a range in bound_.
@@ -1788,24 +2132,34 @@ Mesh Builder::run(const std::vector<Point>& holes) {
   mesh.input_vertex_count = base.input_vertex_count;
   reserve_room(final_id_, gpos_.size() + leaves_.size() / 64 + 16);
   final_id_.resize(gpos_.size());
+  // Ids in grid order (a prefix count), then the points, kinds and markers in two halves.
+  const std::size_t steiner_base = mesh.points.size();
   std::size_t steiner = 0;
-  for (std::uint32_t g = 0; g < gpos_.size(); ++g) steiner += gwarp_[g] == kNone ? 1 : 0;
+  for (std::uint32_t g = 0; g < gpos_.size(); ++g) {
+    final_id_[g] = gwarp_[g] != kNone ? gwarp_[g] : static_cast<VertexId>(steiner_base + steiner++);
+  }
+  if (steiner_base + steiner >= kInfinite) throw RouteFailure{"too many vertices"};
   reserve_room(mesh.points, mesh.points.size() + steiner + leaves_.size() / 64 + 16);
   reserve_room(mesh.vertex_kind, mesh.points.capacity());
   reserve_room(mesh.vertex_marker, mesh.points.capacity());
-  for (std::uint32_t g = 0; g < gpos_.size(); ++g) {
-    if (gwarp_[g] != kNone) {
-      final_id_[g] = gwarp_[g];
-      continue;
+  mesh.points.resize(steiner_base + steiner);
+  mesh.vertex_kind.resize(steiner_base + steiner);
+  mesh.vertex_marker.resize(steiner_base + steiner);
+  in_two_halves(gpos_.size(), threaded_leaves_, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t g = begin; g < end; ++g) {
+      if (gwarp_[g] != kNone) continue;
+      VertexKind kind = VertexKind::kSteiner;
+      std::int32_t marker = 0;
+      if (!gseg_.empty() && gseg_[g] != kNone && !in_.segments[gseg_[g]].hull_only) {
+        kind = VertexKind::kSteinerOnSegment;
+        marker = in_.segments[gseg_[g]].marker;
+      }
+      const VertexId v = final_id_[g];
+      mesh.points[v] = gpos_[g];
+      mesh.vertex_kind[v] = kind;
+      mesh.vertex_marker[v] = marker;
     }
-    VertexKind kind = VertexKind::kSteiner;
-    std::int32_t marker = 0;
-    if (!gseg_.empty() && gseg_[g] != kNone && !in_.segments[gseg_[g]].hull_only) {
-      kind = VertexKind::kSteinerOnSegment;
-      marker = in_.segments[gseg_[g]].marker;
-    }
-    final_id_[g] = mesh.add_vertex(gpos_[g], kind, marker);
-  }
+  });
   // The positions now live in the mesh: release the grid copies while the triangles are made (the
   // largest arrays then), and restore the positions if the route fails (fallback_points()).
   std::vector<Point>().swap(gpos_);
