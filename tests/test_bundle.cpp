@@ -775,6 +775,56 @@ TEST(Bundle, KBundleCacheReusesSweepsAndBoundsWhatChangesAnAnswer) {
   }
 }
 
+// A KBundleCache keeps DT(V) between calls over the whole mesh; the next call inserts the vertices
+// added since (here by refinement, which also splits hull edges, so some land outside the old
+// hull) instead of building DT(V) again. The answers must be those of a fresh DT(V); a cache
+// whose triangulation does not fit the mesh (other points) must be rebuilt, not reused.
+TEST(Bundle, KeptDelaunayTriangulationTakesTheNewVertices) {
+  std::mt19937_64 rng(33);
+  auto domain_triangles = [](const Mesh& m) {
+    std::vector<TriangleId> q;
+    for (TriangleId t = 0; t < m.triangle_slots(); ++t) {
+      if (m.in_domain(t)) q.push_back(t);
+    }
+    return q;
+  };
+  Pslg pslg;
+  pslg.points = random_points(2000, rng);
+  Mesh mesh = constrained_delaunay(pslg);
+  KBundleCache cache;
+  cache.reuse_sweeps = false;  // as BRH's first exact test: only DT(V) is kept
+  const std::uint32_t k = 6;
+  KBundleStats st;
+  auto queries = domain_triangles(mesh);
+  EXPECT_EQ(in_k_bundle(mesh, k, queries, &st, 1, &cache), in_k_bundle(mesh, k, queries, nullptr, 1));
+  EXPECT_FALSE(st.kept_dt);
+  std::size_t answered_one = 0;
+  for (int round = 0; round < 3; ++round) {
+    SCOPED_TRACE(round);
+    const std::size_t vertices = mesh.points.size();
+    RefineOptions ro;
+    ro.min_angle_deg = 25.0;
+    ro.max_steiner = 60;
+    refine(mesh, ro);
+    ASSERT_TRUE(validate(mesh).empty());
+    ASSERT_GT(mesh.points.size(), vertices);
+    cache.reuse_sweeps = round == 2;  // sweeps kept too in the last round
+    queries = domain_triangles(mesh);
+    const std::vector<std::uint8_t> plain = in_k_bundle(mesh, k, queries, nullptr, 1);
+    EXPECT_EQ(in_k_bundle(mesh, k, queries, &st, 2, &cache), plain);
+    EXPECT_TRUE(st.kept_dt);
+    answered_one += static_cast<std::size_t>(std::count(plain.begin(), plain.end(), 1));
+  }
+  EXPECT_GT(answered_one, 0u);
+  // Another point set with the same vertex ids: the kept triangulation does not fit.
+  Pslg other_pslg;
+  other_pslg.points = random_points(1500, rng);
+  const Mesh other = constrained_delaunay(other_pslg);
+  const auto other_queries = domain_triangles(other);
+  EXPECT_EQ(in_k_bundle(other, k, other_queries, &st, 1, &cache), in_k_bundle(other, k, other_queries, nullptr, 1));
+  EXPECT_FALSE(st.kept_dt);
+}
+
 // Bundle removal on a point set splits the long hull edges; the split points are rounded off the
 // hull line, so DT(V) has flat triangles of nearly collinear hull vertices whose circumdisks have
 // radii near 10¹⁷ and bulge into the mesh by less than the rounding of the incircle values of the

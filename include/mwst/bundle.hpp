@@ -113,6 +113,7 @@ struct KBundleStats {
   std::size_t pencils_swept = 0;
   std::size_t pencils_reused = 0;  // of those, answered from a KBundleCache
   bool local = false;  // answered from the Delaunay triangulation of the vertices near the queries
+  bool kept_dt = false;  // DT(V) was a KBundleCache's, with the vertices added since inserted
 };
 
 // For each in-domain triangle slot in `queries`: does it belong to a k-bundle (some vertex-empty
@@ -148,6 +149,11 @@ class KBundleCache {
   // this box are unchanged, and the hull is (bundle removal relies on it between its passes: a
   // disk putting it in a k-bundle after a change must meet a triangle made by the change).
   std::vector<std::array<double, 4>> reach;
+  // False: the call neither reuses nor keeps sweeps, nor sets `reach`; it only keeps (and reuses)
+  // DT(V). A call over the whole mesh keeps DT(V) here, and the next such call inserts only the
+  // vertices added since (Lawson flips keep it Delaunay) if every vertex it holds is still a
+  // vertex of T at the same place; otherwise it builds DT(V) again.
+  bool reuse_sweeps = true;
   struct Impl;
   std::unique_ptr<Impl> impl;
 };

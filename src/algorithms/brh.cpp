@@ -468,7 +468,9 @@ BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
         asked_at.push_back(i);
       }
       if (!asked.empty()) {
-        const std::vector<std::uint8_t> answers = in_k_bundle(mesh, K, asked, nullptr, 0, use_cache ? &sweep_cache : nullptr);
+        // Before the second test only DT(V) is kept (the next test inserts the new vertices into it).
+        sweep_cache.reuse_sweeps = use_cache;
+        const std::vector<std::uint8_t> answers = in_k_bundle(mesh, K, asked, nullptr, 0, &sweep_cache);
         for (std::size_t j = 0; j < asked.size(); ++j) {
           exact[asked_at[j]] = answers[j];
           if (use_clean && !answers[j]) clean.add(sorted_triple(mesh, asked[j]), sweep_cache.reach[j]);

@@ -629,6 +629,7 @@ struct Shared {
   std::vector<std::uint32_t> list_begin;    // per DT slot: its candidates in `list`
   std::vector<TriangleId> list;
   std::vector<Handle> pencils;              // per Delaunay edge: a DT handle with a finite left side
+  bool kept_dt = false;                     // dt is a kept DT(V) with the new vertices inserted
 
   Handle sym(Handle h) const { return slots[h >> 2].n[h & 3]; }
   VertexId org(Handle h) const { return slots[h >> 2].v[next3(h & 3)]; }
@@ -645,7 +646,13 @@ struct Shared {
   // `subset` W (mesh vertex ids), `dt` is the Delaunay triangulation of the vertices of T in W only
   // (ids below `used`, in mesh id order); the other vertices of T follow them (in_k_bundle's local
   // attempt over the whole mesh, when a flood leaves the regions of build_region).
-  bool build(bool list_pencils = true, const std::vector<VertexId>* subset = nullptr) {
+  //
+  // With `prior_dt` (a Delaunay triangulation whose vertex i is mesh vertex (*prior_ids)[i]) and no
+  // subset: if every vertex of prior_dt is still a vertex of T at the same place, those vertices
+  // keep their DT ids (first, in prior order), and `dt` is prior_dt (moved from) with the other
+  // vertices of T inserted by Lawson flips — DT(V) again, without building it from scratch.
+  bool build(bool list_pencils = true, const std::vector<VertexId>* subset = nullptr, Mesh* prior_dt = nullptr,
+             const std::vector<VertexId>* prior_ids = nullptr) {
     const std::size_t nv = m.points.size();
     std::vector<std::uint8_t> state(nv, 0);  // 1: corner of a live triangle, 2: vertex of T
     bool any = false;
@@ -682,7 +689,31 @@ struct Shared {
     // the 30-bit key in bits 32..61, the old id below.
     // (With a subset the DT is small and the sweeps few: the groups in id order, without a sort.)
     std::vector<std::uint64_t> order;
-    if (subset) {
+    std::vector<std::uint8_t> in_prior;
+    if (!subset && prior_dt && prior_ids && prior_dt->triangle_slots() > 0 &&
+        prior_dt->points.size() == prior_ids->size()) {
+      in_prior.assign(nv, 0);
+      for (std::size_t i = 0; i < prior_ids->size(); ++i) {
+        const VertexId v = (*prior_ids)[i];
+        if (v >= nv || state[v] != 2 || in_prior[v] || !(m.points[v] == prior_dt->points[i])) {
+          in_prior.clear();
+          break;
+        }
+        in_prior[v] = 1;
+      }
+    }
+    if (!in_prior.empty()) {
+      prior_ = prior_dt;
+      prior_used_ = static_cast<std::uint32_t>(prior_ids->size());
+      for (const VertexId v : *prior_ids) order.push_back(v);  // group 0, key 0: kept in front
+      const std::size_t kept = order.size();
+      for (VertexId v = 0; v < nv; ++v) {
+        if (state[v] == 0 || in_prior[v]) continue;
+        const std::uint64_t group = state[v] == 2 ? 0 : 1;
+        order.push_back((group << 62) | (std::uint64_t{morton_key(m.points[v], x0, y0, scale)} << 32) | v);
+      }
+      std::sort(order.begin() + static_cast<std::ptrdiff_t>(kept), order.end());
+    } else if (subset) {
       for (const int group : {2, 1}) {
         for (VertexId v = 0; v < nv; ++v) {
           if (state[v] == group) order.push_back(std::uint64_t{group == 2 ? 0u : 1u} << 62 | v);
@@ -790,9 +821,25 @@ struct Shared {
   }
 
  private:
+  Mesh* prior_ = nullptr;        // build(): the Delaunay triangulation of vertices [0, prior_used_)
+  std::uint32_t prior_used_ = 0;
+
   // DT of the vertices [0, used), and (if asked) the pencils.
   bool finish(bool list_pencils) {
-    dt = delaunay(std::vector<Point>(pts.begin(), pts.begin() + used));
+    if (prior_) {
+      dt = std::move(*prior_);
+      prior_ = nullptr;
+      kept_dt = true;
+      Handle hint = kNone;
+      for (std::uint32_t i = prior_used_; i < used; ++i) {
+        dt.points.push_back(pts[i]);
+        dt.vertex_kind.push_back(VertexKind::kSteiner);
+        dt.vertex_marker.push_back(0);
+        if (dt.insert_vertex(i, hint, &hint) != i) throw InternalError("bundle: two vertices of the mesh coincide");
+      }
+    } else {
+      dt = delaunay(std::vector<Point>(pts.begin(), pts.begin() + used));
+    }
     if (!dt.duplicates.empty()) throw InternalError("bundle: two vertices of the mesh coincide");
     if (!list_pencils) return true;
     for (TriangleId t = 0; t < dt.triangle_slots(); ++t) {
@@ -855,6 +902,8 @@ using SweepKey = std::uint64_t;  // p << 32 | q (mesh ids)
 
 struct KBundleCache::Impl {
   std::unordered_map<SweepKey, CachedSweep> sweeps;
+  Mesh dt;                          // DT(V) of the last call over the whole mesh (empty: none)
+  std::vector<VertexId> dt_mesh_id;  // its vertex i is mesh vertex dt_mesh_id[i]
 };
 
 KBundleCache::KBundleCache() : impl(std::make_unique<Impl>()) {}
@@ -2014,8 +2063,10 @@ void local_region(const Mesh& mesh, const std::vector<TriangleId>& queries, std:
 }  // namespace
 
 std::vector<std::uint8_t> in_k_bundle(const Mesh& mesh, std::uint32_t k, const std::vector<TriangleId>& queries,
-                                      KBundleStats* stats, unsigned threads, KBundleCache* cache) {
+                                      KBundleStats* stats, unsigned threads, KBundleCache* cache_given) {
   std::vector<std::uint8_t> answer(queries.size(), 0);
+  // `cache`: sweeps and reach boxes; `cache_given`: also DT(V) (see KBundleCache::reuse_sweeps).
+  KBundleCache* const cache = cache_given && cache_given->reuse_sweeps ? cache_given : nullptr;
   KBundleStats local_stats;
   KBundleStats& st = stats ? *stats : local_stats;
   st = {};
@@ -2054,13 +2105,19 @@ std::vector<std::uint8_t> in_k_bundle(const Mesh& mesh, std::uint32_t k, const s
     }
   }
   Shared sh(mesh);
-  if (!sh.build(false)) {
+  KBundleCache::Impl* const keep = cache_given ? cache_given->impl.get() : nullptr;
+  if (!sh.build(false, nullptr, keep ? &keep->dt : nullptr, keep ? &keep->dt_mesh_id : nullptr)) {
     st = {};
     answer.assign(queries.size(), 0);
     if (cache) cache->reach.assign(queries.size(), {kInf, kInf, -kInf, -kInf});  // nothing known
     return answer;
   }
   in_k_bundle_attempt(sh, k, queries, st, threads, false, answer, cache);
+  st.kept_dt = sh.kept_dt;
+  if (keep) {
+    keep->dt = std::move(sh.dt);
+    keep->dt_mesh_id.assign(sh.mesh_id.begin(), sh.mesh_id.begin() + sh.used);
+  }
   return answer;
 }
 
