@@ -75,6 +75,13 @@ void reserve_room(std::vector<T>& v, std::size_t n) {
 }
 
 using Clock = std::chrono::steady_clock;
+// Set bits of a byte (std::popcount compiles to a library call without -mpopcnt).
+constexpr std::uint32_t bits_in_byte(unsigned x) {
+  x = x - ((x >> 1) & 0x55u);
+  x = (x & 0x33u) + ((x >> 2) & 0x33u);
+  return (x + (x >> 4)) & 0x0Fu;
+}
+
 double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
@@ -207,13 +214,21 @@ CleanInput clean_point_set(const Pslg& pslg) {
   }
   if (n < 3) throw InputError(pslg.source, 0, "fewer than three points (" + std::to_string(n) + ")");
   const std::vector<Point>& p = pslg.points;
-  std::vector<VertexId> order(n);
-  for (VertexId i = 0; i < n; ++i) order[i] = i;
-  std::sort(order.begin(), order.end(), [&](VertexId a, VertexId b) {
-    if (p[a].x != p[b].x) return p[a].x < p[b].x;
-    if (p[a].y != p[b].y) return p[a].y < p[b].y;
-    return a < b;
+  // Sorted by (x, y, index): the keys are sorted with their coordinates copied beside them (an
+  // index sort reading p[a] in its comparisons missed the cache twice per comparison).
+  struct Keyed {
+    double x, y;
+    VertexId id;
+  };
+  std::vector<Keyed> keyed(n);
+  for (std::size_t i = 0; i < n; ++i) keyed[i] = {p[i].x, p[i].y, static_cast<VertexId>(i)};
+  std::sort(keyed.begin(), keyed.end(), [](const Keyed& a, const Keyed& b) {
+    if (a.x != b.x) return a.x < b.x;
+    if (a.y != b.y) return a.y < b.y;
+    return a.id < b.id;
   });
+  std::vector<VertexId> order(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = keyed[i].id;
   CleanInput in;
   Mesh& m = in.vertices_only;
   m.points = p;
@@ -221,16 +236,21 @@ CleanInput clean_point_set(const Pslg& pslg) {
   m.vertex_marker = pslg.point_markers.size() == n ? pslg.point_markers : std::vector<std::int32_t>(n, 0);
   m.input_vertex_count = static_cast<std::uint32_t>(n);
   std::vector<VertexId> unique;  // sorted by (x, y)
+  std::vector<Point> unique_point;  // their points, in the same order (read in sequence below)
   unique.reserve(n);
+  unique_point.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
     const VertexId v = order[i];
-    if (!unique.empty() && p[unique.back()] == p[v]) {
+    const Point q{keyed[i].x, keyed[i].y};
+    if (!unique.empty() && unique_point.back() == q) {
       m.vertex_kind[v] = VertexKind::kDuplicate;
       m.duplicates.emplace_back(v, unique.back());
       continue;
     }
     unique.push_back(v);
+    unique_point.push_back(q);
   }
+  std::vector<Keyed>().swap(keyed);
   std::sort(m.duplicates.begin(), m.duplicates.end());
   if (unique.size() == 1) throw InputError(pslg.source, 0, "fewer than three distinct points (all points coincide)");
   if (unique.size() == 2) throw InputError(pslg.source, 0, "fewer than three distinct points");
@@ -238,8 +258,9 @@ CleanInput clean_point_set(const Pslg& pslg) {
   auto chain = [&](bool lower) {
     std::vector<VertexId> h;
     for (std::size_t k = 0; k < unique.size(); ++k) {
-      const VertexId v = unique[lower ? k : unique.size() - 1 - k];
-      while (h.size() >= 2 && orient2d(p[h[h.size() - 2]], p[h.back()], p[v]) <= 0) h.pop_back();
+      const std::size_t r = lower ? k : unique.size() - 1 - k;
+      const VertexId v = unique[r];
+      while (h.size() >= 2 && orient2d(p[h[h.size() - 2]], p[h.back()], unique_point[r]) <= 0) h.pop_back();
       h.push_back(v);
     }
     return h;
@@ -259,9 +280,10 @@ CleanInput clean_point_set(const Pslg& pslg) {
     if (a.x != b.x) return (a.x < x.x && x.x < b.x) || (b.x < x.x && x.x < a.x);
     return (a.y < x.y && x.y < b.y) || (b.y < x.y && x.y < a.y);
   };
-  for (VertexId v : unique) {
+  for (std::size_t r = 0; r < unique.size(); ++r) {
+    const VertexId v = unique[r];
     if (is_hull[v]) continue;
-    const Point& x = p[v];
+    const Point& x = unique_point[r];
     // Candidate edges: the lower-chain and upper-chain edges spanning x.x (binary search), and
     // the vertical edges at the extreme x.
     auto test = [&](std::size_t e) {
@@ -311,8 +333,12 @@ CleanInput clean_point_set(const Pslg& pslg) {
     }
     in.segments.push_back({from, hull[(e + 1) % hull.size()], 1, true});
   }
-  in.vertices = std::move(unique);
-  std::sort(in.vertices.begin(), in.vertices.end());
+  // The distinct vertices in index order (every index but the duplicates; no sort needed).
+  in.vertices.clear();
+  in.vertices.reserve(unique.size());
+  for (VertexId v = 0; v < n; ++v) {
+    if (m.vertex_kind[v] != VertexKind::kDuplicate) in.vertices.push_back(v);
+  }
   return in;
 }
 
@@ -398,12 +424,25 @@ class Tree {
       v = (v | (v << 2)) & 0x33333333u;
       return (v | (v << 1)) & 0x55555555u;
     };
-    std::vector<std::pair<std::uint64_t, VertexId>> order;
+    // Sorted by (Morton key, vertex): the keys have 32 bits and in.vertices is in increasing
+    // order, so a stable two-pass radix sort on 16-bit digits gives exactly that order.
+    using Keyed = std::pair<std::uint64_t, VertexId>;
+    std::vector<Keyed> order;
     order.reserve(in.vertices.size());
     for (VertexId v : in.vertices) {
       order.emplace_back((spread(cell(pts_[v].y, y0_)) << 1) | spread(cell(pts_[v].x, x0_)), v);
     }
-    std::sort(order.begin(), order.end());
+    {
+      std::vector<Keyed> scratch(order.size());
+      std::vector<std::uint32_t> bucket(65537);
+      for (const unsigned shift : {0u, 16u}) {
+        std::fill(bucket.begin(), bucket.end(), 0u);
+        for (const Keyed& o : order) ++bucket[((o.first >> shift) & 0xFFFFu) + 1];
+        for (std::size_t b = 1; b < bucket.size(); ++b) bucket[b] += bucket[b - 1];
+        for (const Keyed& o : order) scratch[bucket[(o.first >> shift) & 0xFFFFu]++] = o;
+        order.swap(scratch);
+      }
+    }
     rank_id_.resize(order.size());
     rank_point_.resize(order.size());
     for (std::size_t r = 0; r < order.size(); ++r) {
@@ -944,17 +983,41 @@ class Tree {
 
   // Leaves in Morton (Z) order.
   std::vector<std::uint32_t> leaves_in_order() const {
-    std::vector<std::uint32_t> out, stack{0};
-    reserve_room(out, nodes.size() - nodes.size() / 4 + 1);  // 4 children per inner node: ¾ leaves
+    // The nodes at level 3 (and the leaves above it) in depth-first order are the roots of
+    // subtrees whose leaves follow each other in the answer: two threads walk the first and the
+    // second half of them, and the two lists are joined in order.
+    std::vector<std::uint32_t> tops, stack{0};
     while (!stack.empty()) {
       const std::uint32_t a = stack.back();
       stack.pop_back();
-      if (is_leaf(a)) {
-        out.push_back(a);
+      if (is_leaf(a) || nodes[a].level >= 3) {
+        tops.push_back(a);
         continue;
       }
       for (int k = 3; k >= 0; --k) stack.push_back(nodes[a].child + static_cast<std::uint32_t>(k));
     }
+    const std::size_t leaf_room = nodes.size() - nodes.size() / 4 + 1;  // 4 children per inner node: ¾ leaves
+    std::array<std::vector<std::uint32_t>, 2> part;
+    const std::size_t threshold = nodes.size() >= threaded_nodes_ ? 0 : std::numeric_limits<std::size_t>::max();
+    in_two_halves(tops.size(), threshold, [&](std::size_t begin, std::size_t end) {
+      std::vector<std::uint32_t>& out = part[begin == 0 ? 0 : 1];
+      reserve_room(out, begin == 0 ? leaf_room : leaf_room / 2 + 64);
+      std::vector<std::uint32_t> walk;
+      for (std::size_t i = begin; i < end; ++i) {
+        walk.push_back(tops[i]);
+        while (!walk.empty()) {
+          const std::uint32_t a = walk.back();
+          walk.pop_back();
+          if (is_leaf(a)) {
+            out.push_back(a);
+            continue;
+          }
+          for (int k = 3; k >= 0; --k) walk.push_back(nodes[a].child + static_cast<std::uint32_t>(k));
+        }
+      }
+    });
+    std::vector<std::uint32_t> out = std::move(part[0]);
+    out.insert(out.end(), part[1].begin(), part[1].end());
     return out;
   }
 
@@ -1004,7 +1067,7 @@ class Builder {
 
   std::uint32_t own(std::uint32_t k, unsigned bit) const {
     if (((own_mask_[k] >> bit) & 1u) == 0) throw RouteFailure{"a leaf lacks an expected vertex"};
-    return own_base_[k] + static_cast<std::uint32_t>(std::popcount(static_cast<unsigned>(own_mask_[k] & ((1u << bit) - 1u))));
+    return own_base_[k] + bits_in_byte(static_cast<unsigned>(own_mask_[k] & ((1u << bit) - 1u)));
   }
   std::uint32_t leaf_of(std::uint32_t node) const { return leaf_index_[node]; }
   // The leaf containing the point just north-east of the lower-left corner of node a's cell.
@@ -1152,7 +1215,9 @@ void Builder::number_vertices() {
   leaves_ = tree_.leaves_in_order();
   reserve_room(leaf_index_, tree_.nodes.size());
   leaf_index_.assign(tree_.nodes.size(), kNone);
-  for (std::uint32_t k = 0; k < leaves_.size(); ++k) leaf_index_[leaves_[k]] = k;
+  in_two_halves(leaves_.size(), threaded_leaves_, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) leaf_index_[leaves_[k]] = static_cast<std::uint32_t>(k);
+  });
   reserve_room(own_base_, leaves_.size());
   reserve_room(own_mask_, leaves_.size());
   own_base_.resize(leaves_.size());
@@ -1180,7 +1245,7 @@ void Builder::number_vertices() {
   std::uint32_t next = 0;
   for (std::size_t k = 0; k < leaves_.size(); ++k) {
     own_base_[k] = next;
-    next += static_cast<std::uint32_t>(std::popcount(static_cast<unsigned>(own_mask_[k])));
+    next += bits_in_byte(own_mask_[k]);
   }
   grid_count_ = next;
   gpos_.clear();
@@ -2287,17 +2352,31 @@ Mesh quadtree_refinement(const Pslg& pslg, const QuadtreeOptions& options, Quadt
     tree.build();
     tree.finish();
     stats.seconds_tree = seconds_since(t1);
-    // Leaf statistics.
-    for (std::uint32_t a = 0; a < tree.nodes.size(); ++a) {
-      if (!tree.is_leaf(a)) continue;
-      ++stats.leaves;
-      const Node& n = tree.nodes[a];
-      stats.depth = std::max(stats.depth, static_cast<unsigned>(n.level));
-      if (options.keep_leaves) {
+    // Leaf statistics (counts in two halves unless the leaves are kept, in node order).
+    if (options.keep_leaves) {
+      for (std::uint32_t a = 0; a < tree.nodes.size(); ++a) {
+        if (!tree.is_leaf(a)) continue;
+        ++stats.leaves;
+        const Node& n = tree.nodes[a];
+        stats.depth = std::max(stats.depth, static_cast<unsigned>(n.level));
         const Box b = tree.box(n);
         stats.leaf_cells.push_back({b.x1, b.y1, b.x2 - b.x1,
                                     tree.meets_any(n, tree.features.data() + n.feat_begin, n.feat_count)});
       }
+    } else {
+      std::array<std::size_t, 2> leaf_count{};
+      std::array<unsigned, 2> deepest{};
+      in_two_halves(tree.nodes.size(), threads_from(options, 65536), [&](std::size_t begin, std::size_t end) {
+        const unsigned half = begin == 0 ? 0u : 1u;
+        for (std::size_t a = begin; a < end; ++a) {
+          const Node& n = tree.nodes[a];
+          if (n.child != kNone) continue;
+          ++leaf_count[half];
+          deepest[half] = std::max(deepest[half], static_cast<unsigned>(n.level));
+        }
+      });
+      stats.leaves += leaf_count[0] + leaf_count[1];
+      stats.depth = std::max({stats.depth, deepest[0], deepest[1]});
     }
     Builder builder(in, options, stats, tree);
     try {
