@@ -23,6 +23,24 @@ struct BrhCase {
   std::size_t k;  // 0: the default ⌈4π/A⌉ + 3
 };
 
+// BRH's guarantee, checked with the exact pencil sweep: every domain triangle with an angle below
+// `angle` is in no k-bundle, and there are `skinny_left` of them (what BRH reported). Returns the
+// exact bundle numbers for further checks.
+BundleResult expect_skinny_outside_k_bundles(const Mesh& m, double angle, std::size_t k, std::size_t skinny_left) {
+  const BundleResult exact = bundle_number(m, {.per_triangle = true});
+  std::size_t skinny = 0;
+  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+    if (!m.in_domain(t)) continue;
+    double a[3];
+    triangle_angles_deg(m, t, a);
+    if (std::min({a[0], a[1], a[2]}) >= angle) continue;
+    ++skinny;
+    EXPECT_LT(exact.per_triangle[t], k) << "skinny triangle " << t << " is in a K-bundle";
+  }
+  EXPECT_EQ(skinny, skinny_left);
+  return exact;
+}
+
 void check_brh(const std::string& file, BrhCase c) {
   SCOPED_TRACE(file + " A=" + std::to_string(c.angle) + " K=" + std::to_string(c.k));
   const Pslg g = io::read_input(file);
@@ -33,19 +51,7 @@ void check_brh(const std::string& file, BrhCase c) {
   const BrhStats stats = bundle_removal(m, o);
   EXPECT_EQ(stats.stop_reason, "bound reached");
   EXPECT_TRUE(validate(m, {.delaunay = true}).empty());
-  BundleOptions bo;
-  bo.per_triangle = true;
-  const BundleResult exact = bundle_number(m, bo);
-  std::size_t skinny = 0;
-  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
-    if (!m.in_domain(t)) continue;
-    double a[3];
-    triangle_angles_deg(m, t, a);
-    if (std::min({a[0], a[1], a[2]}) >= c.angle) continue;
-    ++skinny;
-    EXPECT_LT(exact.per_triangle[t], o.bundle_k) << "skinny triangle " << t << " is in a K-bundle";
-  }
-  EXPECT_EQ(skinny, stats.skinny_left);
+  const BundleResult exact = expect_skinny_outside_k_bundles(m, c.angle, o.bundle_k, stats.skinny_left);
   if (o.bundle_k >= default_bundle_k(c.angle)) {
     EXPECT_LT(exact.bundle_number, o.bundle_k);
   }
@@ -112,17 +118,7 @@ TEST(Brh, PointSetWithManySkinnyTrianglesLeft) {
   EXPECT_GT(stats.known_clean, 0u);
   EXPECT_GT(stats.skinny_left, 1024u);
   ASSERT_TRUE(validate(m, {.delaunay = true}).empty());
-  const BundleResult exact = bundle_number(m, {.per_triangle = true});
-  std::size_t skinny = 0;
-  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
-    if (!m.in_domain(t)) continue;
-    double a[3];
-    triangle_angles_deg(m, t, a);
-    if (std::min({a[0], a[1], a[2]}) >= o.min_angle_deg) continue;
-    ++skinny;
-    EXPECT_LT(exact.per_triangle[t], o.bundle_k) << "skinny triangle " << t << " is in a K-bundle";
-  }
-  EXPECT_EQ(skinny, stats.skinny_left);
+  expect_skinny_outside_k_bundles(m, o.min_angle_deg, o.bundle_k, stats.skinny_left);
 }
 
 TEST(Brh, LargeKLeavesTheDelaunayTriangulation) {
