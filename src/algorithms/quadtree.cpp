@@ -24,18 +24,23 @@
 //    bottom side (plus the root's top and right border), so ids come from one pass over the leaves
 //    in Morton order with no hashing; every leaf then reads its loop of up to 8 vertices through
 //    neighbour look-ups.
-//  - Cells are triangulated in Morton order, and each links its left and bottom sides to the
-//    cells across them as soon as it is made: those come earlier in the order (it is monotone in
-//    x and in y), so their triangles are still close in cache; no separate linking pass.
+//  - Cells are triangulated in chunks of leaves in Morton order, their triangles placed by prefix
+//    sums in that order, and each cell links its left and bottom sides to the cells across them
+//    (found by the look-ups that numbered the vertices) soon after it is written: those come
+//    earlier in the order (it is monotone in x and in y), so their triangles are still close in
+//    cache; no separate linking pass.
 //
 // Two threads (large inputs only; the output is byte-identical to one thread, whatever the timing):
 //  - build(): each level's split decisions and children are computed in two halves of the
 //    frontier, with every new node and list placed by prefix sums in frontier order;
 //  - finish(): the first round of checks (every leaf) is a read-only scan in two halves; only the
 //    leaves that fail it enter the work list, in the order they would have been processed;
-//  - the per-leaf passes of the mesh (ownership, loops, vertex ids) run in two halves;
-//  - cells are prepared (dynamic program, exact checks, adjacency inside the cell) on a second
-//    thread a few chunks ahead of the thread that writes them into the mesh in leaf order.
+//  - the per-leaf passes of the mesh (ownership, loops, levels around vertices, vertex ids) run in
+//    two halves;
+//  - the cells' chunks alternate between the two threads, each preparing (dynamic program, exact
+//    checks, adjacency inside the cell), writing and linking its own: a chunk takes its places in
+//    the arrays when the one before it has taken its own, and is linked once all earlier chunks
+//    are written (see triangulate_cells()).
 // The balance / warp work list itself stays sequential: its result depends on its order.
 //
 // Robustness: all sign decisions are exact (orient2d); constructed points (warped corners moved
@@ -54,6 +59,7 @@
 #include <cstdint>
 #include <exception>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -1098,9 +1104,12 @@ class Builder {
   struct PreparedChunk;
   void prepare_cells(const Mesh& mesh, PreparedChunk& out, std::uint32_t begin, std::uint32_t end,
                      std::size_t& next_crossing) const;
-  void emit_cells(Mesh& mesh, const PreparedChunk& in);
+  struct EmitSink;
+  void emit_cells(const PreparedChunk& in, std::uint32_t end, Triangle* tris, TriangleId first, Handle* bound,
+                  std::uint32_t first_bound, VertexId centre_first, EmitSink& sink);
   std::pair<std::uint32_t, std::uint32_t> side_range(std::uint32_t k, unsigned side) const;
-  void link_cell(Mesh& mesh, std::uint32_t k);
+  void link_cell(const std::vector<Point>& points, Triangle* tris, const Handle* bound, std::uint32_t k,
+                 EmitSink& sink) const;
   void close_border(Mesh& mesh);
   void mark_segments(Mesh& mesh);
 
@@ -1152,10 +1161,20 @@ class Builder {
   const std::vector<Point>& pts_;
 
   std::vector<std::uint32_t> leaves_;      // leaf ordinal → node, Morton order
-  std::vector<std::uint32_t> leaf_index_;  // node → leaf ordinal (kNone for inner nodes)
-  std::vector<std::uint32_t> own_base_;
-  std::vector<std::uint8_t> own_mask_;
-  std::vector<std::uint32_t> loops_;       // 8 slots per leaf, kNone where absent
+  // Per-leaf (and per-node) arrays that passes in two halves write in full are allocated without
+  // being filled first: the fill of a vector would touch all their pages on one thread.
+  std::unique_ptr<std::uint32_t[]> leaf_index_;  // node → leaf ordinal (kNone for inner nodes)
+  std::unique_ptr<std::uint32_t[]> own_base_;
+  std::unique_ptr<std::uint8_t[]> own_mask_;
+  std::unique_ptr<std::array<std::uint32_t, 2>[]> west_south_;  // per leaf: the same-size cells west,
+                                                                 // south (link_cell() reuses them)
+  // Per leaf, for link_cell() (which then reads no node of its own): its level (bits 0–5), whether
+  // the same-size cell west / south is split (bits 6, 7), and which of its sides (bottom, right,
+  // top, left: bits 8–11) lie on the root's border.
+  std::unique_ptr<std::uint16_t[]> leaf_shape_;
+  std::unique_ptr<std::uint32_t[]> loops_;  // 8 slots per leaf, kNone where absent (null until built)
+  std::array<std::vector<std::uint32_t>, 2> with_vertex_;  // leaves with an input vertex (two halves,
+                                                            // in order; build_loops() for warp())
   std::vector<Point> gpos_;                // grid vertex (then crossing point) positions
   std::vector<std::uint8_t> glevel_;       // deepest level of a leaf around each grid vertex
   std::vector<std::uint8_t> gtop_;         // shallowest level of a leaf around each grid vertex
@@ -1184,12 +1203,13 @@ class Builder {
   std::size_t subsegment_count_ = 0;
   // Final ids and the cells' boundary edges.
   std::vector<VertexId> final_id_;
-  // Per leaf (one more at the end): its first boundary edge in bound_, and the polygon indices of
-  // its BR, TR, TL corners (8 bits each); together, so that a neighbour's sides cost one miss.
+  // Per leaf: its first boundary edge in bound_, and the polygon indices of its BR, TR, TL corners
+  // and its number of boundary edges (8 bits each); together, so that a neighbour's sides cost one
+  // miss, and each leaf's entry is written by the thread that writes the leaf alone.
   struct CellBound {
-    std::uint32_t begin = 0, sides = 0;
+    std::uint32_t begin, sides;
   };
-  std::vector<CellBound> cell_bound_;
+  std::unique_ptr<CellBound[]> cell_bound_;
   std::vector<Handle> bound_;               // boundary edge handles, in polygon order
   struct Outer {
     double position;  // along the root's border, counter-clockwise from its lower-left corner
@@ -1213,15 +1233,17 @@ class Builder {
 
 void Builder::number_vertices() {
   leaves_ = tree_.leaves_in_order();
-  reserve_room(leaf_index_, tree_.nodes.size());
-  leaf_index_.assign(tree_.nodes.size(), kNone);
+  leaf_index_ = std::make_unique_for_overwrite<std::uint32_t[]>(tree_.nodes.size());
+  in_two_halves(tree_.nodes.size(), threaded_leaves_, [&](std::size_t begin, std::size_t end) {
+    std::fill(leaf_index_.get() + begin, leaf_index_.get() + end, kNone);
+  });
   in_two_halves(leaves_.size(), threaded_leaves_, [&](std::size_t begin, std::size_t end) {
     for (std::size_t k = begin; k < end; ++k) leaf_index_[leaves_[k]] = static_cast<std::uint32_t>(k);
   });
-  reserve_room(own_base_, leaves_.size());
-  reserve_room(own_mask_, leaves_.size());
-  own_base_.resize(leaves_.size());
-  own_mask_.resize(leaves_.size());
+  own_base_ = std::make_unique_for_overwrite<std::uint32_t[]>(leaves_.size());
+  own_mask_ = std::make_unique_for_overwrite<std::uint8_t[]>(leaves_.size());
+  west_south_ = std::make_unique_for_overwrite<std::array<std::uint32_t, 2>[]>(leaves_.size());
+  leaf_shape_ = std::make_unique_for_overwrite<std::uint16_t[]>(leaves_.size());
   // Which vertices each leaf owns (neighbour look-ups: two threads), then their ids by a prefix
   // sum in leaf order, then their positions (two threads).
   in_two_halves(leaves_.size(), threaded_leaves_, [&](std::size_t begin, std::size_t end) {
@@ -1235,11 +1257,15 @@ void Builder::number_vertices() {
       if (w != kNone && tree_.nodes[w].level == l && !tree_.is_leaf(w)) mask |= 1u << kOwnLeftMid;
       const std::uint32_t s = tree_.neighbour(a, 3);
       if (s != kNone && tree_.nodes[s].level == l && !tree_.is_leaf(s)) mask |= 1u << kOwnBottomMid;
+      west_south_[k] = {w, s};
       const bool top = n.iy + 1 == side, right = n.ix + 1 == side;
       if (top) mask |= 1u << kOwnUL;
       if (right) mask |= 1u << kOwnLR;
       if (top && right) mask |= 1u << kOwnUR;
       own_mask_[k] = static_cast<std::uint8_t>(mask);
+      const unsigned border = (n.iy == 0 ? 1u : 0u) | (right ? 2u : 0u) | (top ? 4u : 0u) | (n.ix == 0 ? 8u : 0u);
+      leaf_shape_[k] = static_cast<std::uint16_t>(l | ((mask >> kOwnLeftMid) & 1u) << 6 |
+                                                  ((mask >> kOwnBottomMid) & 1u) << 7 | border << 8);
     }
   });
   std::uint32_t next = 0;
@@ -1270,39 +1296,47 @@ void Builder::number_vertices() {
 }
 
 void Builder::build_loops() {
-  reserve_room(loops_, 8 * leaves_.size());
-  loops_.assign(8 * leaves_.size(), kNone);
+  for (auto& half : with_vertex_) half.clear();
+  loops_ = std::make_unique_for_overwrite<std::uint32_t[]>(8 * leaves_.size());
   std::vector<std::uint8_t> leaf_level(leaves_.size());
   in_two_halves(leaves_.size(), threaded_leaves_, [&](std::size_t begin, std::size_t end) {
+    auto& with_vertex = with_vertex_[begin == 0 ? 0 : 1];
     for (auto k = static_cast<std::uint32_t>(begin); k < end; ++k) {
       const std::uint32_t a = leaves_[k];
       const Node& n = tree_.nodes[a];
+      if (n.vertex != kNone) with_vertex.push_back(k);
       const unsigned l = n.level;
       leaf_level[k] = static_cast<std::uint8_t>(l);
       const std::int64_t side = std::int64_t{1} << l, ix = n.ix, iy = n.iy;
       const bool top = iy + 1 == side, right = ix + 1 == side;
       std::uint32_t* loop = &loops_[8 * std::size_t{k}];
+      std::fill(loop, loop + 8, kNone);
       loop[kBL] = own(k, kOwnLL);
       if ((own_mask_[k] >> kOwnBottomMid) & 1u) loop[kBottom] = own(k, kOwnBottomMid);
       if ((own_mask_[k] >> kOwnLeftMid) & 1u) loop[kLeft] = own(k, kOwnLeftMid);
-      loop[kBR] = right ? own(k, kOwnLR) : vertex_at(leaf_sw(tree_.neighbour(a, 0)), l, ix + 1, iy);
+      // The same-size cells east and north (each looked up once).
+      const std::uint32_t r = right ? kNone : tree_.neighbour(a, 0);
+      const std::uint32_t t = top ? kNone : tree_.neighbour(a, 1);
+      loop[kBR] = right ? own(k, kOwnLR) : vertex_at(leaf_sw(r), l, ix + 1, iy);
       if (top && right) {
         loop[kTR] = own(k, kOwnUR);
       } else if (top) {
         // The leaf to the east along the root's top border: (xR, yT) is its upper-left corner.
-        std::uint32_t d = tree_.neighbour(a, 0);
+        std::uint32_t d = r;
         while (!tree_.is_leaf(d)) d = tree_.nodes[d].child + 2;
         loop[kTR] = own(leaf_of(d), kOwnUL);
       } else if (right) {
-        std::uint32_t d = tree_.neighbour(a, 1);
+        std::uint32_t d = t;
         while (!tree_.is_leaf(d)) d = tree_.nodes[d].child + 1;
         loop[kTR] = own(leaf_of(d), kOwnLR);
       } else {
-        loop[kTR] = vertex_at(leaf_sw(tree_.cell_at(a, 1, 1)), l, ix + 1, iy + 1);
+        // (Tree::cell_at(a, 1, 1), from the east cell found above.)
+        const std::uint32_t ne =
+            tree_.nodes[r].level == l ? tree_.neighbour(r, 1) : tree_.find(r, l, ix + 1, iy + 1);
+        loop[kTR] = vertex_at(leaf_sw(ne), l, ix + 1, iy + 1);
       }
-      loop[kTL] = top ? own(k, kOwnUL) : vertex_at(leaf_sw(tree_.neighbour(a, 1)), l, ix, iy + 1);
+      loop[kTL] = top ? own(k, kOwnUL) : vertex_at(leaf_sw(t), l, ix, iy + 1);
       if (!right) {
-        const std::uint32_t r = tree_.neighbour(a, 0);
         if (tree_.nodes[r].level == l && !tree_.is_leaf(r)) {
           const std::uint32_t nw = tree_.nodes[r].child + 2;
           if (!tree_.is_leaf(nw)) throw RouteFailure{"unbalanced quadtree"};
@@ -1310,7 +1344,6 @@ void Builder::build_loops() {
         }
       }
       if (!top) {
-        const std::uint32_t t = tree_.neighbour(a, 1);
         if (tree_.nodes[t].level == l && !tree_.is_leaf(t)) {
           const std::uint32_t se = tree_.nodes[t].child + 1;
           if (!tree_.is_leaf(se)) throw RouteFailure{"unbalanced quadtree"};
@@ -1319,25 +1352,40 @@ void Builder::build_loops() {
       }
     }
   });
-  // The deepest and shallowest leaf level around each grid vertex: each thread takes one half of
-  // the vertices and reads every loop (the vertices of a loop belong to either half).
+  // The deepest and shallowest leaf level around each grid vertex: each thread reads the loops of
+  // one half of the leaves and updates the vertices those leaves own (ids are given in leaf
+  // order, so they are a range); the few vertices owned by a leaf of the other half, near where
+  // the halves meet, are set after both (max and min do not depend on the order).
   glevel_.assign(grid_count_, 0);
   gtop_.assign(grid_count_, 255);
   const std::size_t leaf_count = leaves_.size();
-  in_two_halves(grid_count_, threaded_leaves_, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t k = 0; k < leaf_count; ++k) {
+  std::array<std::vector<std::pair<std::uint32_t, std::uint8_t>>, 2> across_halves;
+  in_two_halves(leaf_count, threaded_leaves_, [&](std::size_t begin, std::size_t end) {
+    const std::uint32_t lo = own_base_[begin], hi = end == leaf_count ? grid_count_ : own_base_[end];
+    auto& later = across_halves[begin == 0 ? 0 : 1];
+    for (std::size_t k = begin; k < end; ++k) {
       const std::uint8_t l = leaf_level[k];
       const std::uint32_t* loop = &loops_[8 * k];
       for (unsigned s = 0; s < 8; ++s) {
         const std::uint32_t g = loop[s];
-        if (g == kNone || g < begin || g >= end) continue;
+        if (g == kNone) continue;
+        if (g < lo || g >= hi) {
+          later.emplace_back(g, l);
+          continue;
+        }
         glevel_[g] = std::max(glevel_[g], l);
         gtop_[g] = std::min(gtop_[g], l);
       }
     }
   });
-  std::vector<std::uint32_t>().swap(own_base_);
-  std::vector<std::uint8_t>().swap(own_mask_);
+  for (const auto& list : across_halves) {
+    for (const auto& [g, l] : list) {
+      glevel_[g] = std::max(glevel_[g], l);
+      gtop_[g] = std::min(gtop_[g], l);
+    }
+  }
+  own_base_.reset();
+  own_mask_.reset();
 }
 
 void Builder::warp() {
@@ -1347,23 +1395,26 @@ void Builder::warp() {
   gmoved_.assign(grid_count_, false);
   reserve_room(input_gv_, pts_.size());
   input_gv_.assign(pts_.size(), kNone);
-  // Each leaf knows the input vertex in its half-open square (at most one: the splitting rule).
-  for (std::uint32_t k = 0; k < leaves_.size(); ++k) {
-    const Node& n = tree_.nodes[leaves_[k]];
-    if (n.vertex == kNone) continue;
-    const VertexId v = tree_.vertex_id(n.vertex);
-    const Point& q = tree_.vertex_point(n.vertex);
-    unsigned qx = 0, qy = 0;
-    tree_.nearest_corner(n, q, qx, qy);
-    static constexpr unsigned kCornerSlot[2][2] = {{kBL, kTL}, {kBR, kTR}};  // [qx][qy]
-    const std::uint32_t g = loops_[8 * std::size_t{k} + kCornerSlot[qx][qy]];
-    if (gwarp_[g] != kNone || input_gv_[v] != kNone) throw RouteFailure{"two input vertices warp the same corner"};
-    gwarp_[g] = v;
-    gmoved_[g] = true;
-    gpos_[g] = q;
-    input_gv_[v] = g;
-    ++stats_.warped;
+  // Each leaf knows the input vertex in its half-open square (at most one: the splitting rule);
+  // build_loops() listed the leaves with one, in order.
+  for (const auto& half : with_vertex_) {
+    for (const std::uint32_t k : half) {
+      const Node& n = tree_.nodes[leaves_[k]];
+      const VertexId v = tree_.vertex_id(n.vertex);
+      const Point& q = tree_.vertex_point(n.vertex);
+      unsigned qx = 0, qy = 0;
+      tree_.nearest_corner(n, q, qx, qy);
+      static constexpr unsigned kCornerSlot[2][2] = {{kBL, kTL}, {kBR, kTR}};  // [qx][qy]
+      const std::uint32_t g = loops_[8 * std::size_t{k} + kCornerSlot[qx][qy]];
+      if (gwarp_[g] != kNone || input_gv_[v] != kNone) throw RouteFailure{"two input vertices warp the same corner"};
+      gwarp_[g] = v;
+      gmoved_[g] = true;
+      gpos_[g] = q;
+      input_gv_[v] = g;
+      ++stats_.warped;
+    }
   }
+  for (auto& half : with_vertex_) std::vector<std::uint32_t>().swap(half);
   for (VertexId v : in_.vertices) {
     if (input_gv_[v] == kNone) throw RouteFailure{"an input vertex lies in no leaf"};
   }
@@ -1621,6 +1672,14 @@ struct Builder::PreparedChunk {
   std::exception_ptr error;
 };
 
+// triangulate_cells(): what one thread collects while writing its chunks, joined in chunk order.
+struct Builder::EmitSink {
+  std::vector<Point> centres;
+  std::vector<Outer> outer;
+  std::vector<std::pair<Handle, std::uint32_t>> segment_edges;
+  std::size_t table_cells = 0, program_cells = 0;
+};
+
 void Builder::prepare_cells(const Mesh& mesh, PreparedChunk& out, std::uint32_t begin, std::uint32_t end,
                             std::size_t& next_crossing) const {
   auto pos = [&](std::uint32_t g) -> const Point& { return mesh.points[final_id_[g]]; };
@@ -1863,146 +1922,261 @@ void Builder::prepare_cells(const Mesh& mesh, PreparedChunk& out, std::uint32_t 
   }
 }
 
-void Builder::emit_cells(Mesh& mesh, const PreparedChunk& in) {
+// Writes the prepared cells of leaves [in.begin, end) at their places: triangles from `first`
+// (tris points at triangle 0), boundary edges from `first_bound` (bound points at bound_[0]),
+// centres numbered from centre_first; the centres, segment edges and counts go to `sink`.
+void Builder::emit_cells(const PreparedChunk& in, std::uint32_t end, Triangle* tris, TriangleId first,
+                         Handle* bound, std::uint32_t first_bound, VertexId centre_first, EmitSink& sink) {
   const auto& plain = plain_cells();
   std::size_t next_special = 0;
-  for (std::uint32_t k = in.begin; k < in.end; ++k) {
-    if (k == in.fail_leaf) std::rethrow_exception(in.error);
+  for (std::uint32_t k = in.begin; k < end; ++k) {
     const std::uint32_t* loop = &loops_[8 * std::size_t{k}];
-    cell_bound_[k].begin = static_cast<std::uint32_t>(bound_.size());
     const std::uint8_t kind = in.kind[k - in.begin];
-    const auto first = static_cast<TriangleId>(mesh.triangles.size());
+    Handle* cell_bound = bound + first_bound;
+    Triangle* out = tris + first;
     if (kind != kSpecialCell) {
       // Untouched square: the case table, with its adjacency.
       const PlainCell& c = plain[kind];
-      bound_.resize(bound_.size() + c.size);
-      Handle* bound = bound_.data() + cell_bound_[k].begin;
       for (unsigned i = 0; i < c.count; ++i) {
         Triangle t{{final_id_[loop[c.slots[c.tri[i][0]]]], final_id_[loop[c.slots[c.tri[i][1]]]],
                     final_id_[loop[c.slots[c.tri[i][2]]]]},
                    {kNone, kNone, kNone}};
         for (unsigned e = 0; e < 3; ++e) {
           if (c.boundary[i][e] >= 0) {
-            bound[c.boundary[i][e]] = make_handle(first + i, e);
+            cell_bound[c.boundary[i][e]] = make_handle(first + i, e);
           } else {
             t.n[e] = make_handle(first + c.twin[i][e] / 3u, c.twin[i][e] % 3u);
           }
         }
-        mesh.triangles.push_back(t);
+        out[i] = t;
       }
-      cell_bound_[k].sides = c.sides;
-      cell_bound_[k + 1].begin = static_cast<std::uint32_t>(bound_.size());
-      link_cell(mesh, k);
-      ++stats_.table_cells;
+      cell_bound_[k] = {first_bound, c.sides | (std::uint32_t{c.size} << 24)};
+      first += c.count;
+      first_bound += c.size;
+      ++sink.table_cells;
       continue;
     }
     const SpecialCell& cell = in.special[next_special++];
-    ++stats_.program_cells;
+    ++sink.program_cells;
     // The cell's centres become vertices after all grid vertices, in leaf order.
-    const auto centre_first = static_cast<VertexId>(centre_base_ + centre_points_.size());
-    for (std::uint32_t j = 0; j < cell.centre_count; ++j) centre_points_.push_back(in.centres[cell.centre_begin + j]);
-    stats_.centres += cell.centre_count;
-    const Tri* tris = in.tris.data() + cell.tri_begin;
+    for (std::uint32_t j = 0; j < cell.centre_count; ++j) sink.centres.push_back(in.centres[cell.centre_begin + j]);
+    const Tri* cell_tris = in.tris.data() + cell.tri_begin;
     const std::uint32_t* twin = in.twin.data() + 3 * std::size_t{cell.tri_begin};
     for (std::uint32_t i = 0; i < cell.tri_count; ++i) {
       Triangle t{{0, 0, 0}, {kNone, kNone, kNone}};
       for (unsigned c = 0; c < 3; ++c) {
-        const std::uint32_t g = tris[i][c];
+        const std::uint32_t g = cell_tris[i][c];
         t.v[c] = (g & kCentre) != 0 ? centre_first + (g & ~kCentre) : final_id_[g];
       }
       for (unsigned e = 0; e < 3; ++e) {
         const std::uint32_t w = twin[3 * i + e];
         if (w != kNone) t.n[e] = make_handle(first + w / 3u, w % 3u);
       }
-      mesh.triangles.push_back(t);
+      out[i] = t;
     }
-    bound_.resize(bound_.size() + cell.bound_count, kNone);
-    Handle* bound = bound_.data() + cell_bound_[k].begin;
     for (std::uint32_t q = 0; q < cell.bound_count; ++q) {
       const std::uint32_t b = in.bound_local[cell.bound_begin + q];
-      bound[q] = make_handle(first + b / 3u, b % 3u);
+      cell_bound[q] = make_handle(first + b / 3u, b % 3u);
     }
-    cell_bound_[k].sides = cell.sides;
-    cell_bound_[k + 1].begin = static_cast<std::uint32_t>(bound_.size());
-    link_cell(mesh, k);
+    cell_bound_[k] = {first_bound, cell.sides | (cell.bound_count << 24)};
     for (std::uint32_t s = 0; s < cell.segment_count; ++s) {
       const auto& [local_edge, segment] = in.segment_edges[cell.segment_begin + s];
-      segment_edges_.emplace_back(make_handle(first + local_edge / 3u, local_edge % 3u), segment);
+      sink.segment_edges.emplace_back(make_handle(first + local_edge / 3u, local_edge % 3u), segment);
     }
+    first += cell.tri_count;
+    first_bound += cell.bound_count;
+    centre_first += cell.centre_count;
   }
 }
 
-// Cells are triangulated in two steps: prepare_cells() computes each leaf's triangles, their
-// adjacency inside the cell and their exact checks (the dynamic program of the warped and cut cells
-// is most of the work); emit_cells() writes them into the mesh in leaf order and links each cell to
-// the earlier cells across its left and bottom sides. On a large tree the preparation runs on a
-// second thread a few chunks ahead of the emission; the chunks are emitted in order and the
-// preparation reads nothing the emission writes, so the output does not depend on the timing.
+// Cells are triangulated in chunks of leaves, each in three steps: prepare_cells() computes each
+// leaf's triangles, their adjacency inside the cell and their exact checks (the dynamic program of
+// the warped and cut cells is most of the work); emit_cells() writes them into the mesh at their
+// places; link_cell() links each cell to the cells across its left and bottom sides, which come
+// earlier in leaf order. The places are prefix sums in leaf order (triangles, boundary edges,
+// centres), so the ids are those of one pass over the leaves in order.
+//
+// On a large tree two threads take the chunks alternately (even, odd) and do all three steps for
+// theirs, so the writing (page faults included) is shared too. A chunk takes its places (and
+// extends the arrays within their room, zero-filling only its own range) when the chunk before it
+// has taken its own: a token passed in chunk order. A chunk is linked once every earlier chunk is
+// written (in practice after its thread has written its next chunk, so that the threads rarely
+// wait for each other): a link writes the neighbour slots of the two triangles of one shared edge,
+// each edge once, so the threads never write the same place. Per-chunk lists (centres, border
+// edges, segment edges) are joined in chunk order at the end. The output does not depend on the
+// timing. If a check fails or the room runs out, everything is redone on one thread, so the
+// reported failure is the first in leaf order, as in a single pass.
 void Builder::triangulate_cells(Mesh& mesh) {
   if (final_id_.size() >= kCentre) throw RouteFailure{"too many grid vertices"};
   const auto leaf_count = static_cast<std::uint32_t>(leaves_.size());
-  reserve_room(cell_bound_, leaves_.size() + 1);
-  cell_bound_.assign(leaves_.size() + 1, CellBound{});
-  bound_.clear();
-  reserve_room(bound_, leaves_.size() * 5);
-  outer_.clear();
-  reserve_room(mesh.triangles, leaves_.size() * 3);
-  centre_base_ = mesh.points.size();
-  centre_points_.clear();
   constexpr std::uint32_t kChunk = 4096;
   const std::uint32_t chunks = (leaf_count + kChunk - 1) / kChunk;
-  if (leaf_count < threaded_leaves_) {
-    PreparedChunk chunk;
-    std::size_t next_crossing = 0;
-    for (std::uint32_t c = 0; c < chunks; ++c) {
-      prepare_cells(mesh, chunk, c * kChunk, std::min(leaf_count, (c + 1) * kChunk), next_crossing);
-      emit_cells(mesh, chunk);
-    }
-  } else {
-    constexpr std::uint32_t kSlots = 4;
-    std::array<PreparedChunk, kSlots> slots;
-    std::atomic<std::uint32_t> prepared{0}, consumed{0};
+  const unsigned threads = leaf_count < threaded_leaves_ || chunks < 2 ? 1u : 2u;
+  cell_bound_ = std::make_unique_for_overwrite<CellBound[]>(leaves_.size());  // (written by emit_cells())
+  centre_base_ = mesh.points.size();
+  // Room (address space only until written) past what the cells need, about 2.5 triangles and 4.5
+  // boundary edges per leaf, so that the two threads can extend the arrays in place.
+  const std::size_t triangle_room = std::max(mesh.triangles.capacity(), leaves_.size() * 4);
+
+  auto attempt = [&](unsigned thread_count) {
+    mesh.triangles.clear();
+    reserve_room(mesh.triangles, triangle_room);
+    bound_.clear();
+    reserve_room(bound_, leaves_.size() * 6);
+    // Per chunk: its centres, border edges and segment edges (in its thread's sink).
+    std::vector<std::array<std::uint32_t, 3>> chunk_counts(chunks);
+    std::array<EmitSink, 2> sinks;
+    std::atomic<std::uint32_t> token{0};
+    std::array<std::atomic<std::uint32_t>, 2> written{};  // chunks each thread has written
     std::atomic<bool> stop{false};
-    {
-      std::jthread worker([&] {
-        std::size_t next_crossing = 0;
-        for (std::uint32_t c = 0; c < chunks; ++c) {
-          for (;;) {
-            const std::uint32_t done = consumed.load(std::memory_order_acquire);
-            if (stop.load(std::memory_order_acquire)) return;
-            if (c < done + kSlots) break;
-            consumed.wait(done, std::memory_order_acquire);
-          }
-          PreparedChunk& chunk = slots[c % kSlots];
-          prepare_cells(mesh, chunk, c * kChunk, std::min(leaf_count, (c + 1) * kChunk), next_crossing);
-          prepared.store(c + 1, std::memory_order_release);
-          prepared.notify_one();
-          if (chunk.error) return;
-        }
-      });
-      // Stops the worker (and lets it finish) when the emission throws.
-      struct Stopper {
-        std::atomic<bool>& stop;
-        std::atomic<std::uint32_t>& consumed;
-        ~Stopper() {
-          stop.store(true, std::memory_order_release);
-          consumed.fetch_add(kSlots, std::memory_order_acq_rel);
-          consumed.notify_one();
-        }
-      } stopper{stop, consumed};
-      for (std::uint32_t c = 0; c < chunks; ++c) {
-        for (;;) {
-          const std::uint32_t ready = prepared.load(std::memory_order_acquire);
-          if (ready > c) break;
-          prepared.wait(ready, std::memory_order_acquire);
-        }
-        emit_cells(mesh, slots[c % kSlots]);
-        consumed.store(c + 1, std::memory_order_release);
-        consumed.notify_one();
+    constexpr std::uint32_t kStopped = std::numeric_limits<std::uint32_t>::max();
+    // Shared under the token: the arrays' ends and bases.
+    std::size_t tri_end = 0, bound_end = 0, centre_end = 0;
+    Triangle* tri_base = mesh.triangles.data();
+    Handle* bound_base = bound_.data();
+    // The other thread u's chunks below chunk c.
+    auto below = [&](unsigned u, std::uint32_t c) -> std::uint32_t {
+      if (thread_count == 1) return 0;
+      return c > u ? (c - u + 1) / 2 : 0;
+    };
+    // Waits until `value` reaches `target` (false when stopped).
+    auto wait_for = [&](std::atomic<std::uint32_t>& value, std::uint32_t target) {
+      for (;;) {
+        const std::uint32_t v = value.load(std::memory_order_acquire);
+        if (stop.load(std::memory_order_acquire)) return false;
+        if (v >= target) return true;
+        value.wait(v, std::memory_order_acquire);
       }
+    };
+    auto work = [&](unsigned t) {
+      const auto& plain = plain_cells();
+      PreparedChunk chunk;
+      EmitSink& sink = sinks[t];
+      const unsigned u = 1 - t;
+      const bool alone = thread_count == 1;
+      // Links the leaves [begin, end) of chunk c, once every earlier chunk is written.
+      auto link = [&](std::uint32_t c, std::uint32_t begin, std::uint32_t end) {
+        if (!wait_for(written[u], below(u, c))) return false;
+        const std::size_t outer_before = sink.outer.size();
+        for (std::uint32_t k = begin; k < end; ++k) link_cell(mesh.points, tri_base, bound_base, k, sink);
+        chunk_counts[c][1] = static_cast<std::uint32_t>(sink.outer.size() - outer_before);
+        return true;
+      };
+      // On two threads a chunk is linked after the thread's next one is written, so that a
+      // thread rarely waits for the other.
+      std::uint32_t pending = kNone;
+      for (std::uint32_t c = t; c < chunks; c += thread_count) {
+        const std::uint32_t begin = c * kChunk, end = std::min(leaf_count, begin + kChunk);
+        std::size_t next_crossing = static_cast<std::size_t>(
+            std::lower_bound(crossings_.begin(), crossings_.end(), begin,
+                             [](const EdgeCrossing& x, std::uint32_t leaf) { return x.leaf < leaf; }) -
+            crossings_.begin());
+        prepare_cells(mesh, chunk, begin, end, next_crossing);
+        if (chunk.error && !alone) std::rethrow_exception(chunk.error);
+        // A failed preparation still writes and links the leaves before it (their failures come first).
+        const std::uint32_t limit = chunk.error ? chunk.fail_leaf : end;
+        std::size_t tri_count = 0, bound_count = 0;
+        for (std::uint32_t k = begin, j = 0; k < limit; ++k) {
+          const std::uint8_t kind = chunk.kind[k - begin];
+          if (kind != kSpecialCell) {
+            tri_count += plain[kind].count;
+            bound_count += plain[kind].size;
+          } else {
+            tri_count += chunk.special[j].tri_count;
+            bound_count += chunk.special[j].bound_count;
+            ++j;
+          }
+        }
+        std::size_t centre_count = 0;  // (a failed cell is not in chunk.special)
+        for (const SpecialCell& cell : chunk.special) centre_count += cell.centre_count;
+        // Take the places (growing the arrays past their room only on one thread).
+        if (!wait_for(token, c)) return;
+        if (tri_end + tri_count > mesh.triangles.capacity() || bound_end + bound_count > bound_.capacity()) {
+          if (!alone) throw RouteFailure{"out of room"};  // (redone on one thread)
+          mesh.triangles.reserve(std::max(tri_end + tri_count, mesh.triangles.capacity() / 2 * 3));
+          bound_.reserve(std::max(bound_end + bound_count, bound_.capacity() / 2 * 3));
+        }
+        const auto first = static_cast<TriangleId>(tri_end);
+        const auto first_bound = static_cast<std::uint32_t>(bound_end);
+        const auto centre_first = static_cast<VertexId>(centre_base_ + centre_end);
+        tri_end += tri_count;
+        bound_end += bound_count;
+        centre_end += centre_count;
+        if (tri_end >= kInfinite / 4 || bound_end >= kNone) throw RouteFailure{"too many triangles"};
+        mesh.triangles.resize(tri_end);
+        bound_.resize(bound_end);
+        if (alone) {
+          tri_base = mesh.triangles.data();
+          bound_base = bound_.data();
+        }
+        token.store(c + 1, std::memory_order_release);
+        token.notify_all();
+        const std::size_t centres_before = sink.centres.size(), segments_before = sink.segment_edges.size();
+        emit_cells(chunk, limit, tri_base, first, bound_base, first_bound, centre_first, sink);
+        chunk_counts[c][0] = static_cast<std::uint32_t>(sink.centres.size() - centres_before);
+        chunk_counts[c][2] = static_cast<std::uint32_t>(sink.segment_edges.size() - segments_before);
+        written[t].fetch_add(1, std::memory_order_acq_rel);
+        written[t].notify_all();
+        if (alone) {
+          link(c, begin, limit);
+          if (chunk.error) std::rethrow_exception(chunk.error);
+          continue;
+        }
+        if (pending != kNone && !link(pending, pending * kChunk, pending * kChunk + kChunk)) return;
+        pending = c;
+      }
+      if (pending != kNone) link(pending, pending * kChunk, std::min(leaf_count, pending * kChunk + kChunk));
+    };
+    if (thread_count == 1) {
+      work(0);
+    } else {
+      std::array<std::exception_ptr, 2> error;
+      auto guarded = [&](unsigned t) {
+        try {
+          work(t);
+        } catch (...) {
+          error[t] = std::current_exception();
+          stop.store(true, std::memory_order_seq_cst);
+          for (auto* a : {&token, &written[0], &written[1]}) {
+            a->store(kStopped, std::memory_order_seq_cst);
+            a->notify_all();
+          }
+        }
+      };
+      {
+        std::jthread worker([&] { guarded(1); });
+        guarded(0);
+      }
+      if (error[0] || error[1]) return false;
     }
-  }
-  cell_bound_[leaves_.size()].begin = static_cast<std::uint32_t>(bound_.size());
+    // Join the per-chunk lists in chunk order.
+    std::array<std::size_t, 2> at_centre{}, at_outer{}, at_segment{};
+    outer_.clear();
+    segment_edges_.clear();
+    centre_points_.clear();
+    for (std::uint32_t c = 0; c < chunks; ++c) {
+      const unsigned t = c % thread_count;
+      const EmitSink& s = sinks[t];
+      const auto [centres, outer, segments] = chunk_counts[c];
+      centre_points_.insert(centre_points_.end(), s.centres.begin() + static_cast<std::ptrdiff_t>(at_centre[t]),
+                            s.centres.begin() + static_cast<std::ptrdiff_t>(at_centre[t] + centres));
+      outer_.insert(outer_.end(), s.outer.begin() + static_cast<std::ptrdiff_t>(at_outer[t]),
+                    s.outer.begin() + static_cast<std::ptrdiff_t>(at_outer[t] + outer));
+      segment_edges_.insert(segment_edges_.end(), s.segment_edges.begin() + static_cast<std::ptrdiff_t>(at_segment[t]),
+                            s.segment_edges.begin() + static_cast<std::ptrdiff_t>(at_segment[t] + segments));
+      at_centre[t] += centres;
+      at_outer[t] += outer;
+      at_segment[t] += segments;
+    }
+    for (const EmitSink& s : sinks) {
+      stats_.table_cells += s.table_cells;
+      stats_.program_cells += s.program_cells;
+    }
+    stats_.centres += centre_points_.size();
+    return true;
+  };
+  // A failure on two threads: redo on one, which throws the first failure in leaf order.
+  if (!attempt(threads)) attempt(1);
   // The centres, after all grid vertices (their grid ids follow the grid's, as before).
   for (const Point& p : centre_points_) {
     gwarp_.push_back(kNone);
@@ -2011,26 +2185,29 @@ void Builder::triangulate_cells(Mesh& mesh) {
     final_id_.push_back(mesh.add_vertex(p, VertexKind::kSteiner, 0));
   }
   std::vector<Point>().swap(centre_points_);
+  west_south_.reset();
+  leaf_shape_.reset();
 }
 
 // Edges of leaf k on side `side` (0 bottom, 1 right, 2 top, 3 left), as a range in bound_.
 std::pair<std::uint32_t, std::uint32_t> Builder::side_range(std::uint32_t k, unsigned side) const {
-  const std::uint32_t begin = cell_bound_[k].begin, end = cell_bound_[k + 1].begin;
+  const std::uint32_t begin = cell_bound_[k].begin;
   const std::uint32_t s = cell_bound_[k].sides;
-  const std::uint32_t at[5] = {0, s & 0xFFu, (s >> 8) & 0xFFu, (s >> 16) & 0xFFu, end - begin};
+  const std::uint32_t at[5] = {0, s & 0xFFu, (s >> 8) & 0xFFu, (s >> 16) & 0xFFu, s >> 24};
   return {begin + at[side], begin + at[side + 1]};
 }
 
 // Links the bottom and left sides of leaf k to the leaves across them, which come earlier in
-// Morton order (the order is monotone in x and in y) and so are triangulated already; collects
-// the sides on the root's border for close_border().
-void Builder::link_cell(Mesh& mesh, std::uint32_t k) {
-  const std::uint32_t a = leaves_[k];
-  const Node& n = tree_.nodes[a];
-  const unsigned l = n.level;
-  const std::int64_t last = (std::int64_t{1} << l) - 1;
+// Morton order (the order is monotone in x and in y) and so are written already; collects the
+// sides on the root's border for close_border(). (Through the arrays' bases: another thread may
+// be growing them meanwhile, within their room.)
+void Builder::link_cell(const std::vector<Point>& points, Triangle* tris, const Handle* bound, std::uint32_t k,
+                        EmitSink& sink) const {
+  const unsigned shape = leaf_shape_[k];
   const double root = tree_.cell_size(0);
   const Point o{tree_.X(0, 0), tree_.Y(0, 0)};
+  auto org = [&](Handle h) { return tris[h >> 2].v[next3(h & 3)]; };
+  auto dest = [&](Handle h) { return tris[h >> 2].v[prev3(h & 3)]; };
   // Position along the root's border, counter-clockwise from its lower-left corner.
   auto perimeter = [&](const Point& p, unsigned side) {
     switch (side) {
@@ -2042,19 +2219,19 @@ void Builder::link_cell(Mesh& mesh, std::uint32_t k) {
   };
   std::uint32_t across[2];
   for (unsigned side = 0; side < 4; ++side) {
-    const bool border = side == 0 ? n.iy == 0 : side == 1 ? n.ix == last : side == 2 ? n.iy == last : n.ix == 0;
+    const bool border = ((shape >> (8 + side)) & 1u) != 0;
     const auto [begin, end] = side_range(k, side);
     if (border) {
       for (std::uint32_t q = begin; q < end; ++q) {
-        outer_.push_back({perimeter(mesh.points[mesh.org(bound_[q])], side), bound_[q]});
+        sink.outer.push_back({perimeter(points[org(bound[q])], side), bound[q]});
       }
       continue;
     }
     // Each shared side is linked once, from the leaf on its right or top (sides left, bottom).
     if (side != 0 && side != 3) continue;
-    const std::uint32_t r = tree_.neighbour(a, side == 0 ? 3u : 2u);
+    const std::uint32_t r = west_south_[k][side == 0 ? 1 : 0];
     std::size_t count = 0;
-    if (tree_.nodes[r].level == l && !tree_.is_leaf(r)) {
+    if (((shape >> (side == 0 ? 7 : 6)) & 1u) != 0) {  // a split cell of the same size: two leaves
       const std::uint32_t c = tree_.nodes[r].child;
       if (side == 3) {
         across[0] = c + 1;  // east column of the finer neighbour
@@ -2070,18 +2247,18 @@ void Builder::link_cell(Mesh& mesh, std::uint32_t k) {
     }
     const unsigned opposite = side == 3 ? 1u : 2u;
     for (std::uint32_t q = begin; q < end; ++q) {
-      const Handle h = bound_[q];
-      const VertexId from = mesh.org(h), to = mesh.dest(h);
+      const Handle h = bound[q];
+      const VertexId from = org(h), to = dest(h);
       bool linked = false;
       for (std::size_t c = 0; c < count && !linked; ++c) {
         const std::uint32_t other = leaf_of(across[c]);
         if (other == kNone || other >= k) throw RouteFailure{"unbalanced quadtree"};
         const auto [ob, oe] = side_range(other, opposite);
         for (std::uint32_t p = ob; p < oe; ++p) {
-          const Handle g = bound_[p];
-          if (mesh.org(g) == to && mesh.dest(g) == from) {
-            mesh.triangles[h >> 2].n[h & 3] = g;
-            mesh.triangles[g >> 2].n[g & 3] = h;
+          const Handle g = bound[p];
+          if (org(g) == to && dest(g) == from) {
+            tris[h >> 2].n[h & 3] = g;
+            tris[g >> 2].n[g & 3] = h;
             linked = true;
             break;
           }
@@ -2257,7 +2434,7 @@ Mesh Builder::run(const std::vector<Point>& holes) {
 std::vector<Point> Builder::fallback_points() const {
   // Grid corners away from every feature: at least a quarter of their smallest leaf from it.
   std::vector<Point> out;
-  if (loops_.empty()) return out;
+  if (!loops_ || glevel_.size() != grid_count_) return out;
   std::vector<char> near(grid_count_, 0);
   for (std::uint32_t k = 0; k < leaves_.size(); ++k) {
     const Node& n = tree_.nodes[leaves_[k]];
