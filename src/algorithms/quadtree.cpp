@@ -750,6 +750,11 @@ class Tree {
     if (ox == 0) return neighbour(a, oy > 0 ? 1u : 3u);
     const std::uint32_t side = neighbour(a, ox > 0 ? 0u : 2u);
     if (side == kNone) return kNone;
+    return diagonal(a, side, ox, oy);
+  }
+  // cell_at(a, ox, oy) for a diagonal (|ox| = |oy| = 1), given side = neighbour(a, east or west as
+  // ox says): the same-size neighbour of side, or found from side when side is a coarser leaf.
+  std::uint32_t diagonal(std::uint32_t a, std::uint32_t side, int ox, int oy) const {
     const Node& n = nodes[a];
     if (nodes[side].level == n.level) return neighbour(side, oy > 0 ? 1u : 3u);
     return find(side, n.level, n.ix + ox, n.iy + oy);
@@ -853,8 +858,7 @@ class Tree {
       const std::uint32_t side = edge[dx > 0 ? 0u : 2u];
       if (side == kNone) continue;
       for (const int dy : {1, -1}) {
-        const std::uint32_t b = nodes[side].level == n.level ? neighbour(side, dy > 0 ? 1u : 3u)
-                                                                 : find(side, n.level, n.ix + dx, n.iy + dy);
+        const std::uint32_t b = diagonal(a, side, dx, dy);
         if (b != kNone && is_leaf(b)) work_.push_back(b);
       }
     }
@@ -1363,9 +1367,7 @@ void Builder::build_loops() {
         loop[kTR] = own(leaf_of(d), kOwnLR);
       } else {
         // (Tree::cell_at(a, 1, 1), from the east cell found above.)
-        const std::uint32_t ne =
-            tree_.nodes[r].level == l ? tree_.neighbour(r, 1) : tree_.find(r, l, ix + 1, iy + 1);
-        loop[kTR] = vertex_at(leaf_sw(ne), l, ix + 1, iy + 1);
+        loop[kTR] = vertex_at(leaf_sw(tree_.diagonal(a, r, 1, 1)), l, ix + 1, iy + 1);
       }
       loop[kTL] = top ? own(k, kOwnUL) : vertex_at(leaf_sw(t), l, ix, iy + 1);
       if (!right) {
@@ -2561,21 +2563,18 @@ Mesh quadtree_refinement(const Pslg& pslg, const QuadtreeOptions& options, Quadt
     tree.build();
     tree.finish();
     stats.seconds_tree = seconds_since(t1);
-    // Leaf statistics (counts in two halves unless the leaves are kept, in node order).
+    // Leaf statistics: counted, not scanned (every split turns one leaf into four, and the
+    // deepest node is a leaf); the leaves themselves only when asked, in node order.
+    stats.leaves = tree.leaf_count();
+    stats.depth = tree.deepest();
     if (options.keep_leaves) {
       for (std::uint32_t a = 0; a < tree.nodes.size(); ++a) {
         if (!tree.is_leaf(a)) continue;
-        ++stats.leaves;
         const Node& n = tree.nodes[a];
-        stats.depth = std::max(stats.depth, static_cast<unsigned>(n.level));
         const Box b = tree.box(n);
         stats.leaf_cells.push_back({b.x1, b.y1, b.x2 - b.x1,
                                     tree.meets_any(n, tree.features.data() + n.feat_begin, n.feat_count)});
       }
-    } else {
-      // (Counted, not scanned: every split turns one leaf into four, and the deepest node is a leaf.)
-      stats.leaves = tree.leaf_count();
-      stats.depth = tree.deepest();
     }
     Builder builder(in, options, stats, tree);
     try {
