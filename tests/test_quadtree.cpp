@@ -579,14 +579,21 @@ TEST(Quadtree, PointLeavesAreAloneInTheirHalfGrownCell) {
 
 TEST(Quadtree, PointSetsWithDegeneracies) {
   // Grids (every cell corner cocircular, many collinear hull points), exactly cocircular points,
-  // points on a few lines, duplicates, tiny and huge scales.
-  std::vector<Pslg> inputs(6);
+  // points on a few lines, duplicates, tiny and huge scales, and a hull with a long vertical edge
+  // full of points and hundreds of vertices on an arc, around interior points.
+  std::vector<Pslg> inputs(7);
   inputs[0].points = test::grid_points(17, 11, 1);
   inputs[1].points = test::cocircular_lattice_points(3);
   inputs[2].points = test::points_on_lines(400, 5, 2);
   inputs[3].points = test::with_duplicates(test::uniform_points(300, 3), 40, 3);
   inputs[4].points = test::scaled_pow2(test::uniform_points(300, 4), -80);
   inputs[5].points = test::scaled(test::kuzmin_points(300, 5), 1e12);
+  for (int k = 0; k < 60; ++k) inputs[6].points.push_back({0.0, static_cast<double>(k)});
+  for (int k = 1; k < 300; ++k) {
+    const double a = 3.141592653589793 * k / 300.0;
+    inputs[6].points.push_back({29.5 * std::sin(a), 29.5 - 29.5 * std::cos(a)});
+  }
+  for (const Point& q : test::uniform_points(200, 6)) inputs[6].points.push_back({1.0 + 20.0 * q.x, 10.0 + 30.0 * q.y});
   for (std::size_t i = 0; i < inputs.size(); ++i) {
     SCOPED_TRACE("input " + std::to_string(i));
     const Result r = run(inputs[i]);

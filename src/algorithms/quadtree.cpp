@@ -41,14 +41,15 @@
 //    checks, adjacency inside the cell), writing and linking its own: a chunk takes its places in
 //    the arrays when the one before it has taken its own, and is linked once all earlier chunks
 //    are written (see triangulate_cells()).
-// The balance / warp work list itself stays sequential: its result depends on its order. (An
-// order-free variant was measured: with the warp rule's coarse half read as "a node that held the
-// vertex, split or not, keeps its claim on the cells around its corner", the rules are monotone
-// and their least fixed point can be found in parallel rounds — check a set of nodes, apply all
-// the splits asked for, check what they touched. Its trees equalled these on the 13 data sets
-// and had one more split at a million uniform points, but the rounds cost 1.4–1.5 times the CPU
-// of this list, whose last-in-first-out order keeps what it touches in cache (4.0–4.4 s against
-// 2.6–3.1 s at a million points), and were no faster in wall time on a shared two-core machine.)
+//  - the balance / warp work list runs as two lanes, the west and the east half of the root, each
+//    with its own block of the arrays; a lane defers the leaves whose check would reach across the
+//    midline, and one lane over the whole tree finishes them after the blocks are joined (see
+//    finish()). The list's result depends on its order, and this order is the same with one thread.
+//    (An order-free variant was measured: with the warp rule's coarse half read as "a node that
+//    held the vertex, split or not, keeps its claim on the cells around its corner", the rules are
+//    monotone and their least fixed point can be found in parallel rounds — check a set of nodes,
+//    apply all the splits asked for, check what they touched. Its rounds cost 1.4–1.5 times the
+//    CPU of a last-in-first-out list, which keeps what it touches in cache.)
 //
 // Robustness: all sign decisions are exact (orient2d); constructed points (warped corners moved
 // onto segments, crossing points) are rounded once. Every cell triangulation is checked exactly
@@ -70,6 +71,7 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <type_traits>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -82,10 +84,32 @@ namespace {
 
 // Reserves room for n elements up front: the big arrays are written once, and growing them by
 // doubling would copy them (and touch their pages twice).
-template <class T>
-void reserve_room(std::vector<T>& v, std::size_t n) {
+template <class T, class Allocator>
+void reserve_room(std::vector<T, Allocator>& v, std::size_t n) {
   v.reserve(n);
 }
+
+// An allocator whose resize() leaves new elements unwritten, for arrays of trivially copyable
+// aggregates that are always filled before they are read: the tree's arrays are sized up front
+// for the two lanes of Tree::finish(), and writing their unused room would touch gigabytes.
+template <class T>
+struct UninitializedAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = UninitializedAllocator<U>;
+  };
+  UninitializedAllocator() = default;
+  template <class U>
+  UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}  // NOLINT: rebinding
+  template <class U>
+  void construct(U*) noexcept {
+    static_assert(std::is_trivially_copyable_v<U>);
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
 
 using Clock = std::chrono::steady_clock;
 // Set bits of a byte (std::popcount compiles to a library call without -mpopcnt).
@@ -288,6 +312,12 @@ CleanInput clean_point_set(const Pslg& pslg) {
   std::vector<char> is_hull(n, 0);
   for (VertexId v : hull) is_hull[v] = 1;
   const std::size_t lower_edges = lower.size() - 1;
+  // The vertical hull edges: at most two, at the smallest and the largest x (found once: a scan of
+  // the hull per point would be quadratic when many points lie on it).
+  std::vector<std::size_t> vertical;
+  for (std::size_t e = 0; e < hull.size(); ++e) {
+    if (p[hull[e]].x == p[hull[(e + 1) % hull.size()]].x) vertical.push_back(e);
+  }
   auto between = [&](const Point& a, const Point& b, const Point& x) {
     // x is collinear with a and b: strictly between them along the dominant axis (exact).
     if (a.x != b.x) return (a.x < x.x && x.x < b.x) || (b.x < x.x && x.x < a.x);
@@ -329,8 +359,8 @@ CleanInput clean_point_set(const Pslg& pslg) {
       if (lo + 1 < hull.size() && test(lo + 1)) continue;
     }
     // Vertical edges at the extreme x (both ends share x).
-    for (std::size_t e = 0; e < hull.size(); ++e) {
-      if (p[hull[e]].x == x.x && p[hull[(e + 1) % hull.size()]].x == x.x && test(e)) break;
+    for (const std::size_t e : vertical) {
+      if (p[hull[e]].x == x.x && test(e)) break;
     }
   }
   for (std::size_t e = 0; e < hull.size(); ++e) {
@@ -819,16 +849,74 @@ class Tree {
     qy = q.y >= Y(n.iy * 2 + 1, n.level + 1u) ? 1u : 0u;
   }
 
+  // finish() works through lanes: a lane is a work list with its own room in the node, hint and
+  // feature arrays. The two region lanes hold the leaves of the west and of the east half of the
+  // root and run at the same time; a region lane never reads or writes a node of the other half,
+  // so their runs do not depend on each other's timing (see finish()).
+  struct Lane {
+    int region = -1;  // 0 west half, 1 east half; -1 the whole tree (the arrays grow as needed)
+    std::vector<std::uint32_t> work;
+    std::vector<std::uint32_t> deferred;  // leaves whose check needs the other half (or more room)
+    std::array<std::vector<std::uint32_t>, 4> lists;  // split(): the children's feature lists
+    std::uint32_t node_begin = 0, node_next = 0, node_end = 0;  // region lanes: their block of node ids
+    std::size_t feature_next = 0, feature_end = 0;     //   and of feature list entries
+    bool full = false;                                 // a split found no room: stop the lane
+    std::vector<std::uint32_t> split_before;           // split nodes made before the lane's block
+    std::size_t splits_feature = 0, splits_balance = 0, splits_warp = 0;
+    unsigned deepest = 0;
+  };
+
+  // Is the cell in the column next to the line that halves the root? Its same-size neighbours
+  // (the only cells check() and split() reach from it) may lie in the other half.
+  static bool on_midline(const Node& n) {
+    if (n.level == 0) return true;
+    const std::int64_t half = std::int64_t{1} << (n.level - 1u);
+    return n.ix == half - 1 || n.ix == half;
+  }
+  // The half of the root (0 west, 1 east) a cell at level ≥ 1 lies in.
+  static int region_of(const Node& n) { return n.level == 0 ? -1 : static_cast<int>((n.ix >> (n.level - 1u)) & 1); }
+
+  // May the lane split leaf b? A region lane splits only cells off the midline, within its room.
+  bool may_split(Lane& lane, std::uint32_t b) {
+    if (lane.region < 0) return true;
+    const Node& n = nodes[b];
+    if (on_midline(n)) return false;
+    if (lane.node_next + 4u > lane.node_end || lane.feature_next + 4u * std::size_t{n.feat_count} > lane.feature_end) {
+      lane.full = true;
+      return false;
+    }
+    return true;
+  }
+
   // Splits leaf a; children get the features of a's list that meet their extended cells.
-  void split(std::uint32_t a) {
+  void split(std::uint32_t a, Lane& lane) {
     const Node n = nodes[a];
-    auto& lists = lists_;
+    auto& lists = lane.lists;
     for (auto& list : lists) list.clear();
-    // (The parent's list is read in place: filtering writes only to lists_.)
+    // (The parent's list is read in place: filtering writes only to the lane's lists.)
     filter_children(n, features.data() + n.feat_begin, n.feat_count, lists);
-    const auto first = static_cast<std::uint32_t>(nodes.size());
+    std::size_t list_total = 0;
+    for (const auto& list : lists) list_total += list.size();
+    std::uint32_t first = 0;
+    std::size_t place = 0;
+    if (lane.region < 0) {
+      if (nodes.size() + 4u >= kNone || features.size() + list_total > std::numeric_limits<std::uint32_t>::max()) {
+        throw RouteFailure{"too many quadtree nodes"};
+      }
+      first = static_cast<std::uint32_t>(nodes.size());
+      nodes.resize(first + 4u);
+      hint_.resize(first + 4u);
+      place = features.size();
+      features.resize(place + list_total);
+    } else {
+      first = lane.node_next;
+      lane.node_next += 4u;
+      place = lane.feature_next;
+      lane.feature_next += list_total;
+    }
     nodes[a].child = first;
-    deepest_ = std::max(deepest_, n.level + 1u);
+    if (lane.region >= 0 && a < lane.node_begin) lane.split_before.push_back(a);
+    lane.deepest = std::max(lane.deepest, n.level + 1u);
     for (unsigned k = 0; k < 4; ++k) {
       Node c;
       c.ix = 2 * n.ix + (k & 1);
@@ -836,54 +924,64 @@ class Tree {
       c.parent = a;
       c.level = static_cast<std::uint8_t>(n.level + 1);
       c.state = kFresh;
-      c.feat_begin = static_cast<std::uint32_t>(features.size());
+      c.feat_begin = static_cast<std::uint32_t>(place);
       c.feat_count = static_cast<std::uint32_t>(lists[k].size());
-      features.insert(features.end(), lists[k].begin(), lists[k].end());
+      std::copy(lists[k].begin(), lists[k].end(), features.begin() + static_cast<std::ptrdiff_t>(place));
+      place += lists[k].size();
       c.vertex = vertex_in(c, lists[k].data(), lists[k].size());
-      nodes.push_back(c);
-      work_.push_back(first + k);
+      nodes[first + k] = c;
+      lane.work.push_back(first + k);
     }
     // a's edge neighbours, for the children's hints and for the look below (the children lie
     // inside a, so they change none of them).
     const std::array<std::uint32_t, 4> edge = edge_neighbours(a);
-    if (hint_.size() < nodes.size()) hint_.resize(nodes.size());
     set_child_hints(a, edge);
     // Leaves around a may now break balance or the warp rule: look at them again (the edge
     // neighbours, then the diagonal ones, found from the east and west neighbours).
     for (unsigned d = 0; d < 4; ++d) {
       const std::uint32_t b = edge[d];
-      if (b != kNone && is_leaf(b)) work_.push_back(b);
+      if (b != kNone && is_leaf(b)) lane.work.push_back(b);
     }
     for (const int dx : {1, -1}) {
       const std::uint32_t side = edge[dx > 0 ? 0u : 2u];
       if (side == kNone) continue;
       for (const int dy : {1, -1}) {
         const std::uint32_t b = diagonal(a, side, dx, dy);
-        if (b != kNone && is_leaf(b)) work_.push_back(b);
+        if (b != kNone && is_leaf(b)) lane.work.push_back(b);
       }
     }
   }
 
   // Checks leaf a against the feature rule (if fresh), balance and the warp rule, splitting what
-  // must be split. Returns true if something was split.
-  bool check(std::uint32_t a) {
-    if (!is_leaf(a)) return false;
-    Node& n = nodes[a];
-    const unsigned l = n.level;
-    if (n.state & kFresh) {
-      n.state = static_cast<std::uint8_t>(n.state & ~kFresh);
+  // must be split. A region lane defers a (leaves it for the whole-tree lane) where that would
+  // reach across the midline or past its room.
+  void check(std::uint32_t a, Lane& lane) {
+    if (!is_leaf(a)) return;
+    if (lane.region >= 0 && on_midline(nodes[a])) {
+      lane.deferred.push_back(a);
+      return;
+    }
+    const unsigned l = nodes[a].level;
+    if (nodes[a].state & kFresh) {
+      const Node& n = nodes[a];
       if (l < max_level_ && feature_split(n, features.data() + n.feat_begin, n.feat_count)) {
-        ++stats_.splits_feature;
-        split(a);
-        return true;
+        if (!may_split(lane, a)) {
+          lane.deferred.push_back(a);
+          return;
+        }
+        nodes[a].state = static_cast<std::uint8_t>(nodes[a].state & ~kFresh);
+        ++lane.splits_feature;
+        split(a, lane);
+        return;
       }
+      nodes[a].state = static_cast<std::uint8_t>(nodes[a].state & ~kFresh);
     }
     bool changed = false;
     // Balance: an edge neighbour more than one level coarser is split. Two of a's edge neighbours
     // are its siblings (never coarser); across the other two, the hint covers the parent's
     // neighbour cell, and a hint at level l − 1 already proves the neighbour fine enough.
-    const bool odd_x = (n.ix & 1) != 0, odd_y = (n.iy & 1) != 0;  // (n may move when b splits)
-    const std::uint8_t state = n.state;
+    const bool odd_x = (nodes[a].ix & 1) != 0, odd_y = (nodes[a].iy & 1) != 0;  // (nodes may move when b splits)
+    const std::uint8_t state = nodes[a].state;
     for (unsigned d = 0; d < 4; ++d) {
       if (l == 0) break;
       const bool sibling = d == 0 ? !odd_x : d == 2 ? odd_x : d == 1 ? !odd_y : odd_y;
@@ -892,13 +990,17 @@ class Tree {
       if (h == kNone || nodes[h].level + 1u >= l) continue;
       const std::uint32_t b = neighbour(a, d);
       if (b != kNone && nodes[b].level + 1u < l) {
-        ++stats_.splits_balance;
-        split(b);
-        work_.push_back(a);
+        if (!may_split(lane, b)) {
+          lane.deferred.push_back(a);
+          return;
+        }
+        ++lane.splits_balance;
+        split(b, lane);
+        lane.work.push_back(a);
         changed = true;
       }
     }
-    if (changed) return true;
+    if (changed) return;
     // Warp rule: the four leaves around the corner the vertex will move have a's size. A finer
     // one means a is split (the vertex gets a smaller leaf); a coarser one is split itself.
     const std::uint32_t v = nodes[a].vertex;
@@ -911,20 +1013,47 @@ class Tree {
           const std::uint32_t b = cell_at(a, static_cast<int>(qx) + dx, static_cast<int>(qy) + dy);
           if (b == kNone || b == a) continue;
           if (nodes[b].level < l) {
-            ++stats_.splits_warp;
-            split(b);
-            work_.push_back(a);
-            return true;
+            if (!may_split(lane, b)) {
+              lane.deferred.push_back(a);
+              return;
+            }
+            ++lane.splits_warp;
+            split(b, lane);
+            lane.work.push_back(a);
+            return;
           }
           if (is_leaf(b)) continue;
-          if (l >= max_level_) return false;  // counted by count_unresolved()
-          ++stats_.splits_warp;
-          split(a);
-          return true;
+          if (l >= max_level_) return;  // counted by count_unresolved()
+          if (!may_split(lane, a)) {
+            lane.deferred.push_back(a);
+            return;
+          }
+          ++lane.splits_warp;
+          split(a, lane);
+          return;
         }
       }
     }
-    return false;
+  }
+
+  // Works through the lane's list, last in first out (what it touches stays in cache). A region
+  // lane that runs out of room defers the rest of its list.
+  void run(Lane& lane) {
+    while (!lane.work.empty()) {
+      if (lane.full) {
+        lane.deferred.insert(lane.deferred.end(), lane.work.begin(), lane.work.end());
+        lane.work.clear();
+        break;
+      }
+      const std::uint32_t a = lane.work.back();
+      lane.work.pop_back();
+      // (Most checks pass after a few reads: the next leaf's node and hints are fetched early.)
+      if (!lane.work.empty()) {
+        __builtin_prefetch(&nodes[lane.work.back()]);
+        __builtin_prefetch(&hint_[lane.work.back()]);
+      }
+      check(a, lane);
+    }
   }
 
   // Would check(a) split anything now? (The same tests, read only.)
@@ -960,6 +1089,15 @@ class Tree {
   }
 
   // Balance and warp rule, to a fixed point.
+  //
+  // The work list's result depends on its order (the warp rule can ask for a split that a later
+  // split would have made unnecessary), so the order is fixed whatever the number of threads:
+  // first the west lane and the east lane, each with the leaves of its half of the root; a region
+  // lane reads and writes only nodes of its half (and the root), defers every leaf whose check
+  // would reach across the midline (a cell in the column next to it, or a split of one), and
+  // allocates in its own block of the arrays; then the blocks are joined and one lane over the
+  // whole tree works through the deferred leaves. The two region lanes run at the same time on
+  // large inputs and one after the other on small ones; the tree is the same.
   void finish() {
     // The first round checks every leaf, and almost all pass: that round is done as a read-only
     // scan in two halves on two threads, and only the leaves that fail it are queued, in the same
@@ -973,27 +1111,104 @@ class Tree {
         fails[a] = is_leaf(a) && fails_check(a) ? 1 : 0;
       }
     });
-    reserve_room(work_, nodes.size());
+    // Each region lane gets room for as many nodes and list entries as the tree has now (a
+    // uniform point set needs about 0.7 of that in the busier half; a lane that runs out defers
+    // the rest of its list). The room is never written unless used.
+    const std::size_t feature_count = features.size();
+    const std::size_t id_limit = std::numeric_limits<std::uint32_t>::max() - 8u;
+    const std::size_t node_room = std::min<std::size_t>(node_count + 64u, (id_limit - node_count) / 2) / 4 * 4;
+    const std::size_t feature_room = std::min<std::size_t>(feature_count + 256u, (id_limit - feature_count) / 2);
+    nodes.resize(node_count + 2 * node_room);
+    hint_.resize(node_count + 2 * node_room);
+    features.resize(feature_count + 2 * feature_room);
+    std::array<Lane, 2> lanes;
+    for (unsigned r = 0; r < 2; ++r) {
+      Lane& lane = lanes[r];
+      lane.region = static_cast<int>(r);
+      lane.node_begin = static_cast<std::uint32_t>(node_count + r * node_room);
+      lane.node_next = lane.node_begin;
+      lane.node_end = static_cast<std::uint32_t>(lane.node_next + node_room);
+      lane.feature_next = feature_count + r * feature_room;
+      lane.feature_end = lane.feature_next + feature_room;
+      reserve_room(lane.work, node_count / 2 + 64);
+    }
     for (std::uint32_t a = 0; a < node_count; ++a) {
-      if (fails[a]) work_.push_back(a);
+      if (!fails[a]) continue;
+      const int region = region_of(nodes[a]);
+      if (region < 0) {
+        lanes[0].deferred.push_back(a);
+      } else {
+        lanes[static_cast<unsigned>(region)].work.push_back(a);
+      }
     }
     std::vector<std::uint8_t>().swap(fails);
-    // The work list is complete: a balance violation needs a new leaf (each new leaf is
+    // The work lists are complete: a balance violation needs a new leaf (each new leaf is
     // queued), and a warp-rule violation needs a split next to the vertex's leaf (the leaves
-    // around every split node are queued).
-    while (!work_.empty()) {
-      const std::uint32_t a = work_.back();
-      work_.pop_back();
-      // (Most checks pass after a few reads: the next leaf's node and hints are fetched early.)
-      if (!work_.empty()) {
-        __builtin_prefetch(&nodes[work_.back()]);
-        __builtin_prefetch(&hint_[work_.back()]);
-      }
-      check(a);
+    // around every split node are queued); a deferred leaf stays queued for the last lane.
+    const std::size_t threshold = node_count >= threaded_nodes_ ? 0 : std::numeric_limits<std::size_t>::max();
+    in_two_halves(2, threshold, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t r = begin; r < end; ++r) run(lanes[r]);
+    });
+    join_lanes(node_count, feature_count, node_room, feature_room, lanes);
+    Lane whole;
+    whole.work = std::move(lanes[0].deferred);
+    whole.work.insert(whole.work.end(), lanes[1].deferred.begin(), lanes[1].deferred.end());
+    run(whole);
+    for (const Lane* lane : {&lanes[0], &lanes[1], &whole}) {
+      stats_.splits_feature += lane->splits_feature;
+      stats_.splits_balance += lane->splits_balance;
+      stats_.splits_warp += lane->splits_warp;
+      deepest_ = std::max(deepest_, lane->deepest);
     }
     stats_.unresolved = count_unresolved();
     // (The nodes stay in creation order, breadth first and then split by split: copying them depth
     // first for locality cost more than it saved later, 1.0–1.5 s of 14 at a million points.)
+  }
+
+  // After the region lanes: moves the east lane's block of nodes and list entries down to follow
+  // the west lane's, renumbering the references into it on the way, and trims the arrays. Only
+  // the east lane's nodes and the older nodes it split (their child) refer to its block: the
+  // west lane's hints point into its own half, and older nodes' hints are older nodes.
+  void join_lanes(std::size_t node_count, std::size_t feature_count, std::size_t node_room, std::size_t feature_room,
+                  std::array<Lane, 2>& lanes) {
+    const std::size_t used0 = lanes[0].node_next - node_count;
+    const std::size_t base1 = lanes[1].node_begin;
+    const std::size_t used1 = lanes[1].node_next - base1;
+    const std::size_t shift = node_room - used0;
+    const std::size_t feature_used0 = lanes[0].feature_next - feature_count;
+    const std::size_t feature_base1 = feature_count + feature_room;
+    const std::size_t feature_used1 = lanes[1].feature_next - feature_base1;
+    const auto feature_shift = static_cast<std::uint32_t>(feature_room - feature_used0);
+    const auto renumber = [&](std::uint32_t& id) {
+      if (id != kNone && id >= base1) id -= static_cast<std::uint32_t>(shift);
+    };
+    // In rounds of `shift` nodes, so that no round writes where it or a later one still reads;
+    // each round in two halves.
+    for (std::size_t round = 0; shift > 0 && round < used1; round += shift) {
+      const std::size_t count = std::min(shift, used1 - round);
+      in_two_halves(count, threaded_nodes_, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = round + begin; i < round + end; ++i) {
+          Node n = nodes[base1 + i];
+          renumber(n.parent);
+          renumber(n.child);
+          n.feat_begin -= feature_shift;
+          std::array<std::uint32_t, 4> h = hint_[base1 + i];
+          for (std::uint32_t& id : h) renumber(id);
+          nodes[base1 + i - shift] = n;
+          hint_[base1 + i - shift] = h;
+        }
+      });
+    }
+    for (const std::uint32_t a : lanes[1].split_before) renumber(nodes[a].child);
+    std::copy(features.begin() + static_cast<std::ptrdiff_t>(feature_base1),
+              features.begin() + static_cast<std::ptrdiff_t>(feature_base1 + feature_used1),
+              features.begin() + static_cast<std::ptrdiff_t>(feature_count + feature_used0));
+    nodes.resize(node_count + used0 + used1);
+    hint_.resize(node_count + used0 + used1);
+    features.resize(feature_count + feature_used0 + feature_used1);
+    for (Lane& lane : lanes) {
+      for (std::uint32_t& id : lane.deferred) renumber(id);
+    }
   }
 
   // Leaves at the deepest level that still break the feature rule or the warp rule.
@@ -1065,8 +1280,8 @@ class Tree {
   std::size_t leaf_count() const { return (nodes.size() - 1) / 4 * 3 + 1; }
   unsigned deepest() const { return deepest_; }
 
-  std::vector<Node> nodes;
-  std::vector<std::uint32_t> features;  // the leaves' lists
+  std::vector<Node, UninitializedAllocator<Node>> nodes;
+  std::vector<std::uint32_t, UninitializedAllocator<std::uint32_t>> features;  // the leaves' lists
 
  private:
   const CleanInput& in_;
@@ -1077,10 +1292,8 @@ class Tree {
   double x0_ = 0.0, y0_ = 0.0;
   int exponent_ = 0;
   std::array<double, 64> step_{};  // cell size at each level
-  std::vector<std::uint32_t> work_;
   unsigned deepest_ = 0;                             // deepest level of any node made so far
-  std::array<std::vector<std::uint32_t>, 4> lists_;  // split(): the children's feature lists
-  std::vector<std::array<std::uint32_t, 4>> hint_;   // per node: see neighbour()
+  std::vector<std::array<std::uint32_t, 4>, UninitializedAllocator<std::array<std::uint32_t, 4>>> hint_;  // per node: see neighbour()
   std::vector<VertexId> rank_id_;                    // vertex feature (Morton rank) → vertex id
   std::vector<Point> rank_point_;                    // vertex feature → its point
   std::size_t threaded_items_;                       // build(): frontier size for two threads
