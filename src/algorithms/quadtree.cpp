@@ -111,6 +111,10 @@ struct UninitializedAllocator : std::allocator<T> {
   }
 };
 
+// The four children's feature lists while a node is split: filter_children() makes room for a
+// whole parent list in each and writes through pointers, so new room is left unwritten.
+using FeatureList = std::vector<std::uint32_t, UninitializedAllocator<std::uint32_t>>;
+
 using Clock = std::chrono::steady_clock;
 // Set bits of a byte (std::popcount compiles to a library call without -mpopcnt).
 constexpr std::uint32_t bits_in_byte(unsigned x) {
@@ -419,7 +423,7 @@ class Tree {
   struct HalfOutput {
     std::vector<Item> items;
     std::vector<std::uint32_t> pool;
-    std::array<std::vector<std::uint32_t>, 4> lists;
+    std::array<FeatureList, 4> lists;
   };
 
   Tree(const CleanInput& in, const QuadtreeOptions& options, QuadtreeStats& stats)
@@ -578,7 +582,7 @@ class Tree {
   // (Written through raw pointers into room made first: this runs for every list entry of every
   // level, and push_back's growth check was a call per entry.)
   void filter_children(const Node& parent, const std::uint32_t* list, std::size_t count,
-                       std::array<std::vector<std::uint32_t>, 4>& out) const {
+                       std::array<FeatureList, 4>& out) const {
     // Vertices: each child grown by half its size (one grid step of level parent + 2), columns
     // 4ix − 1 … 4ix + 3 and 4ix + 1 … 4ix + 5, the same for rows.
     const unsigned h = parent.level + 2u;
@@ -624,11 +628,12 @@ class Tree {
   // result is the same arrays, index for index, as one pass in frontier order.
   void build() {
     nodes.clear();
-    // Room for what a uniform point set needs (about 19 nodes and 29 list entries per point), so
-    // that the big arrays are not copied while they grow; unused room is never touched.
+    // Room for what a uniform point set needs, so that the big arrays are not copied while they
+    // grow: finish() sizes them to three times what this build makes (about 7 nodes and 7 list
+    // entries per point) for its lanes' blocks. Unused room is never touched.
     const std::size_t feature_count = rank_id_.size() + in_.segments.size();
-    reserve_room(nodes, 20 * feature_count + 64);
-    reserve_room(hint_, 20 * feature_count + 64);
+    reserve_room(nodes, 24 * feature_count + 256);
+    reserve_room(hint_, 24 * feature_count + 256);
     reserve_room(features, 30 * feature_count + 64);
     nodes.push_back(Node{});
     hint_.assign(1, {kNone, kNone, kNone, kNone});
@@ -857,7 +862,7 @@ class Tree {
     int region = -1;  // 0 west half, 1 east half; -1 the whole tree (the arrays grow as needed)
     std::vector<std::uint32_t> work;
     std::vector<std::uint32_t> deferred;  // leaves whose check needs the other half (or more room)
-    std::array<std::vector<std::uint32_t>, 4> lists;  // split(): the children's feature lists
+    std::array<FeatureList, 4> lists;  // split(): the children's feature lists
     std::uint32_t node_begin = 0, node_next = 0, node_end = 0;  // region lanes: their block of node ids
     std::size_t feature_next = 0, feature_end = 0;     //   and of feature list entries
     bool full = false;                                 // a split found no room: stop the lane

@@ -69,11 +69,13 @@ inline Expansion<16> orient2d_expansion(const Point& a, const Point& b, const Po
 // With GCC on x86-64 the exact stages are compiled twice: for CPUs with fused multiply-add
 // (Two-Product's error term is then one inline instruction) and for the baseline x86-64 (where
 // std::fma is the C library's correctly rounded fma, a call); the choice is made once at load time
-// (target_clones). The results are identical: both are exact.
+// (target_clones). The results are identical: both are exact. (Not under ThreadSanitizer: its
+// runtime is not yet set up when the loader runs the choice, and the program would crash at start.)
 
 namespace {
 
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(MWST_DEKKER_PRODUCT)
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(MWST_DEKKER_PRODUCT) && \
+    !defined(__SANITIZE_THREAD__)
 #define MWST_EXACT_CLONES __attribute__((target_clones("fma", "default")))
 #else
 #define MWST_EXACT_CLONES
