@@ -240,7 +240,7 @@ CleanInput clean_graph(const Pslg& pslg, const QuadtreeOptions& options, Quadtre
 // input points lying on hull edges inserted into them (the hull edges are the domain boundary, and
 // a feature segment must not contain a vertex). O(n log n); the Delaunay triangulation of the CDT
 // route would cost more than the whole quadtree for a million points. The refusals match delaunay().
-CleanInput clean_point_set(const Pslg& pslg) {
+CleanInput clean_point_set(const Pslg& pslg, const QuadtreeOptions& options) {
   const std::size_t n = pslg.points.size();
   if (n >= std::numeric_limits<std::uint32_t>::max() / 4) {
     throw InputError(pslg.source, 0, "too many points (" + std::to_string(n) + ")");
@@ -263,11 +263,22 @@ CleanInput clean_point_set(const Pslg& pslg) {
   };
   std::vector<Keyed> keyed(n);
   for (std::size_t i = 0; i < n; ++i) keyed[i] = {p[i].x, p[i].y, static_cast<VertexId>(i)};
-  std::sort(keyed.begin(), keyed.end(), [](const Keyed& a, const Keyed& b) {
+  const auto before = [](const Keyed& a, const Keyed& b) {
     if (a.x != b.x) return a.x < b.x;
     if (a.y != b.y) return a.y < b.y;
     return a.id < b.id;
-  });
+  };
+  // The two halves are sorted on two threads (large inputs) and merged: the order is total, so the
+  // result is the same as one sort.
+  const std::size_t half = n / 2;
+  in_two_halves(2, n >= threads_from(options, 65536) ? 0 : std::numeric_limits<std::size_t>::max(),
+                [&](std::size_t begin, std::size_t end) {
+                  for (std::size_t part = begin; part < end; ++part) {
+                    std::sort(keyed.begin() + static_cast<std::ptrdiff_t>(part == 0 ? 0 : half),
+                              part == 0 ? keyed.begin() + static_cast<std::ptrdiff_t>(half) : keyed.end(), before);
+                  }
+                });
+  std::inplace_merge(keyed.begin(), keyed.begin() + static_cast<std::ptrdiff_t>(half), keyed.end(), before);
   std::vector<VertexId> order(n);
   for (std::size_t i = 0; i < n; ++i) order[i] = keyed[i].id;
   CleanInput in;
@@ -327,41 +338,33 @@ CleanInput clean_point_set(const Pslg& pslg) {
     if (a.x != b.x) return (a.x < x.x && x.x < b.x) || (b.x < x.x && x.x < a.x);
     return (a.y < x.y && x.y < b.y) || (b.y < x.y && x.y < a.y);
   };
+  // The edge candidates move monotonically: the points are visited in increasing x, the lower
+  // chain's right ends have increasing x and the upper chain's decreasing x.
+  const std::size_t h = hull.size();
+  const auto right_x = [&](std::size_t e) { return p[hull[e + 1 == h ? 0 : e + 1]].x; };
+  std::size_t lower_at = 0;  // first lower-chain edge whose right end has x ≥ x.x
+  std::size_t upper_at = h;  // first upper-chain edge whose right end has x ≤ x.x
   for (std::size_t r = 0; r < unique.size(); ++r) {
     const VertexId v = unique[r];
-    if (is_hull[v]) continue;
     const Point& x = unique_point[r];
-    // Candidate edges: the lower-chain and upper-chain edges spanning x.x (binary search), and
-    // the vertical edges at the extreme x.
+    while (lower_at < lower_edges && right_x(lower_at) < x.x) ++lower_at;
+    while (upper_at > lower_edges && right_x(upper_at - 1) <= x.x) --upper_at;
+    if (is_hull[v]) continue;
+    // Candidate edges: the lower-chain and upper-chain edges spanning x.x, and the vertical edges
+    // at the extreme x.
     auto test = [&](std::size_t e) {
       const Point& a = p[hull[e]];
-      const Point& b = p[hull[(e + 1) % hull.size()]];
+      const Point& b = p[hull[e + 1 == h ? 0 : e + 1]];
       if (orient2d(a, b, x) == 0 && between(a, b, x)) {
         on_edge[e].push_back(v);
         return true;
       }
       return false;
     };
-    // Lower chain: edges 0 .. lower_edges-1 with x increasing (non-decreasing).
-    {
-      std::size_t lo = 0, hi = lower_edges;  // first edge whose right end has x ≥ x.x
-      while (lo < hi) {
-        const std::size_t mid = (lo + hi) / 2;
-        if (p[hull[(mid + 1) % hull.size()]].x < x.x) lo = mid + 1; else hi = mid;
-      }
-      if (lo < lower_edges && test(lo)) continue;
-      if (lo + 1 < lower_edges && test(lo + 1)) continue;
-    }
-    // Upper chain: edges lower_edges .. hull.size()-1 with x decreasing.
-    {
-      std::size_t lo = lower_edges, hi = hull.size();
-      while (lo < hi) {
-        const std::size_t mid = (lo + hi) / 2;
-        if (p[hull[(mid + 1) % hull.size()]].x > x.x) lo = mid + 1; else hi = mid;
-      }
-      if (lo < hull.size() && test(lo)) continue;
-      if (lo + 1 < hull.size() && test(lo + 1)) continue;
-    }
+    if (lower_at < lower_edges && test(lower_at)) continue;
+    if (lower_at + 1 < lower_edges && test(lower_at + 1)) continue;
+    if (upper_at < h && test(upper_at)) continue;
+    if (upper_at + 1 < h && test(upper_at + 1)) continue;
     // Vertical edges at the extreme x (both ends share x).
     for (const std::size_t e : vertical) {
       if (p[hull[e]].x == x.x && test(e)) break;
@@ -2760,7 +2763,7 @@ Mesh quadtree_refinement(const Pslg& pslg, const QuadtreeOptions& options, Quadt
   QuadtreeStats stats;
   const auto t0 = Clock::now();
   const bool graph = !pslg.segments.empty();
-  CleanInput in = graph ? clean_graph(pslg, options, stats) : clean_point_set(pslg);
+  CleanInput in = graph ? clean_graph(pslg, options, stats) : clean_point_set(pslg, options);
   if (!graph) stats.input.duplicates = in.vertices_only.duplicates.size();
   if (!graph && !pslg.holes.empty()) {
     stats.warnings.push_back("the input has no segments, so its domain is the convex hull; " +
