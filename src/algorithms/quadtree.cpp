@@ -36,7 +36,7 @@
 //  - finish(): the first round of checks (every leaf) is a read-only scan in two halves; only the
 //    leaves that fail it enter the work list, in the order they would have been processed;
 //  - the per-leaf passes of the mesh (ownership, loops, levels around vertices, vertex ids) run in
-//    two halves;
+//    two halves, and a helper allocates and first touches the mesh's arrays while warp() runs;
 //  - the cells' chunks alternate between the two threads, each preparing (dynamic program, exact
 //    checks, adjacency inside the cell), writing and linking its own: a chunk takes its places in
 //    the arrays when the one before it has taken its own, and is linked once all earlier chunks
@@ -1426,8 +1426,9 @@ class Builder {
   std::unique_ptr<std::array<std::uint32_t, 2>[]> west_south_;  // per leaf: the same-size cells west,
                                                                  // south (link_cell() reuses them)
   // Per leaf, for link_cell() (which then reads no node of its own): its level (bits 0–5), whether
-  // the same-size cell west / south is split (bits 6, 7), and which of its sides (bottom, right,
-  // top, left: bits 8–11) lie on the root's border.
+  // the same-size cell west / south is split (bits 6, 7), which of its sides (bottom, right, top,
+  // left: bits 8–11) lie on the root's border, and whether west_south_ holds the leaves across the
+  // west / south side as leaf ordinals rather than a node (bits 12, 13).
   std::unique_ptr<std::uint16_t[]> leaf_shape_;
   std::unique_ptr<std::uint32_t[]> loops_;  // 8 slots per leaf, kNone where absent (null until built)
   std::array<std::vector<std::uint32_t>, 2> with_vertex_;  // leaves with an input vertex (two halves,
@@ -1514,7 +1515,39 @@ void Builder::number_vertices() {
       if (w != kNone && tree_.nodes[w].level == l && !tree_.is_leaf(w)) mask |= 1u << kOwnLeftMid;
       const std::uint32_t s = tree_.neighbour(a, 3);
       if (s != kNone && tree_.nodes[s].level == l && !tree_.is_leaf(s)) mask |= 1u << kOwnBottomMid;
-      west_south_[k] = {w, s};
+      // For link_cell(): the leaves across the west and south sides as leaf ordinals (bits 12, 13 of
+      // the shape) when they are a leaf, or the two children of a split cell along the side that
+      // follow each other as usual in Morton order (east column: SE, NE two apart; north row: NW,
+      // NE next to each other); otherwise the node, looked up there.
+      unsigned across = 0;
+      std::uint32_t west = w, south = s;
+      if (w != kNone) {
+        if (tree_.is_leaf(w)) {
+          west = leaf_of(w);
+          across |= 1u;
+        } else if ((mask >> kOwnLeftMid) & 1u) {
+          const std::uint32_t c = tree_.nodes[w].child;
+          const std::uint32_t first = leaf_of(c + 1);
+          if (first != kNone && leaf_of(c + 3) == first + 2) {
+            west = first;
+            across |= 1u;
+          }
+        }
+      }
+      if (s != kNone) {
+        if (tree_.is_leaf(s)) {
+          south = leaf_of(s);
+          across |= 2u;
+        } else if ((mask >> kOwnBottomMid) & 1u) {
+          const std::uint32_t c = tree_.nodes[s].child;
+          const std::uint32_t first = leaf_of(c + 2);
+          if (first != kNone && leaf_of(c + 3) == first + 1) {
+            south = first;
+            across |= 2u;
+          }
+        }
+      }
+      west_south_[k] = {west, south};
       const bool top = n.iy + 1 == side, right = n.ix + 1 == side;
       if (top) mask |= 1u << kOwnUL;
       if (right) mask |= 1u << kOwnLR;
@@ -1522,7 +1555,8 @@ void Builder::number_vertices() {
       own_mask_[k] = static_cast<std::uint8_t>(mask);
       const unsigned border = (n.iy == 0 ? 1u : 0u) | (right ? 2u : 0u) | (top ? 4u : 0u) | (n.ix == 0 ? 8u : 0u);
       leaf_shape_[k] = static_cast<std::uint16_t>(l | ((mask >> kOwnLeftMid) & 1u) << 6 |
-                                                  ((mask >> kOwnBottomMid) & 1u) << 7 | border << 8);
+                                                  ((mask >> kOwnBottomMid) & 1u) << 7 | border << 8 |
+                                                  across << 12);
     }
   });
   std::uint32_t next = 0;
@@ -1555,15 +1589,23 @@ void Builder::number_vertices() {
 void Builder::build_loops() {
   for (auto& half : with_vertex_) half.clear();
   loops_ = std::make_unique_for_overwrite<std::uint32_t[]>(8 * leaves_.size());
-  std::vector<std::uint8_t> leaf_level(leaves_.size());
-  in_two_halves(leaves_.size(), threaded_leaves_, [&](std::size_t begin, std::size_t end) {
+  // With the loops, the deepest and shallowest leaf level around each grid vertex: each thread
+  // updates the vertices that the leaves of its half own (ids are given in leaf order, so they are
+  // a range); the few vertices owned by a leaf of the other half, near where the halves meet, are
+  // set after both (max and min do not depend on the order).
+  glevel_.assign(grid_count_, 0);
+  gtop_.assign(grid_count_, 255);
+  const std::size_t leaf_count = leaves_.size();
+  std::array<std::vector<std::pair<std::uint32_t, std::uint8_t>>, 2> across_halves;
+  in_two_halves(leaf_count, threaded_leaves_, [&](std::size_t begin, std::size_t end) {
     auto& with_vertex = with_vertex_[begin == 0 ? 0 : 1];
+    const std::uint32_t lo = own_base_[begin], hi = end == leaf_count ? grid_count_ : own_base_[end];
+    auto& later = across_halves[begin == 0 ? 0 : 1];
     for (auto k = static_cast<std::uint32_t>(begin); k < end; ++k) {
       const std::uint32_t a = leaves_[k];
       const Node& n = tree_.nodes[a];
       if (n.vertex != kNone) with_vertex.push_back(k);
       const unsigned l = n.level;
-      leaf_level[k] = static_cast<std::uint8_t>(l);
       const std::int64_t side = std::int64_t{1} << l, ix = n.ix, iy = n.iy;
       const bool top = iy + 1 == side, right = ix + 1 == side;
       std::uint32_t* loop = &loops_[8 * std::size_t{k}];
@@ -1605,31 +1647,16 @@ void Builder::build_loops() {
           loop[kTop] = own(leaf_of(se), kOwnLL);
         }
       }
-    }
-  });
-  // The deepest and shallowest leaf level around each grid vertex: each thread reads the loops of
-  // one half of the leaves and updates the vertices those leaves own (ids are given in leaf
-  // order, so they are a range); the few vertices owned by a leaf of the other half, near where
-  // the halves meet, are set after both (max and min do not depend on the order).
-  glevel_.assign(grid_count_, 0);
-  gtop_.assign(grid_count_, 255);
-  const std::size_t leaf_count = leaves_.size();
-  std::array<std::vector<std::pair<std::uint32_t, std::uint8_t>>, 2> across_halves;
-  in_two_halves(leaf_count, threaded_leaves_, [&](std::size_t begin, std::size_t end) {
-    const std::uint32_t lo = own_base_[begin], hi = end == leaf_count ? grid_count_ : own_base_[end];
-    auto& later = across_halves[begin == 0 ? 0 : 1];
-    for (std::size_t k = begin; k < end; ++k) {
-      const std::uint8_t l = leaf_level[k];
-      const std::uint32_t* loop = &loops_[8 * k];
-      for (unsigned s = 0; s < 8; ++s) {
-        const std::uint32_t g = loop[s];
+      const auto level = static_cast<std::uint8_t>(l);
+      for (unsigned slot = 0; slot < 8; ++slot) {
+        const std::uint32_t g = loop[slot];
         if (g == kNone) continue;
         if (g < lo || g >= hi) {
-          later.emplace_back(g, l);
+          later.emplace_back(g, level);
           continue;
         }
-        glevel_[g] = std::max(glevel_[g], l);
-        gtop_[g] = std::min(gtop_[g], l);
+        glevel_[g] = std::max(glevel_[g], level);
+        gtop_[g] = std::min(gtop_[g], level);
       }
     }
   });
@@ -1952,6 +1979,8 @@ void Builder::prepare_cells(const Mesh& mesh, PreparedChunk& out, std::uint32_t 
   };
   std::vector<Chord> chords;
   std::vector<std::pair<std::vector<std::uint32_t>, std::vector<Chord>>> pieces;  // polygon indices
+  constexpr std::size_t kSmallPolygon = 16;
+  std::array<std::uint32_t, (kSmallPolygon + 1) * (kSmallPolygon + 1)> edge_at;  // (from, to) → 3·i + e
   std::uint32_t k = begin;
   try {
     out.kind.assign(end - begin, 0);
@@ -1978,7 +2007,32 @@ void Builder::prepare_cells(const Mesh& mesh, PreparedChunk& out, std::uint32_t 
           if (loop[2 * side + 1] != kNone) mask |= 1u << side;
         }
         const PlainCell& c = plain[mask];
-        for (unsigned i = 0; i < c.count; ++i) {
+        // The table's triangles join boundary points of the cell, never three on one side, listed
+        // counter-clockwise; so all are strictly counter-clockwise when the corners form an
+        // axis-parallel rectangle and each midpoint lies strictly inside its side (exact
+        // comparisons). Otherwise each triangle is checked with orient2d.
+        const Point& bl = pos(loop[kBL]);
+        const Point& br = pos(loop[kBR]);
+        const Point& tr = pos(loop[kTR]);
+        const Point& tl = pos(loop[kTL]);
+        bool square = bl.y == br.y && tl.y == tr.y && bl.x == tl.x && br.x == tr.x && bl.x < br.x && bl.y < tl.y;
+        if (square && (mask & 1u) != 0) {
+          const Point& p = pos(loop[kBottom]);
+          square = p.y == bl.y && bl.x < p.x && p.x < br.x;
+        }
+        if (square && (mask & 2u) != 0) {
+          const Point& p = pos(loop[kRight]);
+          square = p.x == br.x && br.y < p.y && p.y < tr.y;
+        }
+        if (square && (mask & 4u) != 0) {
+          const Point& p = pos(loop[kTop]);
+          square = p.y == tl.y && tl.x < p.x && p.x < tr.x;
+        }
+        if (square && (mask & 8u) != 0) {
+          const Point& p = pos(loop[kLeft]);
+          square = p.x == bl.x && bl.y < p.y && p.y < tl.y;
+        }
+        for (unsigned i = 0; i < c.count && !square; ++i) {
           if (orient2d(pos(loop[c.slots[c.tri[i][0]]]), pos(loop[c.slots[c.tri[i][1]]]),
                        pos(loop[c.slots[c.tri[i][2]]])) <= 0) {
             throw RouteFailure{"a cell triangle is not counter-clockwise"};
@@ -2105,46 +2159,63 @@ void Builder::prepare_cells(const Mesh& mesh, PreparedChunk& out, std::uint32_t 
         }
         for (const auto& piece : pieces) triangulate(piece.first.data(), piece.first.size());
       }
-      // Check the triangles; find the edges inside the cell and the boundary edges.
+      // The edges inside the cell and the boundary edges. (Every triangle is strictly
+      // counter-clockwise: triangulate_piece() checked each one exactly.)
       const Tri* tris = out.tris.data() + cell.tri_begin;
       const auto count = static_cast<std::uint32_t>(out.tris.size() - cell.tri_begin);
-      const std::uint32_t centre_base = cell.centre_begin;
-      auto position = [&](std::uint32_t g) -> const Point& {
-        return (g & kCentre) != 0 && g != kNone ? out.centres[centre_base + (g & ~kCentre)] : pos(g);
-      };
-      for (std::uint32_t i = 0; i < count; ++i) {
-        if (orient2d(position(tris[i][0]), position(tris[i][1]), position(tris[i][2])) <= 0) {
-          throw RouteFailure{"a cell triangle is not counter-clockwise"};
-        }
-      }
       out.twin.resize(out.twin.size() + 3 * std::size_t{count}, kNone);
       out.bound_local.resize(out.bound_local.size() + m, kNone);
       std::uint32_t* twin = out.twin.data() + 3 * std::size_t{cell.tri_begin};
       std::uint32_t* bound = out.bound_local.data() + cell.bound_begin;
-      for (std::uint32_t i = 0; i < count; ++i) {
-        for (unsigned e = 0; e < 3; ++e) {
-          // Edge e of triangle i runs from corner e+1 to corner e+2.
-          const std::uint32_t from = tris[i][next3(e)], to = tris[i][prev3(e)];
-          // A polygon edge?
-          bool boundary = false;
-          for (std::size_t q = 0; q < m; ++q) {
-            if (poly[q] == from && poly[q + 1 == m ? 0 : q + 1] == to) {
-              bound[q] = 3 * i + e;
-              boundary = true;
-              break;
-            }
+      if (chords.empty() && m <= kSmallPolygon) {
+        // One piece (a warped cell): its triangles in `local` are over polygon positions, m for
+        // the centre, so an edge from → to is on the boundary when to follows from, and the edge
+        // across an inner one is found in a table by its ends.
+        const std::size_t width = m + 1;
+        std::fill(edge_at.begin(), edge_at.begin() + static_cast<std::ptrdiff_t>(width * width), kNone);
+        for (std::uint32_t i = 0; i < count; ++i) {
+          for (unsigned e = 0; e < 3; ++e) {
+            const std::size_t from = local[i][next3(e)], to = local[i][prev3(e)];
+            std::uint32_t& slot = from < m && to == (from + 1 == m ? 0 : from + 1) ? bound[from] : edge_at[from * width + to];
+            if (slot != kNone) throw RouteFailure{"a cell triangulation is not closed"};
+            slot = 3 * i + e;
           }
-          if (boundary || twin[3 * i + e] != kNone) continue;
-          for (std::uint32_t j = i + 1; j < count && twin[3 * i + e] == kNone; ++j) {
-            for (unsigned f = 0; f < 3; ++f) {
-              if (tris[j][next3(f)] == to && tris[j][prev3(f)] == from) {
-                twin[3 * i + e] = 3 * j + f;
-                twin[3 * j + f] = 3 * i + e;
+        }
+        for (std::uint32_t i = 0; i < count; ++i) {
+          for (unsigned e = 0; e < 3; ++e) {
+            const std::size_t from = local[i][next3(e)], to = local[i][prev3(e)];
+            if (from < m && to == (from + 1 == m ? 0 : from + 1)) continue;
+            const std::uint32_t across = edge_at[to * width + from];
+            if (across == kNone) throw RouteFailure{"a cell triangulation is not closed"};
+            twin[3 * i + e] = across;
+          }
+        }
+      } else {
+        for (std::uint32_t i = 0; i < count; ++i) {
+          for (unsigned e = 0; e < 3; ++e) {
+            // Edge e of triangle i runs from corner e+1 to corner e+2.
+            const std::uint32_t from = tris[i][next3(e)], to = tris[i][prev3(e)];
+            // A polygon edge?
+            bool boundary = false;
+            for (std::size_t q = 0; q < m; ++q) {
+              if (poly[q] == from && poly[q + 1 == m ? 0 : q + 1] == to) {
+                bound[q] = 3 * i + e;
+                boundary = true;
                 break;
               }
             }
+            if (boundary || twin[3 * i + e] != kNone) continue;
+            for (std::uint32_t j = i + 1; j < count && twin[3 * i + e] == kNone; ++j) {
+              for (unsigned f = 0; f < 3; ++f) {
+                if (tris[j][next3(f)] == to && tris[j][prev3(f)] == from) {
+                  twin[3 * i + e] = 3 * j + f;
+                  twin[3 * j + f] = 3 * i + e;
+                  break;
+                }
+              }
+            }
+            if (twin[3 * i + e] == kNone) throw RouteFailure{"a cell triangulation is not closed"};
           }
-          if (twin[3 * i + e] == kNone) throw RouteFailure{"a cell triangulation is not closed"};
         }
       }
       for (std::size_t q = 0; q < m; ++q) {
@@ -2267,7 +2338,7 @@ void Builder::triangulate_cells(Mesh& mesh) {
   constexpr std::uint32_t kChunk = 4096;
   const std::uint32_t chunks = (leaf_count + kChunk - 1) / kChunk;
   const unsigned threads = leaf_count < threaded_leaves_ || chunks < 2 ? 1u : 2u;
-  cell_bound_ = std::make_unique_for_overwrite<CellBound[]>(leaves_.size());  // (written by emit_cells())
+  if (!cell_bound_) cell_bound_ = std::make_unique_for_overwrite<CellBound[]>(leaves_.size());  // (emit_cells())
   centre_base_ = mesh.points.size();
   // Room (address space only until written) past what the cells need, about 2.5 triangles and 4.5
   // boundary edges per leaf, so that the two threads can extend the arrays in place.
@@ -2485,8 +2556,16 @@ void Builder::link_cell(const std::vector<Point>& points, Triangle* tris, const 
     // Each shared side is linked once, from the leaf on its right or top (sides left, bottom).
     if (side != 0 && side != 3) continue;
     const std::uint32_t r = west_south_[k][side == 0 ? 1 : 0];
+    const bool split = ((shape >> (side == 0 ? 7 : 6)) & 1u) != 0;  // a split cell of the same size
     std::size_t count = 0;
-    if (((shape >> (side == 0 ? 7 : 6)) & 1u) != 0) {  // a split cell of the same size: two leaves
+    const bool ordinals = ((shape >> (side == 0 ? 13 : 12)) & 1u) != 0;
+    if (ordinals) {
+      // The leaves across, numbered in number_vertices(): one, or the split cell's two along this
+      // side (its SE and NE children for the left side, NW and NE for the bottom).
+      across[0] = r;
+      across[1] = r + (side == 3 ? 2u : 1u);
+      count = split ? 2 : 1;
+    } else if (split) {  // two leaves
       const std::uint32_t c = tree_.nodes[r].child;
       if (side == 3) {
         across[0] = c + 1;  // east column of the finer neighbour
@@ -2506,7 +2585,7 @@ void Builder::link_cell(const std::vector<Point>& points, Triangle* tris, const 
       const VertexId from = org(h), to = dest(h);
       bool linked = false;
       for (std::size_t c = 0; c < count && !linked; ++c) {
-        const std::uint32_t other = leaf_of(across[c]);
+        const std::uint32_t other = ordinals ? across[c] : leaf_of(across[c]);
         if (other == kNone || other >= k) throw RouteFailure{"unbalanced quadtree"};
         const auto [ob, oe] = side_range(other, opposite);
         for (std::uint32_t p = ob; p < oe; ++p) {
@@ -2616,42 +2695,111 @@ Mesh Builder::run(const std::vector<Point>& holes) {
   const auto t0 = Clock::now();
   number_vertices();
   build_loops();
-  warp();
-  segments_pass();
-  // Final vertex ids: the clean input's vertices keep theirs; the Steiner points follow in Morton
-  // order of their leaves (crossing points last).
+  // The arrays the mesh is written into are allocated, and their pages first touched (the kernel
+  // clears each page on its first write), by a helper thread while warp() and segments_pass() run
+  // on this one, which leaves the second core idle otherwise (small trees: in line). The helper
+  // touches no more than the mesh surely uses (at least 4 boundary edges and 2 triangles per
+  // cell), and every element is written again later, so the output does not depend on it.
   Mesh mesh;
   const Mesh& base = in_.vertices_only;
-  mesh.points = base.points;
-  mesh.vertex_kind = base.vertex_kind;
-  mesh.vertex_marker = base.vertex_marker;
+  const std::size_t leaf_count = leaves_.size();
+  const std::size_t grid_room = gpos_.capacity();  // grid vertices and crossing points
+  const std::size_t warped_count = with_vertex_[0].size() + with_vertex_[1].size();
+  // First the vertex arrays (the pass below writes them), then the cells' arrays.
+  auto allocate_vertices = [&] {
+    const std::size_t point_room = base.points.size() + grid_room + leaf_count / 64 + 16;  // + centres
+    const std::size_t known = base.points.size() + (grid_count_ >= warped_count ? grid_count_ - warped_count : 0);
+    reserve_room(mesh.points, point_room);
+    mesh.points.assign(base.points.begin(), base.points.end());
+    mesh.points.resize(known);
+    reserve_room(mesh.vertex_kind, point_room);
+    mesh.vertex_kind.assign(base.vertex_kind.begin(), base.vertex_kind.end());
+    mesh.vertex_kind.resize(known);
+    reserve_room(mesh.vertex_marker, point_room);
+    mesh.vertex_marker.assign(base.vertex_marker.begin(), base.vertex_marker.end());
+    mesh.vertex_marker.resize(known);
+    reserve_room(final_id_, grid_room + leaf_count / 64 + 16);
+    final_id_.resize(grid_count_);
+  };
+  auto allocate_cells = [&] {
+    cell_bound_ = std::make_unique_for_overwrite<CellBound[]>(leaf_count);
+    std::fill(cell_bound_.get(), cell_bound_.get() + leaf_count, CellBound{0, 0});
+    reserve_room(bound_, leaf_count * 6);
+    bound_.resize(leaf_count * 4);
+    bound_.clear();
+    reserve_room(mesh.triangles, leaf_count * 4);
+    mesh.triangles.resize(leaf_count * 2);
+    mesh.triangles.clear();
+  };
+  // The helper's stage: 1 when the vertex arrays are ready (it then does the cells' arrays while
+  // the ids below are given).
+  std::atomic<int> helper_stage{0};
+  std::array<std::exception_ptr, 2> helper_error;
+  std::jthread helper;
+  if (leaf_count >= threaded_leaves_) {
+    helper = std::jthread([&] {
+      try {
+        allocate_vertices();
+      } catch (...) {
+        helper_error[0] = std::current_exception();
+      }
+      helper_stage.store(1, std::memory_order_release);
+      helper_stage.notify_all();
+      try {
+        if (!helper_error[0]) allocate_cells();
+      } catch (...) {
+        helper_error[1] = std::current_exception();
+      }
+    });
+  } else {
+    allocate_vertices();  // (the cells' arrays after the grid copies are released, below)
+  }
+  warp();
+  segments_pass();
+  if (helper.joinable()) helper_stage.wait(0, std::memory_order_acquire);
+  if (helper_error[0]) std::rethrow_exception(helper_error[0]);
+  // Final vertex ids: the clean input's vertices keep theirs; the Steiner points follow in Morton
+  // order of their leaves (crossing points last).
   mesh.duplicates = base.duplicates;
   mesh.input_vertex_count = base.input_vertex_count;
-  reserve_room(final_id_, gpos_.size() + leaves_.size() / 64 + 16);
-  final_id_.resize(gpos_.size());
-  // Ids in grid order (a prefix count), then the points, kinds and markers in two halves.
-  const std::size_t steiner_base = mesh.points.size();
-  std::size_t steiner = 0;
-  for (std::uint32_t g = 0; g < gpos_.size(); ++g) {
-    final_id_[g] = gwarp_[g] != kNone ? gwarp_[g] : static_cast<VertexId>(steiner_base + steiner++);
+  const std::size_t grid = gpos_.size();
+  reserve_room(final_id_, grid + leaf_count / 64 + 16);
+  final_id_.resize(grid);
+  // The grid vertices warped onto input vertices (one input vertex each), in all and below the
+  // middle of the grid order, where the second half of the pass below starts.
+  const std::size_t middle = grid / 2;
+  std::size_t warped = 0, warped_below_middle = 0;
+  for (const std::uint32_t g : input_gv_) {
+    if (g == kNone) continue;
+    ++warped;
+    if (g < middle) ++warped_below_middle;
   }
+  const std::size_t steiner_base = base.points.size();
+  const std::size_t steiner = grid - warped;
   if (steiner_base + steiner >= kInfinite) throw RouteFailure{"too many vertices"};
-  reserve_room(mesh.points, mesh.points.size() + steiner + leaves_.size() / 64 + 16);
+  reserve_room(mesh.points, steiner_base + steiner + leaf_count / 64 + 16);
   reserve_room(mesh.vertex_kind, mesh.points.capacity());
   reserve_room(mesh.vertex_marker, mesh.points.capacity());
   mesh.points.resize(steiner_base + steiner);
   mesh.vertex_kind.resize(steiner_base + steiner);
   mesh.vertex_marker.resize(steiner_base + steiner);
-  in_two_halves(gpos_.size(), threaded_leaves_, [&](std::size_t begin, std::size_t end) {
+  // Ids in grid order (a prefix count: a half starts after the Steiner points below it), with the
+  // points, kinds and markers, in two halves.
+  in_two_halves(grid, threaded_leaves_, [&](std::size_t begin, std::size_t end) {
+    auto next = static_cast<VertexId>(steiner_base + (begin == 0 ? 0 : begin - warped_below_middle));
     for (std::size_t g = begin; g < end; ++g) {
-      if (gwarp_[g] != kNone) continue;
+      if (gwarp_[g] != kNone) {
+        final_id_[g] = gwarp_[g];
+        continue;
+      }
       VertexKind kind = VertexKind::kSteiner;
       std::int32_t marker = 0;
       if (!gseg_.empty() && gseg_[g] != kNone && !in_.segments[gseg_[g]].hull_only) {
         kind = VertexKind::kSteinerOnSegment;
         marker = in_.segments[gseg_[g]].marker;
       }
-      const VertexId v = final_id_[g];
+      const VertexId v = next++;
+      final_id_[g] = v;
       mesh.points[v] = gpos_[g];
       mesh.vertex_kind[v] = kind;
       mesh.vertex_marker[v] = marker;
@@ -2661,6 +2809,12 @@ Mesh Builder::run(const std::vector<Point>& holes) {
   // largest arrays then), and restore the positions if the route fails (fallback_points()).
   std::vector<Point>().swap(gpos_);
   std::vector<std::uint8_t>().swap(gtop_);
+  if (helper.joinable()) {
+    helper.join();
+    if (helper_error[1]) std::rethrow_exception(helper_error[1]);
+  } else {
+    allocate_cells();
+  }
   try {
     triangulate_cells(mesh);
     close_border(mesh);

@@ -25,15 +25,25 @@ namespace {
 
 constexpr std::size_t kMaxPolygon = 64;
 
-// Sine of the smallest angle of triangle (a, b, c) (rounded; 0 for a degenerate triangle).
-double min_angle_sine(const Point& a, const Point& b, const Point& c) {
-  const double ab = squared_distance(a, b), bc = squared_distance(b, c), ca = squared_distance(c, a);
+// Squared distance (as squared_distance(), inline: the dynamic program below evaluates it often).
+inline double squared_length(const Point& a, const Point& b) {
+  const double dx = a.x - b.x, dy = a.y - b.y;
+  return dx * dx + dy * dy;
+}
+
+// Sine of the smallest angle of triangle (a, b, c) given its squared sides ab, bc, ca (rounded; 0
+// for a degenerate triangle).
+inline double min_angle_sine(const Point& a, const Point& b, const Point& c, double ab, double bc, double ca) {
   const double cross = std::fabs((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x));
   // Product of the two longer squared edges = product of all three / the shortest.
   const double shortest = std::min({ab, bc, ca});
   const double longer = ab * bc * ca / shortest;
   if (!(longer > 0.0)) return 0.0;
   return cross / std::sqrt(longer);
+}
+
+double min_angle_sine(const Point& a, const Point& b, const Point& c) {
+  return min_angle_sine(a, b, c, squared_length(a, b), squared_length(b, c), squared_length(c, a));
 }
 
 // Closed segments pq and rs share a point (exact).
@@ -53,14 +63,16 @@ bool segments_touch(const Point& p, const Point& q, const Point& r, const Point&
   return false;
 }
 
-}  // namespace
-
-bool triangulate_polygon(const std::vector<Point>& q, std::vector<std::array<std::uint8_t, 3>>& out) {
+// triangulate_polygon(), also giving the smallest-angle sine of the triangles it appends (the
+// program's value for the whole polygon: the same doubles, so no second pass over them).
+bool max_min_triangulation(const std::vector<Point>& q, std::vector<std::array<std::uint8_t, 3>>& out,
+                           double& quality_out) {
   const std::size_t k = q.size();
   if (k < 3 || k > kMaxPolygon) return false;
   if (k == 3) {
     if (orient2d(q[0], q[1], q[2]) <= 0) return false;
     out.push_back({0, 1, 2});
+    quality_out = min_angle_sine(q[0], q[1], q[2]);
     return true;
   }
   // ok(i, j), i < j: ij is a polygon edge or a diagonal strictly inside the polygon.
@@ -111,6 +123,11 @@ bool triangulate_polygon(const std::vector<Point>& q, std::vector<std::array<std
       ok[at(i, j)] = clear;
     }
   }
+  // Squared lengths of all chords (entry i·k + j, i < j), each computed once.
+  std::array<double, kMaxPolygon * kMaxPolygon> squared;
+  for (std::size_t i = 0; i < k; ++i) {
+    for (std::size_t j = i + 1; j < k; ++j) squared[at(i, j)] = squared_length(q[i], q[j]);
+  }
   // best(i, j): the best smallest-angle sine over triangulations of the sub-polygon i..j (closed by
   // the chord ij); length(i, j) the total length of its diagonals; split(i, j) the apex on ij.
   constexpr double kNoTriangulation = -1.0;
@@ -126,19 +143,26 @@ bool triangulate_polygon(const std::vector<Point>& q, std::vector<std::array<std
       const std::size_t j = i + gap;
       best[at(i, j)] = kNoTriangulation;
       if (!ok[at(i, j)]) continue;
-      const double chord = (gap == k - 1) ? 0.0 : distance(q[i], q[j]);
+      const double chord = (gap == k - 1) ? 0.0 : std::sqrt(squared[at(i, j)]);
       double best_length = 0.0;
       for (std::size_t m = i + 1; m < j; ++m) {
         if (!ok[at(i, m)] || !ok[at(m, j)]) continue;
-        if (best[at(i, m)] < 0.0 || best[at(m, j)] < 0.0) continue;
-        if (orient2d(q[i], q[m], q[j]) <= 0) continue;
-        const double quality = std::min({min_angle_sine(q[i], q[m], q[j]), best[at(i, m)], best[at(m, j)]});
-        const double total = length[at(i, m)] + length[at(m, j)] + chord;
+        const double left = best[at(i, m)], right = best[at(m, j)];
+        if (left < 0.0 || right < 0.0) continue;
         // Ties (within rounding of symmetric configurations) go to the lighter triangulation.
         const double tolerance = 1e-12;
-        const bool better = quality > best[at(i, j)] + tolerance ||
-                            (quality >= best[at(i, j)] - tolerance && total < best_length - 1e-12 * total);
-        if (best[at(i, j)] < 0.0 || better) {
+        // A candidate whose sub-polygons are already worse than the best found cannot win (its
+        // quality is at most theirs): its triangle need not be measured.
+        const double current = best[at(i, j)];
+        if (current >= 0.0 && std::min(left, right) < current - tolerance) continue;
+        if (orient2d(q[i], q[m], q[j]) <= 0) continue;
+        const double quality =
+            std::min({min_angle_sine(q[i], q[m], q[j], squared[at(i, m)], squared[at(m, j)], squared[at(i, j)]),
+                      left, right});
+        const double total = length[at(i, m)] + length[at(m, j)] + chord;
+        const bool better = quality > current + tolerance ||
+                            (quality >= current - tolerance && total < best_length - 1e-12 * total);
+        if (current < 0.0 || better) {
           best[at(i, j)] = quality;
           best_length = total;
           split[at(i, j)] = static_cast<std::uint8_t>(m);
@@ -160,7 +184,15 @@ bool triangulate_polygon(const std::vector<Point>& q, std::vector<std::array<std
     stack[top++] = {i, m};
     stack[top++] = {m, j};
   }
+  quality_out = best[at(0, k - 1)];
   return true;
+}
+
+}  // namespace
+
+bool triangulate_polygon(const std::vector<Point>& q, std::vector<std::array<std::uint8_t, 3>>& out) {
+  double quality = 0.0;
+  return max_min_triangulation(q, out, quality);
 }
 
 double triangulation_quality(const std::vector<Point>& polygon,
@@ -195,15 +227,10 @@ bool triangulate_piece(const std::vector<Point>& polygon, std::vector<std::array
   constexpr double kFanBelow = 0.34202014332566873;
   used_centre = false;
   const std::size_t start = out.size();
-  const bool triangulated = triangulate_polygon(polygon, out);
-  // (The smallest-angle sine of the new triangles, read in place: no copy per cell.)
+  // (The smallest-angle sine of the new triangles, from the program.)
   double quality = -1.0;
-  if (triangulated) {
-    quality = std::numeric_limits<double>::infinity();
-    for (std::size_t i = start; i < out.size(); ++i) {
-      quality = std::min(quality, min_angle_sine(polygon[out[i][0]], polygon[out[i][1]], polygon[out[i][2]]));
-    }
-  }
+  const bool triangulated = max_min_triangulation(polygon, out, quality);
+  if (!triangulated) quality = -1.0;
   double fan_quality = 0.0;
   if (quality < kFanBelow && polygon.size() < kMaxPolygon && centroid_fan(polygon, centre, fan_quality) &&
       fan_quality > quality) {
