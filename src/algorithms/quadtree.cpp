@@ -35,21 +35,21 @@
 //    frontier, with every new node and list placed by prefix sums in frontier order;
 //  - finish(): the first round of checks (every leaf) is a read-only scan in two halves; only the
 //    leaves that fail it enter the work list, in the order they would have been processed;
+//  - the balance / warp work list runs as two lanes, the west and the east half of the root, each
+//    with its own block of the arrays; a lane defers the leaves whose check would reach across the
+//    midline, and one lane over the whole tree finishes them after the blocks are joined (see
+//    finish()); the list's result depends on its order, and this order is the same with one thread.
+//    (An order-free variant was measured: with the warp rule's coarse half read as "a node that
+//    held the vertex, split or not, keeps its claim on the cells around its corner", the rules are
+//    monotone and their least fixed point can be found in parallel rounds — check a set of nodes,
+//    apply all the splits asked for, check what they touched. Its rounds cost 1.4–1.5 times the
+//    CPU of a last-in-first-out list, which keeps what it touches in cache.)
 //  - the per-leaf passes of the mesh (ownership, loops, levels around vertices, vertex ids) run in
 //    two halves, and a helper allocates and first touches the mesh's arrays while warp() runs;
 //  - the cells' chunks alternate between the two threads, each preparing (dynamic program, exact
 //    checks, adjacency inside the cell), writing and linking its own: a chunk takes its places in
 //    the arrays when the one before it has taken its own, and is linked once all earlier chunks
 //    are written (see triangulate_cells()).
-//  - the balance / warp work list runs as two lanes, the west and the east half of the root, each
-//    with its own block of the arrays; a lane defers the leaves whose check would reach across the
-//    midline, and one lane over the whole tree finishes them after the blocks are joined (see
-//    finish()). The list's result depends on its order, and this order is the same with one thread.
-//    (An order-free variant was measured: with the warp rule's coarse half read as "a node that
-//    held the vertex, split or not, keeps its claim on the cells around its corner", the rules are
-//    monotone and their least fixed point can be found in parallel rounds — check a set of nodes,
-//    apply all the splits asked for, check what they touched. Its rounds cost 1.4–1.5 times the
-//    CPU of a last-in-first-out list, which keeps what it touches in cache.)
 //
 // Robustness: all sign decisions are exact (orient2d); constructed points (warped corners moved
 // onto segments, crossing points) are rounded once. Every cell triangulation is checked exactly
@@ -630,6 +630,7 @@ class Tree {
   // frontier on two threads (they only read the levels above and write their own places), and the
   // result is the same arrays, index for index, as one pass in frontier order.
   void build() {
+    constexpr std::size_t kLookAhead = 8;
     nodes.clear();
     // Room for what a uniform point set needs, so that the big arrays are not copied while they
     // grow: finish() sizes them to three times what this build makes (about 7 nodes and 7 list
@@ -688,6 +689,13 @@ class Tree {
         out.items.clear();
         out.pool.clear();
         for (std::size_t i = begin; i < end; ++i) {
+          // (A split reads the nodes its hints name, scattered over the level above: they are
+          // fetched a few items ahead.)
+          if (i + kLookAhead < end && splits[i + kLookAhead]) {
+            for (const std::uint32_t h : hint_[frontier[i + kLookAhead].node]) {
+              if (h != kNone) __builtin_prefetch(&nodes[h]);
+            }
+          }
           const Item& item = frontier[i];
           const std::uint32_t* list = pool.data() + item.begin;
           if (!splits[i]) {
