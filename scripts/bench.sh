@@ -35,7 +35,7 @@ status=0
 for name in "${names[@]}"; do
   echo "== $name"
   # shellcheck disable=SC2086
-  if ! "$build/$name" ${BENCH_ARGS:-} | tee "$out/$name.md"; then
+  if ! "$build/bench/$name" ${BENCH_ARGS:-} | tee "$out/$name.md"; then
     echo "bench.sh: $name failed" >&2
     status=1
   fi
