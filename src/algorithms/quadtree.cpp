@@ -968,6 +968,19 @@ class Tree {
     }
   }
 
+  // Splits leaf b for the check of leaf a (counted in `counter`) and queues a again if it is still
+  // a leaf; returns false, with a deferred instead, where the lane may not split b.
+  bool split_for(Lane& lane, std::uint32_t a, std::uint32_t b, std::size_t& counter) {
+    if (!may_split(lane, b)) {
+      lane.deferred.push_back(a);
+      return false;
+    }
+    ++counter;
+    split(b, lane);
+    if (b != a) lane.work.push_back(a);
+    return true;
+  }
+
   // Checks leaf a against the feature rule (if fresh), balance and the warp rule, splitting what
   // must be split. A region lane defers a (leaves it for the whole-tree lane) where that would
   // reach across the midline or past its room.
@@ -981,13 +994,9 @@ class Tree {
     if (nodes[a].state & kFresh) {
       const Node& n = nodes[a];
       if (l < max_level_ && feature_split(n, features.data() + n.feat_begin, n.feat_count)) {
-        if (!may_split(lane, a)) {
-          lane.deferred.push_back(a);
-          return;
+        if (split_for(lane, a, a, lane.splits_feature)) {
+          nodes[a].state = static_cast<std::uint8_t>(nodes[a].state & ~kFresh);
         }
-        nodes[a].state = static_cast<std::uint8_t>(nodes[a].state & ~kFresh);
-        ++lane.splits_feature;
-        split(a, lane);
         return;
       }
       nodes[a].state = static_cast<std::uint8_t>(nodes[a].state & ~kFresh);
@@ -1006,13 +1015,7 @@ class Tree {
       if (h == kNone || nodes[h].level + 1u >= l) continue;
       const std::uint32_t b = neighbour(a, d);
       if (b != kNone && nodes[b].level + 1u < l) {
-        if (!may_split(lane, b)) {
-          lane.deferred.push_back(a);
-          return;
-        }
-        ++lane.splits_balance;
-        split(b, lane);
-        lane.work.push_back(a);
+        if (!split_for(lane, a, b, lane.splits_balance)) return;
         changed = true;
       }
     }
@@ -1029,23 +1032,12 @@ class Tree {
           const std::uint32_t b = cell_at(a, static_cast<int>(qx) + dx, static_cast<int>(qy) + dy);
           if (b == kNone || b == a) continue;
           if (nodes[b].level < l) {
-            if (!may_split(lane, b)) {
-              lane.deferred.push_back(a);
-              return;
-            }
-            ++lane.splits_warp;
-            split(b, lane);
-            lane.work.push_back(a);
+            split_for(lane, a, b, lane.splits_warp);
             return;
           }
           if (is_leaf(b)) continue;
           if (l >= max_level_) return;  // counted by count_unresolved()
-          if (!may_split(lane, a)) {
-            lane.deferred.push_back(a);
-            return;
-          }
-          ++lane.splits_warp;
-          split(a, lane);
+          split_for(lane, a, a, lane.splits_warp);
           return;
         }
       }
@@ -1527,34 +1519,24 @@ void Builder::number_vertices() {
       // the shape) when they are a leaf, or the two children of a split cell along the side that
       // follow each other as usual in Morton order (east column: SE, NE two apart; north row: NW,
       // NE next to each other); otherwise the node, looked up there.
+      const auto leaf_across = [&](std::uint32_t b, unsigned own_bit, unsigned near_child, unsigned step,
+                                   std::uint32_t& out) {
+        if (b == kNone) return false;
+        if (tree_.is_leaf(b)) {
+          out = leaf_of(b);
+          return true;
+        }
+        if (((mask >> own_bit) & 1u) == 0) return false;
+        const std::uint32_t c = tree_.nodes[b].child;
+        const std::uint32_t first = leaf_of(c + near_child);
+        if (first == kNone || leaf_of(c + 3) != first + step) return false;
+        out = first;
+        return true;
+      };
       unsigned across = 0;
       std::uint32_t west = w, south = s;
-      if (w != kNone) {
-        if (tree_.is_leaf(w)) {
-          west = leaf_of(w);
-          across |= 1u;
-        } else if ((mask >> kOwnLeftMid) & 1u) {
-          const std::uint32_t c = tree_.nodes[w].child;
-          const std::uint32_t first = leaf_of(c + 1);
-          if (first != kNone && leaf_of(c + 3) == first + 2) {
-            west = first;
-            across |= 1u;
-          }
-        }
-      }
-      if (s != kNone) {
-        if (tree_.is_leaf(s)) {
-          south = leaf_of(s);
-          across |= 2u;
-        } else if ((mask >> kOwnBottomMid) & 1u) {
-          const std::uint32_t c = tree_.nodes[s].child;
-          const std::uint32_t first = leaf_of(c + 2);
-          if (first != kNone && leaf_of(c + 3) == first + 1) {
-            south = first;
-            across |= 2u;
-          }
-        }
-      }
+      if (leaf_across(w, kOwnLeftMid, 1, 2, west)) across |= 1u;
+      if (leaf_across(s, kOwnBottomMid, 2, 1, south)) across |= 2u;
       west_south_[k] = {west, south};
       const bool top = n.iy + 1 == side, right = n.ix + 1 == side;
       if (top) mask |= 1u << kOwnUL;
@@ -2024,22 +2006,16 @@ void Builder::prepare_cells(const Mesh& mesh, PreparedChunk& out, std::uint32_t 
         const Point& tr = pos(loop[kTR]);
         const Point& tl = pos(loop[kTL]);
         bool square = bl.y == br.y && tl.y == tr.y && bl.x == tl.x && br.x == tr.x && bl.x < br.x && bl.y < tl.y;
-        if (square && (mask & 1u) != 0) {
-          const Point& p = pos(loop[kBottom]);
-          square = p.y == bl.y && bl.x < p.x && p.x < br.x;
-        }
-        if (square && (mask & 2u) != 0) {
-          const Point& p = pos(loop[kRight]);
-          square = p.x == br.x && br.y < p.y && p.y < tr.y;
-        }
-        if (square && (mask & 4u) != 0) {
-          const Point& p = pos(loop[kTop]);
-          square = p.y == tl.y && tl.x < p.x && p.x < tr.x;
-        }
-        if (square && (mask & 8u) != 0) {
-          const Point& p = pos(loop[kLeft]);
-          square = p.x == bl.x && bl.y < p.y && p.y < tl.y;
-        }
+        // (A midpoint lies strictly inside the axis-parallel side a–b.)
+        const auto inside_side = [&](unsigned slot, const Point& a, const Point& b) {
+          const Point& p = pos(loop[slot]);
+          return a.x == b.x ? p.x == a.x && std::min(a.y, b.y) < p.y && p.y < std::max(a.y, b.y)
+                            : p.y == a.y && std::min(a.x, b.x) < p.x && p.x < std::max(a.x, b.x);
+        };
+        if (square && (mask & 1u) != 0) square = inside_side(kBottom, bl, br);
+        if (square && (mask & 2u) != 0) square = inside_side(kRight, br, tr);
+        if (square && (mask & 4u) != 0) square = inside_side(kTop, tl, tr);
+        if (square && (mask & 8u) != 0) square = inside_side(kLeft, bl, tl);
         for (unsigned i = 0; i < c.count && !square; ++i) {
           if (orient2d(pos(loop[c.slots[c.tri[i][0]]]), pos(loop[c.slots[c.tri[i][1]]]),
                        pos(loop[c.slots[c.tri[i][2]]])) <= 0) {
