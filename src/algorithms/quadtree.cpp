@@ -35,10 +35,11 @@
 //    frontier, with every new node and list placed by prefix sums in frontier order;
 //  - finish(): the first round of checks (every leaf) is a read-only scan in two halves; only the
 //    leaves that fail it enter the work list, in the order they would have been processed;
-//  - the balance / warp work list runs as two lanes, the west and the east half of the root, each
-//    with its own block of the arrays; a lane defers the leaves whose check would reach across the
-//    midline, and one lane over the whole tree finishes them after the blocks are joined (see
-//    finish()); the list's result depends on its order, and this order is the same with one thread.
+//  - the balance / warp work list runs as two lanes, west and east of a vertical grid line that
+//    halves the leaves, each with its own block of the arrays; a lane defers the leaves whose check
+//    would reach across the line, and one lane over the whole tree finishes them after the blocks
+//    are joined (see finish()); the list's result depends on its order, and this order is the
+//    same with one thread.
 //    (An order-free variant was measured: with the warp rule's coarse half read as "a node that
 //    held the vertex, split or not, keeps its claim on the cells around its corner", the rules are
 //    monotone and their least fixed point can be found in parallel rounds — check a set of nodes,
@@ -866,13 +867,14 @@ class Tree {
   }
 
   // finish() works through lanes: a lane is a work list with its own room in the node, hint and
-  // feature arrays. The two region lanes hold the leaves of the west and of the east half of the
-  // root and run at the same time; a region lane never reads or writes a node of the other half,
-  // so their runs do not depend on each other's timing (see finish()).
+  // feature arrays. The two region lanes hold the leaves west and east of a vertical grid line
+  // (chosen so that about as many leaves lie on each side) and run at the same time; a region lane
+  // never reads or writes a node that the other may change, so their runs do not depend on each
+  // other's timing (see finish()).
   struct Lane {
-    int region = -1;  // 0 west half, 1 east half; -1 the whole tree (the arrays grow as needed)
+    int region = -1;  // 0 west, 1 east of the split line; -1 the whole tree (the arrays grow as needed)
     std::vector<std::uint32_t> work;
-    std::vector<std::uint32_t> deferred;  // leaves whose check needs the other half (or more room)
+    std::vector<std::uint32_t> deferred;  // leaves whose check needs the other side (or more room)
     std::array<FeatureList, 4> lists;  // split(): the children's feature lists
     std::uint32_t node_begin = 0, node_next = 0, node_end = 0;  // region lanes: their block of node ids
     std::size_t feature_next = 0, feature_end = 0;     //   and of feature list entries
@@ -882,21 +884,70 @@ class Tree {
     unsigned deepest = 0;
   };
 
-  // Is the cell in the column next to the line that halves the root? Its same-size neighbours
-  // (the only cells check() and split() reach from it) may lie in the other half.
-  static bool on_midline(const Node& n) {
-    if (n.level == 0) return true;
-    const std::int64_t half = std::int64_t{1} << (n.level - 1u);
-    return n.ix == half - 1 || n.ix == half;
+  // The split line between the lanes: the left side of column lane_column_ of level lane_level_.
+  // Its position in cells of level l is lane_column_ · 2^(l − lane_level_).
+  //
+  // Does the split line cross the columns ix − 1 … ix + 1 of the cell's level (the only cells
+  // check() and split() reach from it, besides coarser leaves covering them and ancestors)? Such a
+  // cell is left to the whole-tree lane. A cell off the line lies, with all it reaches, on one
+  // side; a coarser leaf covering a reached cell either lies on that side too or is crossed by the
+  // line (and then no region lane splits it), so the lanes never write what the other reads.
+  bool near_split_line(const Node& n) const {
+    if (n.level >= lane_level_) {
+      const std::int64_t line = lane_column_ << (n.level - lane_level_);
+      return n.ix == line - 1 || n.ix == line;
+    }
+    const std::int64_t scale = std::int64_t{1} << (lane_level_ - n.level);
+    return (n.ix - 1) * scale < lane_column_ && lane_column_ < (n.ix + 2) * scale;
   }
-  // The half of the root (0 west, 1 east) a cell at level ≥ 1 lies in.
-  static int region_of(const Node& n) { return n.level == 0 ? -1 : static_cast<int>((n.ix >> (n.level - 1u)) & 1); }
+  // The side of the split line a cell lies on (0 west, 1 east), or -1 if the line crosses it.
+  int side_of_split_line(const Node& n) const {
+    std::int64_t line = lane_column_, scale = 1;
+    if (n.level >= lane_level_) {
+      line <<= n.level - lane_level_;
+    } else {
+      scale = std::int64_t{1} << (lane_level_ - n.level);
+    }
+    if ((n.ix + 1) * scale <= line) return 0;
+    if (n.ix * scale >= line) return 1;
+    return -1;
+  }
+  // Chooses the split line: the column boundary of level lane_level_ (at most 10) with about half
+  // of the leaves (a proxy for the work of the lanes) on each side. Leaves coarser than that level
+  // count in their first column.
+  void choose_split_line(std::uint32_t node_count) {
+    lane_level_ = std::min(10u, max_level_);
+    const std::size_t columns = std::size_t{1} << lane_level_;
+    std::array<std::vector<std::uint32_t>, 2> count{std::vector<std::uint32_t>(columns, 0),
+                                                    std::vector<std::uint32_t>(columns, 0)};
+    in_two_halves(node_count, threaded_nodes_, [&](std::size_t begin, std::size_t end) {
+      std::vector<std::uint32_t>& c = count[begin == 0 ? 0 : 1];
+      for (std::size_t a = begin; a < end; ++a) {
+        const Node& n = nodes[a];
+        if (n.child != kNone) continue;
+        const std::int64_t column = n.level >= lane_level_ ? n.ix >> (n.level - lane_level_)
+                                                           : n.ix << (lane_level_ - n.level);
+        ++c[static_cast<std::size_t>(column)];
+      }
+    });
+    std::size_t total = 0;
+    for (std::size_t k = 0; k < columns; ++k) total += std::size_t{count[0][k]} + count[1][k];
+    std::size_t below = 0;
+    lane_column_ = static_cast<std::int64_t>(columns / 2);
+    for (std::size_t k = 1; k < columns; ++k) {
+      below += std::size_t{count[0][k - 1]} + count[1][k - 1];
+      if (2 * below >= total) {
+        lane_column_ = static_cast<std::int64_t>(k);
+        break;
+      }
+    }
+  }
 
-  // May the lane split leaf b? A region lane splits only cells off the midline, within its room.
+  // May the lane split leaf b? A region lane splits only cells off the split line, within its room.
   bool may_split(Lane& lane, std::uint32_t b) {
     if (lane.region < 0) return true;
     const Node& n = nodes[b];
-    if (on_midline(n)) return false;
+    if (near_split_line(n)) return false;
     if (lane.node_next + 4u > lane.node_end || lane.feature_next + 4u * std::size_t{n.feat_count} > lane.feature_end) {
       lane.full = true;
       return false;
@@ -983,10 +1034,10 @@ class Tree {
 
   // Checks leaf a against the feature rule (if fresh), balance and the warp rule, splitting what
   // must be split. A region lane defers a (leaves it for the whole-tree lane) where that would
-  // reach across the midline or past its room.
+  // reach across the split line or past its room.
   void check(std::uint32_t a, Lane& lane) {
     if (!is_leaf(a)) return;
-    if (lane.region >= 0 && on_midline(nodes[a])) {
+    if (lane.region >= 0 && near_split_line(nodes[a])) {
       lane.deferred.push_back(a);
       return;
     }
@@ -1100,9 +1151,11 @@ class Tree {
   //
   // The work list's result depends on its order (the warp rule can ask for a split that a later
   // split would have made unnecessary), so the order is fixed whatever the number of threads:
-  // first the west lane and the east lane, each with the leaves of its half of the root; a region
-  // lane reads and writes only nodes of its half (and the root), defers every leaf whose check
-  // would reach across the midline (a cell in the column next to it, or a split of one), and
+  // first the west lane and the east lane, each with the leaves on its side of the split line (a
+  // vertical grid line with about half of the leaves on each side); a region lane reads and
+  // writes only nodes on its side (and ancestors and leaves the line crosses, which it never
+  // changes), defers every leaf whose check would reach across the line (a cell in the column
+  // next to it, or a split of one), and
   // allocates in its own block of the arrays; then the blocks are joined and one lane over the
   // whole tree works through the deferred leaves. The two region lanes run at the same time on
   // large inputs and one after the other on small ones; the tree is the same.
@@ -1119,6 +1172,7 @@ class Tree {
         fails[a] = is_leaf(a) && fails_check(a) ? 1 : 0;
       }
     });
+    choose_split_line(node_count);
     // Each region lane gets room for as many nodes and list entries as the tree has now (a
     // uniform point set needs about 0.7 of that in the busier half; a lane that runs out defers
     // the rest of its list). The room is never written unless used.
@@ -1142,7 +1196,7 @@ class Tree {
     }
     for (std::uint32_t a = 0; a < node_count; ++a) {
       if (!fails[a]) continue;
-      const int region = region_of(nodes[a]);
+      const int region = side_of_split_line(nodes[a]);
       if (region < 0) {
         lanes[0].deferred.push_back(a);
       } else {
@@ -1301,6 +1355,8 @@ class Tree {
   int exponent_ = 0;
   std::array<double, 64> step_{};  // cell size at each level
   unsigned deepest_ = 0;                             // deepest level of any node made so far
+  unsigned lane_level_ = 1;                          // finish(): the split line between the lanes
+  std::int64_t lane_column_ = 1;
   std::vector<std::array<std::uint32_t, 4>, UninitializedAllocator<std::array<std::uint32_t, 4>>> hint_;  // per node: see neighbour()
   std::vector<VertexId> rank_id_;                    // vertex feature (Morton rank) → vertex id
   std::vector<Point> rank_point_;                    // vertex feature → its point
