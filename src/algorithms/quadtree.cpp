@@ -885,57 +885,50 @@ class Tree {
   };
 
   // The split line between the lanes: the left side of column lane_column_ of level lane_level_.
-  // Its position in cells of level l is lane_column_ · 2^(l − lane_level_).
-  //
+  // In cells of the level of n it lies at line / scale (whole cells at or below lane_level_).
+  void split_line_at(const Node& n, std::int64_t& line, std::int64_t& scale) const {
+    line = lane_column_;
+    scale = 1;
+    if (n.level >= lane_level_) {
+      line <<= n.level - lane_level_;
+    } else {
+      scale = std::int64_t{1} << (lane_level_ - n.level);
+    }
+  }
   // Does the split line cross the columns ix − 1 … ix + 1 of the cell's level (the only cells
   // check() and split() reach from it, besides coarser leaves covering them and ancestors)? Such a
   // cell is left to the whole-tree lane. A cell off the line lies, with all it reaches, on one
   // side; a coarser leaf covering a reached cell either lies on that side too or is crossed by the
   // line (and then no region lane splits it), so the lanes never write what the other reads.
   bool near_split_line(const Node& n) const {
-    if (n.level >= lane_level_) {
-      const std::int64_t line = lane_column_ << (n.level - lane_level_);
-      return n.ix == line - 1 || n.ix == line;
-    }
-    const std::int64_t scale = std::int64_t{1} << (lane_level_ - n.level);
-    return (n.ix - 1) * scale < lane_column_ && lane_column_ < (n.ix + 2) * scale;
+    std::int64_t line = 0, scale = 1;
+    split_line_at(n, line, scale);
+    return (n.ix - 1) * scale < line && line < (n.ix + 2) * scale;
   }
   // The side of the split line a cell lies on (0 west, 1 east), or -1 if the line crosses it.
   int side_of_split_line(const Node& n) const {
-    std::int64_t line = lane_column_, scale = 1;
-    if (n.level >= lane_level_) {
-      line <<= n.level - lane_level_;
-    } else {
-      scale = std::int64_t{1} << (lane_level_ - n.level);
-    }
+    std::int64_t line = 0, scale = 1;
+    split_line_at(n, line, scale);
     if ((n.ix + 1) * scale <= line) return 0;
     if (n.ix * scale >= line) return 1;
     return -1;
   }
-  // Chooses the split line: the column boundary of level lane_level_ (at most 10) with about half
-  // of the leaves (a proxy for the work of the lanes) on each side. Leaves coarser than that level
-  // count in their first column.
-  void choose_split_line(std::uint32_t node_count) {
-    lane_level_ = std::min(10u, max_level_);
-    const std::size_t columns = std::size_t{1} << lane_level_;
-    std::array<std::vector<std::uint32_t>, 2> count{std::vector<std::uint32_t>(columns, 0),
-                                                    std::vector<std::uint32_t>(columns, 0)};
-    in_two_halves(node_count, threaded_nodes_, [&](std::size_t begin, std::size_t end) {
-      std::vector<std::uint32_t>& c = count[begin == 0 ? 0 : 1];
-      for (std::size_t a = begin; a < end; ++a) {
-        const Node& n = nodes[a];
-        if (n.child != kNone) continue;
-        const std::int64_t column = n.level >= lane_level_ ? n.ix >> (n.level - lane_level_)
-                                                           : n.ix << (lane_level_ - n.level);
-        ++c[static_cast<std::size_t>(column)];
-      }
-    });
+  // The column of level lane_level_ a leaf lies in (its first, if it is coarser).
+  std::size_t lane_column_of(const Node& n) const {
+    return static_cast<std::size_t>(n.level >= lane_level_ ? n.ix >> (n.level - lane_level_)
+                                                           : n.ix << (lane_level_ - n.level));
+  }
+  // Chooses the split line: the column boundary of level lane_level_ with about half of the
+  // leaves (a proxy for the work of the lanes) on each side, given the leaves per column (two
+  // counts, one per half of the first round of checks).
+  void choose_split_line(const std::array<std::vector<std::uint32_t>, 2>& leaves_per_column) {
+    const std::size_t columns = leaves_per_column[0].size();
     std::size_t total = 0;
-    for (std::size_t k = 0; k < columns; ++k) total += std::size_t{count[0][k]} + count[1][k];
+    for (std::size_t k = 0; k < columns; ++k) total += std::size_t{leaves_per_column[0][k]} + leaves_per_column[1][k];
     std::size_t below = 0;
     lane_column_ = static_cast<std::int64_t>(columns / 2);
     for (std::size_t k = 1; k < columns; ++k) {
-      below += std::size_t{count[0][k - 1]} + count[1][k - 1];
+      below += std::size_t{leaves_per_column[0][k - 1]} + leaves_per_column[1][k - 1];
       if (2 * below >= total) {
         lane_column_ = static_cast<std::int64_t>(k);
         break;
@@ -1155,24 +1148,32 @@ class Tree {
   // vertical grid line with about half of the leaves on each side); a region lane reads and
   // writes only nodes on its side (and ancestors and leaves the line crosses, which it never
   // changes), defers every leaf whose check would reach across the line (a cell in the column
-  // next to it, or a split of one), and
-  // allocates in its own block of the arrays; then the blocks are joined and one lane over the
-  // whole tree works through the deferred leaves. The two region lanes run at the same time on
-  // large inputs and one after the other on small ones; the tree is the same.
+  // next to it, or a split of one), and allocates in its own block of the arrays; then the blocks
+  // are joined and one lane over the whole tree works through the deferred leaves. The two region
+  // lanes run at the same time on large inputs and one after the other on small ones; the tree is
+  // the same.
   void finish() {
     // The first round checks every leaf, and almost all pass: that round is done as a read-only
     // scan in two halves on two threads, and only the leaves that fail it are queued, in the same
     // order. This changes nothing: a leaf that passed at the start and is changed later is queued
     // again by the change (below) and checked after it, so its first-round check would have been
     // a no-op too.
+    // The same scan counts the leaves per column of level lane_level_ (at most 10), to place the
+    // lanes' split line.
     const auto node_count = static_cast<std::uint32_t>(nodes.size());
     std::vector<std::uint8_t> fails(node_count, 0);
+    lane_level_ = std::min(10u, max_level_);
+    std::array<std::vector<std::uint32_t>, 2> leaves_per_column;
+    for (auto& count : leaves_per_column) count.assign(std::size_t{1} << lane_level_, 0);
     in_two_halves(node_count, threaded_nodes_, [&](std::size_t begin, std::size_t end) {
+      std::vector<std::uint32_t>& count = leaves_per_column[begin == 0 ? 0 : 1];
       for (auto a = static_cast<std::uint32_t>(begin); a < end; ++a) {
-        fails[a] = is_leaf(a) && fails_check(a) ? 1 : 0;
+        if (!is_leaf(a)) continue;
+        ++count[lane_column_of(nodes[a])];
+        fails[a] = fails_check(a) ? 1 : 0;
       }
     });
-    choose_split_line(node_count);
+    choose_split_line(leaves_per_column);
     // Each region lane gets room for as many nodes and list entries as the tree has now (a
     // uniform point set needs about 0.7 of that in the busier half; a lane that runs out defers
     // the rest of its list). The room is never written unless used.
