@@ -85,6 +85,17 @@ OptimizeStats optimize(Mesh& mesh, const OptimizeOptions& options = {});
 // if it did; vertices, segments and markers are unchanged either way.
 bool exact_polish_mesh(Mesh& mesh, const OptimizeOptions& options);
 
+// Partition crossover (crossover.cpp): cuts the domain along the edges two triangulations of the
+// same input share, and replaces each piece of `a` by `b`'s triangles there when those are lighter
+// and meet the rest along the same edges. `a` is never made heavier; it is compacted.
+struct CrossoverStats {
+  std::size_t pieces = 0;      // pieces of the domain between shared edges
+  std::size_t taken = 0;       // pieces taken from b
+  std::size_t mismatched = 0;  // pieces whose boundary differs in b (a segment split differently)
+  double gain = 0.0;           // weight removed from a
+};
+CrossoverStats partition_crossover(Mesh& a, const Mesh& b);
+
 // Minimum weight triangulation of a simple polygon (vertices counter-clockwise) by dynamic
 // programming over its valid diagonals, O(d³) (Gilbert 1979; Klincsek 1980). Returns the total
 // length of the diagonals used, or +inf if the polygon cannot be triangulated (not simple), and

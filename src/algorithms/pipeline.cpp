@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -144,9 +145,10 @@ void flip_phase(Mesh& mesh, Report& report) {
 
 // Our optimiser (method opt): the local search of optimize.hpp from several starting meshes —
 // BRH at the given (A, K) followed by EFH, DR at 5°, 10°, 15° and 20°, and the CDT — keeping the
-// lightest result (the starts within 5% of the best get the kicks and the iterated local search).
-// Since every search only lowers the weight of its start, opt is never heavier than BRH+EFH with
-// the same parameters. Phase "optimize".
+// lightest result (the starts within 5% of the best get the kicks and the iterated local search),
+// improved by a partition crossover with the others. Since every search only lowers the weight of
+// its start, and the crossover is kept only if lighter, opt is never heavier than BRH+EFH with the
+// same parameters. Phase "optimize".
 Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::time_point start,
                     Report& report) {
   Mesh best = constrained_delaunay_phase(pslg, options, report);
@@ -179,9 +181,6 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
     }
     starts.push_back({"dt", cdt});
   }
-  double best_weight = std::numeric_limits<double>::infinity();
-  std::string best_name;
-  OptimizeStats best_stats;
   nlohmann::json tried = nlohmann::json::object();
   // The local search on every start, then the costlier kicks (optimize.hpp) on the starts within 5%
   // of the lightest local optimum (kicks have never gained more than ~4% on the data sets).
@@ -207,9 +206,10 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
   kicks.max_exact_polygon = 0;
   kicks.max_exact_convex_polygon = 0;
   kicks.exact_polish = options.exact_polish;  // and after the search (optimize.hpp)
+  std::vector<OptimizeStats> result(starts.size());
   for (std::size_t i = 0; i < starts.size(); ++i) {
     Start& s = starts[i];
-    OptimizeStats os;
+    OptimizeStats& os = result[i];
     if (local_weight[i] <= 1.05 * lightest) {
       // The iterated local search of optimize.hpp (perturbation_trials) follows the kicks; its
       // budget counts trials, scaled by this start's own size (each trial copies the mesh), so
@@ -224,11 +224,36 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
       os.weight_before = os.weight_after = local_weight[i];
     }
     tried[s.name] = os.weight_after;
-    if (os.weight_after < best_weight) {
-      best_weight = os.weight_after;
-      best_name = s.name;
-      best_stats = os;
-      best = std::move(s.mesh);
+  }
+  // The results, lightest first (ties: the earlier start).
+  std::vector<std::size_t> order(starts.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t x, std::size_t y) { return result[x].weight_after < result[y].weight_after; });
+  const std::size_t lightest_start = order.front();
+  double best_weight = result[lightest_start].weight_after;
+  const std::string best_name = starts[lightest_start].name;
+  const OptimizeStats best_stats = result[lightest_start];
+  best = std::move(starts[lightest_start].mesh);
+  // Partition crossover (crossover.cpp): the lightest result takes from each other result, in
+  // order, the pieces between their shared edges that are lighter there (different starts end in
+  // different local minima in different places), then the local search polishes the seams. Kept
+  // only if lighter; no gain, no change.
+  CrossoverStats crossed;
+  if (order.size() > 1) {
+    Mesh child = best;
+    for (std::size_t k = 1; k < order.size(); ++k) {
+      const CrossoverStats c = partition_crossover(child, starts[order[k]].mesh);
+      crossed.taken += c.taken;
+      crossed.mismatched += c.mismatched;
+    }
+    if (crossed.taken > 0) {
+      const OptimizeStats polished = optimize(child, local);
+      if (polished.weight_after < best_weight) {
+        crossed.gain = best_weight - polished.weight_after;
+        best_weight = polished.weight_after;
+        best = std::move(child);
+      }
     }
   }
   phase.finish();
@@ -245,8 +270,10 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
                               {"perturbations", best_stats.perturbations},
                               {"whole_polygon_mwt", best_stats.whole_polygon_mwt},
                               {"flips", best_stats.flips},
+                              {"crossover_pieces", crossed.gain > 0.0 ? crossed.taken : 0},
+                              {"crossover_gain", crossed.gain},
                               {"weight_before", best_stats.weight_before},
-                              {"weight_after", best_stats.weight_after}};
+                              {"weight_after", best_weight}};
   if (options.exact_polish) {
     report.extra["optimize"]["exact_polishes"] = best_stats.exact_polishes;
     report.extra["optimize"]["exact_polish_tries"] = best_stats.exact_polish_tries;
