@@ -400,6 +400,9 @@ constexpr std::uint8_t kFresh = 1;  // created after the first build: still to b
 // no cell that way, so no edge neighbour that way is ever more than one level coarser (check()
 // then skips reading the hint's node, a cache miss per leaf).
 constexpr std::uint8_t kBalanced = 2;
+// Node::state bit of a leaf whose feature list holds a segment (set where the list is written, so
+// that the mesh passes find these leaves without reading every list).
+constexpr std::uint8_t kHasSegment = 32;
 
 struct Node {
   std::int64_t ix = 0, iy = 0;         // cell index at its level
@@ -567,6 +570,14 @@ class Tree {
     return true;
   }
 
+  // Does a feature list hold a segment?
+  bool has_segment(const std::uint32_t* list, std::size_t count) const {
+    for (std::size_t i = 0; i < count; ++i) {
+      if (!is_vertex(list[i])) return true;
+    }
+    return false;
+  }
+
   bool meets_any(const Node& n, const std::uint32_t* list, std::size_t count) const {
     const Box b = box(n);
     for (std::size_t i = 0; i < count; ++i) {
@@ -705,6 +716,7 @@ class Tree {
             leaf.feat_count = item.count;
             std::copy(list, list + item.count, features.begin() + place[i]);
             leaf.vertex = vertex_in(leaf);
+            if (has_segment(list, item.count)) leaf.state = static_cast<std::uint8_t>(leaf.state | kHasSegment);
             continue;
           }
           const Node n = nodes[item.node];
@@ -983,7 +995,7 @@ class Tree {
       c.iy = 2 * n.iy + (k >> 1);
       c.parent = a;
       c.level = static_cast<std::uint8_t>(n.level + 1);
-      c.state = kFresh;
+      c.state = has_segment(lists[k].data(), lists[k].size()) ? kFresh | kHasSegment : kFresh;
       c.feat_begin = static_cast<std::uint32_t>(place);
       c.feat_count = static_cast<std::uint32_t>(lists[k].size());
       std::copy(lists[k].begin(), lists[k].end(), features.begin() + static_cast<std::ptrdiff_t>(place));
@@ -1488,6 +1500,8 @@ class Builder {
   // west / south side as leaf ordinals rather than a node (bits 12, 13).
   std::unique_ptr<std::uint16_t[]> leaf_shape_;
   std::unique_ptr<std::uint32_t[]> loops_;  // 8 slots per leaf, kNone where absent (null until built)
+  std::array<std::vector<std::uint32_t>, 2> near_segment_;  // leaves with a segment in their list (two
+                                                             // halves, in order; build_loops())
   std::array<std::vector<std::uint32_t>, 2> with_vertex_;  // leaves with an input vertex (two halves,
                                                             // in order; build_loops() for warp())
   std::vector<Point> gpos_;                // grid vertex (then crossing point) positions
@@ -1635,6 +1649,7 @@ void Builder::number_vertices() {
 
 void Builder::build_loops() {
   for (auto& half : with_vertex_) half.clear();
+  for (auto& half : near_segment_) half.clear();
   loops_ = std::make_unique_for_overwrite<std::uint32_t[]>(8 * leaves_.size());
   // With the loops, the deepest and shallowest leaf level around each grid vertex: each thread
   // updates the vertices that the leaves of its half own (ids are given in leaf order, so they are
@@ -1646,12 +1661,14 @@ void Builder::build_loops() {
   std::array<std::vector<std::pair<std::uint32_t, std::uint8_t>>, 2> across_halves;
   in_two_halves(leaf_count, threaded_leaves_, [&](std::size_t begin, std::size_t end) {
     auto& with_vertex = with_vertex_[begin == 0 ? 0 : 1];
+    auto& near_segment = near_segment_[begin == 0 ? 0 : 1];
     const std::uint32_t lo = own_base_[begin], hi = end == leaf_count ? grid_count_ : own_base_[end];
     auto& later = across_halves[begin == 0 ? 0 : 1];
     for (auto k = static_cast<std::uint32_t>(begin); k < end; ++k) {
       const std::uint32_t a = leaves_[k];
       const Node& n = tree_.nodes[a];
       if (n.vertex != kNone) with_vertex.push_back(k);
+      if ((n.state & kHasSegment) != 0) near_segment.push_back(k);
       const unsigned l = n.level;
       const std::int64_t side = std::int64_t{1} << l, ix = n.ix, iy = n.iy;
       const bool top = iy + 1 == side, right = ix + 1 == side;
@@ -1755,23 +1772,11 @@ void Builder::segments_pass() {
   const std::uint32_t nv = tree_.vertex_count();
   reserve_room(gseg_, gpos_.capacity());
   gseg_.assign(grid_count_, kNone);
-  // The leaves that have a segment in their list (the only ones the passes below look at).
-  // (Every leaf's list is read: two threads, each collecting its half in order.)
-  std::array<std::vector<std::uint32_t>, 2> near_half;
-  in_two_halves(leaves_.size(), threaded_leaves_, [&](std::size_t begin, std::size_t end) {
-    auto& out = near_half[begin == 0 ? 0 : 1];
-    for (auto k = static_cast<std::uint32_t>(begin); k < end; ++k) {
-      const Node& n = tree_.nodes[leaves_[k]];
-      for (std::uint32_t i = 0; i < n.feat_count; ++i) {
-        if (tree_.features[n.feat_begin + i] >= nv) {
-          out.push_back(k);
-          break;
-        }
-      }
-    }
-  });
-  std::vector<std::uint32_t> near = std::move(near_half[0]);
-  near.insert(near.end(), near_half[1].begin(), near_half[1].end());
+  // The leaves that have a segment in their list (the only ones the passes below look at), listed
+  // by build_loops().
+  std::vector<std::uint32_t> near = std::move(near_segment_[0]);
+  near.insert(near.end(), near_segment_[1].begin(), near_segment_[1].end());
+  for (auto& half : near_segment_) std::vector<std::uint32_t>().swap(half);
   // 1. Corners exactly on a segment join its chain where they are.
   for (const std::uint32_t k : near) {
     const Node& n = tree_.nodes[leaves_[k]];
