@@ -13,13 +13,14 @@
 // different Steiner points in A and B leaves its piece to A).
 #include <algorithm>
 #include <bit>
-#include <cmath>
 #include <cstdint>
 #include <unordered_map>
 #include <unordered_set>
+#include <utility>
 #include <vector>
 
 #include "mwst/error.hpp"
+#include "mwst/geometry.hpp"
 #include "mwst/optimize.hpp"
 
 namespace mwst {
@@ -39,22 +40,28 @@ struct PointKeyHash {
 // Exact coordinates as a key (−0 and +0 are one point).
 PointKey point_key(const Point& p) { return {std::bit_cast<std::uint64_t>(p.x + 0.0), std::bit_cast<std::uint64_t>(p.y + 0.0)}; }
 
-double edge_length(const Mesh& m, Handle h) {
-  const Point& a = m.points[m.org(h)];
-  const Point& b = m.points[m.dest(h)];
-  return std::hypot(a.x - b.x, a.y - b.y);
-}
+// The pieces of a mesh: its in-domain triangles joined across the edges not in `shared` (undirected
+// keys in the ids id_of(v) gives the mesh's vertices; kNone: a vertex the other mesh lacks). Each
+// piece's triangles are listed together (ascending ids) with the sum of their perimeters.
+struct Pieces {
+  std::vector<std::uint32_t> of;       // per triangle slot: its piece, kNone outside the domain
+  std::vector<std::uint32_t> first;    // piece p's triangles: triangles[first[p], first[p + 1])
+  std::vector<TriangleId> triangles;
+  std::vector<double> perimeter;
+  std::uint32_t count() const { return static_cast<std::uint32_t>(perimeter.size()); }
+  const TriangleId* begin(std::uint32_t p) const { return triangles.data() + first[p]; }
+  const TriangleId* end(std::uint32_t p) const { return triangles.data() + first[p + 1]; }
+};
 
-// Pieces of a mesh: in-domain triangles joined across the edges not in `shared` (undirected keys in
-// the ids `id` gives the mesh's vertices). piece[t] = kNone outside the domain.
-std::vector<std::uint32_t> pieces(const Mesh& m, const std::vector<VertexId>& id,
-                                  const std::unordered_set<std::uint64_t>& shared, std::uint32_t& count) {
-  std::vector<std::uint32_t> piece(m.triangles.size(), kNone);
+template <class IdOf>
+Pieces pieces_of(const Mesh& m, IdOf id_of, const std::unordered_set<std::uint64_t>& shared) {
+  Pieces out;
+  out.of.assign(m.triangles.size(), kNone);
   std::vector<TriangleId> stack;
-  count = 0;
+  std::uint32_t count = 0;
   for (TriangleId s = 0; s < m.triangles.size(); ++s) {
-    if (!m.in_domain(s) || piece[s] != kNone) continue;
-    piece[s] = count;
+    if (!m.in_domain(s) || out.of[s] != kNone) continue;
+    out.of[s] = count;
     stack.push_back(s);
     while (!stack.empty()) {
       const TriangleId t = stack.back();
@@ -62,16 +69,51 @@ std::vector<std::uint32_t> pieces(const Mesh& m, const std::vector<VertexId>& id
       for (unsigned e = 0; e < 3; ++e) {
         const Handle h = make_handle(t, e);
         const TriangleId u = m.sym(h) >> 2;
-        if (!m.in_domain(u) || piece[u] != kNone) continue;
-        const VertexId a = id[m.org(h)], b = id[m.dest(h)];
+        if (!m.in_domain(u) || out.of[u] != kNone) continue;
+        const VertexId a = id_of(m.org(h)), b = id_of(m.dest(h));
         if (a != kNone && b != kNone && shared.count(undirected_key(a, b))) continue;
-        piece[u] = count;
+        out.of[u] = count;
         stack.push_back(u);
       }
     }
     ++count;
   }
-  return piece;
+  // Counting sort of the triangles by piece; perimeters.
+  out.first.assign(count + 1, 0);
+  out.perimeter.assign(count, 0.0);
+  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+    if (out.of[t] == kNone) continue;
+    ++out.first[out.of[t] + 1];
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle h = make_handle(t, e);
+      out.perimeter[out.of[t]] += distance(m.points[m.org(h)], m.points[m.dest(h)]);
+    }
+  }
+  for (std::uint32_t p = 0; p < count; ++p) out.first[p + 1] += out.first[p];
+  out.triangles.resize(out.first[count]);
+  std::vector<std::uint32_t> next(out.first.begin(), out.first.end() - 1);
+  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+    if (out.of[t] != kNone) out.triangles[next[out.of[t]]++] = t;
+  }
+  return out;
+}
+
+// The boundary of piece p (directed edges with the piece on their left, in the ids id_of gives),
+// sorted; false if a boundary vertex has no such id.
+template <class IdOf>
+bool boundary_of(const Mesh& m, const Pieces& pieces, std::uint32_t p, IdOf id_of, std::vector<std::uint64_t>& out) {
+  out.clear();
+  for (const TriangleId* t = pieces.begin(p); t != pieces.end(p); ++t) {
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle h = make_handle(*t, e);
+      if (pieces.of[m.sym(h) >> 2] == p) continue;
+      const VertexId u = id_of(m.org(h)), v = id_of(m.dest(h));
+      if (u == kNone || v == kNone) return false;
+      out.push_back(edge_key(u, v));
+    }
+  }
+  std::sort(out.begin(), out.end());
+  return true;
 }
 
 }  // namespace
@@ -91,8 +133,6 @@ CrossoverStats partition_crossover(Mesh& a, const Mesh& b) {
   for (VertexId v = 0; v < a.points.size(); ++v) {
     if (a_used[v]) a_at.emplace(point_key(a.points[v]), v);
   }
-  std::vector<VertexId> a_id(a.points.size());
-  for (VertexId v = 0; v < a.points.size(); ++v) a_id[v] = v;
   std::vector<VertexId> b_to_a(b.points.size(), kNone);
   for (VertexId v = 0; v < b.points.size(); ++v) {
     if (!b_used[v]) continue;
@@ -119,77 +159,47 @@ CrossoverStats partition_crossover(Mesh& a, const Mesh& b) {
       if (a_edges.count(undirected_key(u, v))) shared.insert(undirected_key(u, v));
     }
   }
-  std::uint32_t a_count = 0, b_count = 0;
-  const std::vector<std::uint32_t> a_piece = pieces(a, a_id, shared, a_count);
-  const std::vector<std::uint32_t> b_piece = pieces(b, b_to_a, shared, b_count);
+  const auto a_id = [](VertexId v) { return v; };
+  const auto b_id = [&b_to_a](VertexId v) { return b_to_a[v]; };
+  // The sums of perimeters compare interior weights: a piece is compared only when its boundary is
+  // the same chain in both parents.
+  const Pieces a_pieces = pieces_of(a, a_id, shared);
+  const Pieces b_pieces = pieces_of(b, b_id, shared);
+  const std::uint32_t a_count = a_pieces.count();
   stats.pieces = a_count;
-  // Per piece: its triangles, its boundary (directed edges with the piece on the left, A's ids),
-  // and its weight counted as the sum of its triangles' perimeters (the boundary is the same chain
-  // in both parents when a piece is compared, so perimeters compare interior weights).
-  auto collect = [](const Mesh& m, const std::vector<std::uint32_t>& piece, std::uint32_t count,
-                    std::vector<std::vector<TriangleId>>& tris, std::vector<double>& perimeter) {
-    tris.assign(count, {});
-    perimeter.assign(count, 0.0);
-    for (TriangleId t = 0; t < m.triangles.size(); ++t) {
-      if (piece[t] == kNone) continue;
-      tris[piece[t]].push_back(t);
-      for (unsigned e = 0; e < 3; ++e) perimeter[piece[t]] += edge_length(m, make_handle(t, e));
-    }
-  };
-  std::vector<std::vector<TriangleId>> a_tris, b_tris;
-  std::vector<double> a_perimeter, b_perimeter;
-  collect(a, a_piece, a_count, a_tris, a_perimeter);
-  collect(b, b_piece, b_count, b_tris, b_perimeter);
-  auto boundary_of = [](const Mesh& m, const std::vector<std::uint32_t>& piece, const std::vector<TriangleId>& tris,
-                        const std::vector<VertexId>& id, std::vector<std::uint64_t>& out) {
-    out.clear();
-    for (const TriangleId t : tris) {
-      for (unsigned e = 0; e < 3; ++e) {
-        const Handle h = make_handle(t, e);
-        if (piece[m.sym(h) >> 2] == piece[t]) continue;
-        const VertexId u = id[m.org(h)], v = id[m.dest(h)];
-        if (u == kNone || v == kNone) return false;
-        out.push_back(edge_key(u, v));
-      }
-    }
-    std::sort(out.begin(), out.end());
-    return true;
-  };
   std::vector<std::uint64_t> a_boundary, b_boundary;
-  std::vector<std::uint32_t> take;  // A pieces replaced by B's, with their B piece
-  std::vector<std::uint32_t> partner(a_count, kNone);
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> take;  // (A piece, the B piece replacing it)
   for (std::uint32_t p = 0; p < a_count; ++p) {
-    boundary_of(a, a_piece, a_tris[p], a_id, a_boundary);
+    boundary_of(a, a_pieces, p, a_id, a_boundary);
     // B's piece on the same side of a shared boundary edge.
     std::uint32_t q = kNone;
     for (const std::uint64_t k : a_boundary) {
       const auto it = b_directed.find(k);
       if (it != b_directed.end() && shared.count(undirected_key(static_cast<VertexId>(k >> 32), static_cast<VertexId>(k)))) {
-        q = b_piece[it->second >> 2];
+        q = b_pieces.of[it->second >> 2];
         break;
       }
     }
     if (q == kNone) continue;
-    if (!boundary_of(b, b_piece, b_tris[q], b_to_a, b_boundary) || b_boundary != a_boundary) {
+    if (!boundary_of(b, b_pieces, q, b_id, b_boundary) || b_boundary != a_boundary) {
       ++stats.mismatched;
       continue;
     }
-    if (b_perimeter[q] < a_perimeter[p] * (1.0 - 1e-12)) {
-      take.push_back(p);
-      partner[p] = q;
-      stats.gain += 0.5 * (a_perimeter[p] - b_perimeter[q]);
+    if (b_pieces.perimeter[q] < a_pieces.perimeter[p] * (1.0 - 1e-12)) {
+      take.emplace_back(p, q);
+      stats.gain += 0.5 * (a_pieces.perimeter[p] - b_pieces.perimeter[q]);
     }
   }
   // Splice: A's triangles of a taken piece give way to B's; B's vertices that A lacks are added.
   std::vector<VertexId> b_new(b.points.size(), kNone);
   const std::vector<VertexKind> a_kind = a.vertex_kind;
   // The piece of a slot of A; the slots the splices fill (reused or new) belong to no piece left.
-  std::vector<std::uint32_t> piece_of = a_piece;
-  for (const std::uint32_t p : take) {
-    const std::uint32_t q = partner[p];
+  std::vector<std::uint32_t> piece_of = a_pieces.of;
+  for (const auto& [p, q] : take) {
     std::unordered_map<std::uint64_t, Handle> outer;  // boundary edge → the handle outside it
     std::unordered_map<std::uint64_t, std::int32_t> segment;  // boundary subsegments → marker
-    for (const TriangleId t : a_tris[p]) {
+    for (const TriangleId* tp = a_pieces.begin(p); tp != a_pieces.end(p); ++tp) {
+      const TriangleId t = *tp;
       for (unsigned e = 0; e < 3; ++e) {
         const Handle h = make_handle(t, e);
         if (piece_of[a.sym(h) >> 2] == p) continue;
@@ -198,12 +208,13 @@ CrossoverStats partition_crossover(Mesh& a, const Mesh& b) {
       }
     }
     // A's Steiner points of the piece go, unless B's triangles use them again (child_id).
-    for (const TriangleId t : a_tris[p]) {
+    for (const TriangleId* tp = a_pieces.begin(p); tp != a_pieces.end(p); ++tp) {
+      const TriangleId t = *tp;
       for (VertexId v : a.triangles[t].v) {
         if (v >= a.input_vertex_count) a.vertex_kind[v] = VertexKind::kRemoved;
       }
     }
-    for (const TriangleId t : a_tris[p]) a.kill_triangle(t);
+    for (const TriangleId* t = a_pieces.begin(p); t != a_pieces.end(p); ++t) a.kill_triangle(*t);
     auto child_id = [&](VertexId v) {
       if (b_to_a[v] != kNone) {
         const VertexId u = b_to_a[v];
@@ -214,7 +225,8 @@ CrossoverStats partition_crossover(Mesh& a, const Mesh& b) {
       return b_new[v];
     };
     std::unordered_map<std::uint64_t, Handle> open;
-    for (const TriangleId s : b_tris[q]) {
+    for (const TriangleId* sp = b_pieces.begin(q); sp != b_pieces.end(q); ++sp) {
+      const TriangleId s = *sp;
       const TriangleId t = a.new_triangle();
       if (t >= piece_of.size()) piece_of.resize(t + 1, kNone);
       piece_of[t] = kNone;

@@ -243,9 +243,7 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
   if (order.size() > 1) {
     Mesh child = best;
     for (std::size_t k = 1; k < order.size(); ++k) {
-      const CrossoverStats c = partition_crossover(child, starts[order[k]].mesh);
-      crossed.taken += c.taken;
-      crossed.mismatched += c.mismatched;
+      crossed.taken += partition_crossover(child, starts[order[k]].mesh).taken;
     }
     if (crossed.taken > 0) {
       const OptimizeStats polished = optimize(child, local);
