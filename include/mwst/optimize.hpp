@@ -96,6 +96,15 @@ struct CrossoverStats {
 };
 CrossoverStats partition_crossover(Mesh& a, const Mesh& b);
 
+// Seeded starting meshes for the search (seed_points.cpp): Steiner points inserted (constrained
+// Delaunay insertion, insert_vertex) into a carved CDT at
+//  - kJunctionCircumcenters: the circumcenter of every in-domain triangle with no edge on the
+//    domain boundary, where the approximate medial axis (the CDT's dual) branches;
+//  - kCentroids: the centroid of every in-domain triangle.
+// Seeds off the domain or on an edge are skipped. Returns the number inserted. The mesh stays a
+// valid constrained Delaunay triangulation; the optimiser then keeps what pays.
+enum class SeedPoints { kJunctionCircumcenters, kCentroids };
+std::size_t seed_steiner_points(Mesh& mesh, SeedPoints which);
 // Minimum weight triangulation of a simple polygon (vertices counter-clockwise) by dynamic
 // programming over its valid diagonals, O(d³) (Gilbert 1979; Klincsek 1980). Returns the total
 // length of the diagonals used, or +inf if the polygon cannot be triangulated (not simple), and
