@@ -112,8 +112,8 @@ TEST(SeedPoints, SquareHasNoJunction) {
   EXPECT_TRUE(check_mesh(g, m).ok());
 }
 
-// method opt searches from both seeded starts too (its report lists them) and is never heavier
-// than any start's result; the mesh is valid and conforming.
+// method opt searches from both seeded starts too on a polygon (its report lists them) and is never
+// heavier than any start's result; the mesh is valid and conforming. A point set has no seeded starts.
 TEST(SeedPoints, OptimiserSearchesFromTheSeededStarts) {
   const Pslg g = io::read_input(std::string(MWST_DATA_DIR) + "/NewYork.poly");
   TriangulateOptions o;
@@ -130,6 +130,13 @@ TEST(SeedPoints, OptimiserSearchesFromTheSeededStarts) {
   EXPECT_TRUE(validate(m).empty());
   const CheckResult check = check_mesh(g, m);
   EXPECT_TRUE(check.ok()) << (check.messages.empty() ? "" : check.messages.front());
+  // A point set (no segments) skips the seeded starts.
+  Pslg points;
+  points.points = test::uniform_points(200, 3);
+  const Report rp = triangulate(points, o);
+  EXPECT_FALSE(rp.extra.at("optimize").at("starts").contains("dt+junctions"));
+  EXPECT_FALSE(rp.extra.at("optimize").at("starts").contains("dt+centroids"));
+  EXPECT_TRUE(rp.extra.at("optimize").at("starts").contains("dt"));
 }
 
 }  // namespace
