@@ -282,7 +282,7 @@ inline std::vector<Tri> canonical(std::vector<Tri> tris) {
 
 // The mesh as `mwst check` sees it after write_mesh(): its domain triangles and each subsegment
 // bordering the domain once, handed to the library's file-level checker (check_triangulation).
-inline CheckResult check_mesh(const Pslg& input, const Mesh& m) {
+inline CheckResult check_mesh(const Pslg& input, const Mesh& m, const CheckOptions& options = {}) {
   std::vector<std::array<std::uint32_t, 3>> triangles;
   std::vector<Segment> subsegments;
   for (TriangleId t = 0; t < m.triangles.size(); ++t) {
@@ -295,7 +295,7 @@ inline CheckResult check_mesh(const Pslg& input, const Mesh& m) {
       if (!m.in_domain(other) || other > t) subsegments.push_back({m.org(h), m.dest(h), m.marker(h)});
     }
   }
-  return check_triangulation(input, m.points, triangles, subsegments);
+  return check_triangulation(input, m.points, triangles, subsegments, options);
 }
 
 // The subsegments of a mesh as undirected (min, max) pairs, sorted.

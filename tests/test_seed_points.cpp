@@ -72,23 +72,11 @@ TEST(SeedPoints, SeededMeshIsAConformingCdtWithTheRulesSeeds) {
         EXPECT_EQ(seeds.count({m.points[v].x, m.points[v].y}), 1u) << label << ": vertex " << v << " is no seed";
       }
       EXPECT_TRUE(validate(m).empty()) << label;
-      // Conforming, every Steiner point in the domain (the checker refuses vertices outside it),
-      // the same area, and still constrained Delaunay.
-      std::vector<std::array<std::uint32_t, 3>> triangles;
-      std::vector<Segment> subsegments;
-      for (TriangleId t = 0; t < m.triangles.size(); ++t) {
-        if (!m.in_domain(t)) continue;
-        triangles.push_back(m.triangles[t].v);
-        for (unsigned e = 0; e < 3; ++e) {
-          const Handle h = make_handle(t, e);
-          if (!m.is_segment(h)) continue;
-          const TriangleId other = triangle_of(m.sym(h));
-          if (!m.in_domain(other) || other > t) subsegments.push_back({m.org(h), m.dest(h), m.marker(h)});
-        }
-      }
+      // Conforming, covering the input's domain and nothing more (mesh boundary on the domain's
+      // boundary, area = domain area: no seed was inserted outside), and still constrained Delaunay.
       CheckOptions delaunay;
       delaunay.delaunay = true;
-      const CheckResult check = check_triangulation(g, m.points, triangles, subsegments, delaunay);
+      const CheckResult check = check_mesh(g, m, delaunay);
       EXPECT_TRUE(check.ok()) << label << ": " << (check.messages.empty() ? "" : check.messages.front());
       EXPECT_NEAR(check.area, measure(cdt).area, 1e-9 * measure(cdt).area) << label;
       // Deterministic.
