@@ -24,6 +24,11 @@
 //    bottom side (plus the root's top and right border), so ids come from one pass over the leaves
 //    in Morton order with no hashing; every leaf then reads its loop of up to 8 vertices through
 //    neighbour look-ups.
+//  - Memory: the kernel clears each page on its first touch, and at a million points that is a
+//    large part of the run, so dead arrays are reused rather than freed and new ones taken: the
+//    grid positions become the mesh's points in place (Builder::run()), and the tree's dead
+//    blocks and hints and the vertex ownership arrays are lent to the arrays made after them
+//    (SpareRoom; about 0.6 GB of 3.6 GB of fresh pages at a million uniform points).
 //  - Cells are triangulated in chunks of leaves in Morton order, their triangles placed by prefix
 //    sums in that order, and each cell links its left and bottom sides to the cells across them
 //    (found by the look-ups that numbered the vertices) soon after it is written: those come
@@ -63,12 +68,14 @@
 #include <algorithm>
 #include <atomic>
 #include <bit>
+#include <cassert>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <exception>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -111,6 +118,111 @@ struct UninitializedAllocator : std::allocator<T> {
     ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
   }
 };
+
+// Memory the run has already touched and no longer needs, lent to arrays made later. The kernel
+// clears every page on its first touch, which is a large part of a big run (at a million points
+// about 3.5 GB of fresh pages, and clear_page the largest single item of the profile); the
+// allocator hands big arrays straight from the system and gives them back when they are freed,
+// so a dead array's pages are never reused unless they are lent by hand. A lent region is given
+// out by bumping a pointer and never taken back (a borrower that frees its block leaves a hole).
+// Whoever lends a region promises that its owner neither reads nor writes it again and keeps it
+// allocated until every borrower is gone (the tree outlives the Builder; the Builder's own lenders
+// are declared before its borrowers, so they are destroyed after them). Thread-safe: the mesh's
+// helper thread borrows while the main thread does.
+class SpareRoom {
+ public:
+  void lend(void* begin, std::size_t bytes) {
+    if (begin == nullptr || bytes < kSmallest) return;
+    const auto at = reinterpret_cast<std::uintptr_t>(begin);
+    const std::lock_guard lock(mutex_);
+    regions_.push_back({at, at, at + bytes});
+  }
+  // A block of `bytes` from the region that fits it most tightly, or null.
+  void* borrow(std::size_t bytes, std::size_t alignment) {
+    const std::lock_guard lock(mutex_);
+    Region* best = nullptr;
+    std::uintptr_t best_at = 0;
+    for (Region& r : regions_) {
+      const std::uintptr_t at = (r.next + alignment - 1) / alignment * alignment;
+      if (at > r.end || r.end - at < bytes) continue;
+      if (best == nullptr || r.end - at < best->end - best_at) {
+        best = &r;
+        best_at = at;
+      }
+    }
+    if (best == nullptr) return nullptr;
+    best->next = best_at + bytes;
+    return reinterpret_cast<void*>(best_at);
+  }
+  bool lent(const void* p) const {
+    const auto at = reinterpret_cast<std::uintptr_t>(p);
+    const std::lock_guard lock(mutex_);
+    for (const Region& r : regions_) {
+      if (at >= r.begin && at < r.end) return true;
+    }
+    return false;
+  }
+
+ private:
+  static constexpr std::size_t kSmallest = std::size_t{1} << 20;  // smaller regions are not worth it
+  struct Region {
+    std::uintptr_t begin, next, end;
+  };
+  mutable std::mutex mutex_;
+  std::vector<Region> regions_;
+};
+
+// A vector allocator that borrows from a SpareRoom when a region fits, and from the heap otherwise.
+template <class T>
+struct SpareAllocator {
+  using value_type = T;
+  using propagate_on_container_copy_assignment = std::true_type;
+  using propagate_on_container_move_assignment = std::true_type;
+  using propagate_on_container_swap = std::true_type;
+  SpareAllocator() = default;
+  explicit SpareAllocator(SpareRoom* spare) noexcept : room(spare) {}
+  template <class U>
+  SpareAllocator(const SpareAllocator<U>& other) noexcept : room(other.room) {}  // NOLINT: rebinding
+  T* allocate(std::size_t n) {
+    if (room != nullptr) {
+      if (void* p = room->borrow(n * sizeof(T), alignof(T))) return static_cast<T*>(p);
+    }
+    return std::allocator<T>().allocate(n);
+  }
+  void deallocate(T* p, std::size_t n) noexcept {
+    if (room != nullptr && room->lent(p)) return;
+    std::allocator<T>().deallocate(p, n);
+  }
+  template <class U>
+  bool operator==(const SpareAllocator<U>& other) const noexcept {
+    return room == other.room;
+  }
+  SpareRoom* room = nullptr;
+};
+template <class T>
+using SpareVector = std::vector<T, SpareAllocator<T>>;
+
+// An array of trivial elements left unwritten (as std::make_unique_for_overwrite), borrowed from a
+// SpareRoom when a region fits.
+template <class T>
+struct SpareDeleter {
+  SpareRoom* room = nullptr;
+  void operator()(T* p) const noexcept {
+    if (room == nullptr || !room->lent(p)) delete[] p;
+  }
+};
+template <class T>
+using SpareArray = std::unique_ptr<T[], SpareDeleter<T>>;
+template <class T>
+SpareArray<T> make_spare_array(SpareRoom& room, std::size_t n) {
+  static_assert(std::is_trivially_default_constructible_v<T> && std::is_trivially_destructible_v<T>);
+  if (void* p = room.borrow(n * sizeof(T), alignof(T))) {
+    T* first = static_cast<T*>(p);
+    std::uninitialized_default_construct_n(first, n);  // (no writes: the elements are trivial)
+    return SpareArray<T>(first, SpareDeleter<T>{&room});
+  }
+  return SpareArray<T>(new T[n], SpareDeleter<T>{&room});
+}
 
 // The four children's feature lists while a node is split: filter_children() makes room for a
 // whole parent list in each and writes through pointers, so new room is left unwritten.
@@ -788,6 +900,7 @@ class Tree {
   // cell when the hint was set. Nodes are never removed, so a hint stays an ancestor of (or equal
   // to) the answer, and descending from it finds the answer in a step or two.
   std::uint32_t neighbour(std::uint32_t a, unsigned d) const {
+    assert(!hints_lent_ && "a look-up after Builder::build_loops() lent the hints away");
     std::uint32_t h = hint_[a][d];
     if (h == kNone) return kNone;
     const Node& n = nodes[a];
@@ -1281,6 +1394,8 @@ class Tree {
     nodes.resize(node_count + used0 + used1);
     hint_.resize(node_count + used0 + used1);
     features.resize(feature_count + feature_used0 + feature_used1);
+    east_node_block_ = {base1, base1 + used1};
+    east_feature_block_ = {feature_base1, feature_base1 + feature_used1};
     for (Lane& lane : lanes) {
       for (std::uint32_t& id : lane.deferred) renumber(id);
     }
@@ -1350,6 +1465,31 @@ class Tree {
     return out;
   }
 
+  // After finish(): the east lane's old block (written while the lane ran, moved down by
+  // join_lanes()) is dead where it lies past the arrays' final ends; the tree never grows after
+  // finish(), so those pages of the arrays' capacity are lent (about 150 MB at a million points).
+  void lend_dead_room(SpareRoom& room) {
+    const auto lend_tail = [&](auto& array, std::pair<std::size_t, std::size_t> block) {
+      const std::size_t begin = std::max(block.first, array.size());
+      if (begin < block.second && block.second <= array.capacity()) {
+        room.lend(array.data() + begin, (block.second - begin) * sizeof(array[0]));
+      }
+    };
+    lend_tail(nodes, east_node_block_);
+    lend_tail(features, east_feature_block_);
+    // (The hints' dead block usually follows their live part: lent with it, as one region.)
+    if (east_node_block_.first > hint_.size()) lend_tail(hint_, east_node_block_);
+  }
+  // After the last neighbour() / diagonal() look-up (Builder::build_loops()): the hints are dead
+  // (16 bytes per node), and no look-up may follow.
+  void lend_hints(SpareRoom& room) {
+    std::size_t end = hint_.size();
+    const auto [dead_begin, dead_end] = east_node_block_;
+    if (dead_begin <= end && dead_end <= hint_.capacity()) end = std::max(end, dead_end);
+    room.lend(hint_.data(), end * sizeof(hint_[0]));
+    hints_lent_ = true;
+  }
+
   unsigned max_level() const { return max_level_; }
   // Leaves (1 + 3 per split: nodes come in fours) and the deepest level of any node.
   std::size_t leaf_count() const { return (nodes.size() - 1) / 4 * 3 + 1; }
@@ -1371,6 +1511,9 @@ class Tree {
   unsigned lane_level_ = 1;                          // finish(): the split line between the lanes
   std::int64_t lane_column_ = 1;
   std::vector<std::array<std::uint32_t, 4>, UninitializedAllocator<std::array<std::uint32_t, 4>>> hint_;  // per node: see neighbour()
+  bool hints_lent_ = false;                          // lend_hints() was called (checked by assert)
+  std::pair<std::size_t, std::size_t> east_node_block_{0, 0};     // join_lanes(): the east lane's old
+  std::pair<std::size_t, std::size_t> east_feature_block_{0, 0};  //   blocks (see lend_dead_room())
   std::vector<VertexId> rank_id_;                    // vertex feature (Morton rank) → vertex id
   std::vector<Point> rank_point_;                    // vertex feature → its point
   std::size_t threaded_items_;                       // build(): frontier size for two threads
@@ -1423,7 +1566,7 @@ class Builder {
   }
 
   void number_vertices();
-  void build_loops();  // then own_base_ and own_mask_ are released
+  void build_loops();  // then own_base_, own_mask_ and the tree's hints are lent to spare_
   void warp();
   void segments_pass();
   void triangulate_cells(Mesh& mesh);
@@ -1472,6 +1615,12 @@ class Builder {
     }
   }
 
+  // Room for the arrays indexed by grid vertex that grow with the crossing points and the centres
+  // made later (about one per 64 leaves): a sixteenth more than the grid (at a million uniform
+  // points the crossings are a few thousand; if there are more, the arrays grow). Not more, as
+  // they borrow from spare_ and the room past their end would be lost there.
+  std::size_t grid_reserve() const { return grid_count_ + grid_count_ / 16 + leaves_.size() / 64 + 16; }
+
   bool in_chain(std::uint32_t g) const { return g < gseg_.size() && (gseg_[g] != kNone || gwarp_[g] != kNone); }
 
   bool on_segment(std::uint32_t g, std::uint32_t s) const {
@@ -1485,20 +1634,27 @@ class Builder {
   QuadtreeStats& stats_;
   Tree& tree_;
   const std::vector<Point>& pts_;
+  // Dead memory lent to the arrays made later (see SpareRoom): the tree's dead blocks and hints,
+  // and own_base_ and own_mask_ after build_loops(). Declared before every borrower and every
+  // lender of the Builder, so that it is destroyed after them, and the lenders after the borrowers.
+  SpareRoom spare_;
 
   std::vector<std::uint32_t> leaves_;      // leaf ordinal → node, Morton order
   // Per-leaf (and per-node) arrays that passes in two halves write in full are allocated without
   // being filled first: the fill of a vector would touch all their pages on one thread.
-  std::unique_ptr<std::uint32_t[]> leaf_index_;  // node → leaf ordinal (kNone for inner nodes)
-  std::unique_ptr<std::uint32_t[]> own_base_;
-  std::unique_ptr<std::uint8_t[]> own_mask_;
-  std::unique_ptr<std::array<std::uint32_t, 2>[]> west_south_;  // per leaf: the same-size cells west,
+  SpareArray<std::uint32_t> leaf_index_;  // node → leaf ordinal (kNone for inner nodes)
+  // Per leaf: the id of its first owned vertex, and which it owns (Own bits); one block, so that it
+  // is lent as one region after build_loops().
+  std::unique_ptr<std::byte[]> own_storage_;
+  std::uint32_t* own_base_ = nullptr;
+  std::uint8_t* own_mask_ = nullptr;
+  SpareArray<std::array<std::uint32_t, 2>> west_south_;  // per leaf: the same-size cells west,
                                                                  // south (link_cell() reuses them)
   // Per leaf, for link_cell() (which then reads no node of its own): its level (bits 0–5), whether
   // the same-size cell west / south is split (bits 6, 7), which of its sides (bottom, right, top,
   // left: bits 8–11) lie on the root's border, and whether west_south_ holds the leaves across the
   // west / south side as leaf ordinals rather than a node (bits 12, 13).
-  std::unique_ptr<std::uint16_t[]> leaf_shape_;
+  SpareArray<std::uint16_t> leaf_shape_;
   std::unique_ptr<std::uint32_t[]> loops_;  // 8 slots per leaf, kNone where absent (null until built)
   std::array<std::vector<std::uint32_t>, 2> near_segment_;  // leaves with a segment in their list (two
                                                              // halves, in order; build_loops())
@@ -1507,12 +1663,14 @@ class Builder {
   std::vector<Point> gpos_;                // grid vertex (then crossing point) positions
   std::vector<std::uint8_t> glevel_;       // deepest level of a leaf around each grid vertex
   std::vector<std::uint8_t> gtop_;         // shallowest level of a leaf around each grid vertex
-  std::vector<VertexId> gwarp_;            // input vertex a grid vertex was warped to, or kNone
-  std::vector<std::uint32_t> gseg_;        // segment a vertex lies on (snapped, exact, crossing)
+  SpareVector<VertexId> gwarp_{SpareAllocator<VertexId>(&spare_)};     // input vertex a grid vertex
+                                                                       // was warped to, or kNone
+  SpareVector<std::uint32_t> gseg_{SpareAllocator<std::uint32_t>(&spare_)};  // segment a vertex lies
+                                                                             // on (snapped, exact, crossing)
   std::vector<bool> gmoved_;               // moved off its grid position (warped or snapped); bits,
                                            // so that the per-leaf test stays in cache
   std::uint32_t grid_count_ = 0;
-  std::vector<std::uint32_t> input_gv_;    // input vertex → its grid vertex
+  SpareVector<std::uint32_t> input_gv_{SpareAllocator<std::uint32_t>(&spare_)};  // input vertex → its grid vertex
   // Crossing points per leaf edge: (leaf, start slot, vertex), sorted by leaf.
   struct EdgeCrossing {
     std::uint32_t leaf, slot, vertex;
@@ -1524,21 +1682,21 @@ class Builder {
     std::uint32_t vertex, other, segment;
   };
   std::vector<ChainLink> chain_links_;
-  std::vector<std::uint32_t> chain_begin_;
+  SpareVector<std::uint32_t> chain_begin_{SpareAllocator<std::uint32_t>(&spare_)};
   std::pair<const ChainLink*, const ChainLink*> chain_of(std::uint32_t g) const {
     if (std::size_t{g} + 1 >= chain_begin_.size()) return {nullptr, nullptr};
     return {chain_links_.data() + chain_begin_[g], chain_links_.data() + chain_begin_[g + 1]};
   }
   std::size_t subsegment_count_ = 0;
   // Final ids and the cells' boundary edges.
-  std::vector<VertexId> final_id_;
+  SpareVector<VertexId> final_id_{SpareAllocator<VertexId>(&spare_)};
   // Per leaf: its first boundary edge in bound_, and the polygon indices of its BR, TR, TL corners
   // and its number of boundary edges (8 bits each); together, so that a neighbour's sides cost one
   // miss, and each leaf's entry is written by the thread that writes the leaf alone.
   struct CellBound {
     std::uint32_t begin, sides;
   };
-  std::unique_ptr<CellBound[]> cell_bound_;
+  SpareArray<CellBound> cell_bound_;
   std::vector<Handle> bound_;               // boundary edge handles, in polygon order
   struct Outer {
     double position;  // along the root's border, counter-clockwise from its lower-left corner
@@ -1561,18 +1719,21 @@ class Builder {
 
 
 void Builder::number_vertices() {
+  tree_.lend_dead_room(spare_);
   leaves_ = tree_.leaves_in_order();
-  leaf_index_ = std::make_unique_for_overwrite<std::uint32_t[]>(tree_.nodes.size());
+  // (The two largest borrowers first: the regions lent so far are the tree's dead blocks.)
+  west_south_ = make_spare_array<std::array<std::uint32_t, 2>>(spare_, leaves_.size());
+  leaf_shape_ = make_spare_array<std::uint16_t>(spare_, leaves_.size());
+  leaf_index_ = make_spare_array<std::uint32_t>(spare_, tree_.nodes.size());
   in_two_halves(tree_.nodes.size(), threaded_leaves_, [&](std::size_t begin, std::size_t end) {
     std::fill(leaf_index_.get() + begin, leaf_index_.get() + end, kNone);
   });
   in_two_halves(leaves_.size(), threaded_leaves_, [&](std::size_t begin, std::size_t end) {
     for (std::size_t k = begin; k < end; ++k) leaf_index_[leaves_[k]] = static_cast<std::uint32_t>(k);
   });
-  own_base_ = std::make_unique_for_overwrite<std::uint32_t[]>(leaves_.size());
-  own_mask_ = std::make_unique_for_overwrite<std::uint8_t[]>(leaves_.size());
-  west_south_ = std::make_unique_for_overwrite<std::array<std::uint32_t, 2>[]>(leaves_.size());
-  leaf_shape_ = std::make_unique_for_overwrite<std::uint16_t[]>(leaves_.size());
+  own_storage_ = std::make_unique_for_overwrite<std::byte[]>(leaves_.size() * (sizeof(std::uint32_t) + 1));
+  own_base_ = reinterpret_cast<std::uint32_t*>(own_storage_.get());
+  own_mask_ = reinterpret_cast<std::uint8_t*>(own_storage_.get() + leaves_.size() * sizeof(std::uint32_t));
   // Which vertices each leaf owns (neighbour look-ups: two threads), then their ids by a prefix
   // sum in leaf order, then their positions (two threads).
   in_two_halves(leaves_.size(), threaded_leaves_, [&](std::size_t begin, std::size_t end) {
@@ -1627,8 +1788,10 @@ void Builder::number_vertices() {
   }
   grid_count_ = next;
   gpos_.clear();
-  // (Room for the crossing points and centres made later, so that the array is not copied.)
-  reserve_room(gpos_, std::max<std::size_t>(grid_count_, leaves_.size() + leaves_.size() / 2) + 16);
+  // (Room for the crossing points and centres made later, and for the duplicate input points: the
+  // array becomes the mesh's points in run(), without being copied.)
+  reserve_room(gpos_, std::max<std::size_t>(grid_count_, leaves_.size() + leaves_.size() / 2) +
+                          (pts_.size() - in_.vertices.size()) + 16);
   gpos_.resize(grid_count_);
   in_two_halves(leaves_.size(), threaded_leaves_, [&](std::size_t begin, std::size_t end) {
     for (std::size_t k = begin; k < end; ++k) {
@@ -1730,12 +1893,14 @@ void Builder::build_loops() {
       gtop_[g] = std::min(gtop_[g], l);
     }
   }
-  own_base_.reset();
-  own_mask_.reset();
+  // Dead from here on (own() is never called again; neither are the tree's look-ups, whose last
+  // use is above): lent to the arrays made later (gwarp_, final_id_, cell_bound_, gseg_, ...).
+  spare_.lend(own_storage_.get(), leaf_count * (sizeof(std::uint32_t) + 1));
+  tree_.lend_hints(spare_);
 }
 
 void Builder::warp() {
-  reserve_room(gwarp_, gpos_.capacity());
+  reserve_room(gwarp_, grid_reserve());
   gwarp_.assign(grid_count_, kNone);
   gmoved_.reserve(gpos_.capacity());
   gmoved_.assign(grid_count_, false);
@@ -1770,7 +1935,7 @@ void Builder::warp() {
 void Builder::segments_pass() {
   if (in_.segments.empty()) return;
   const std::uint32_t nv = tree_.vertex_count();
-  reserve_room(gseg_, gpos_.capacity());
+  reserve_room(gseg_, grid_reserve());
   gseg_.assign(grid_count_, kNone);
   // The leaves that have a segment in their list (the only ones the passes below look at), listed
   // by build_loops().
@@ -2384,7 +2549,7 @@ void Builder::triangulate_cells(Mesh& mesh) {
   constexpr std::uint32_t kChunk = 4096;
   const std::uint32_t chunks = (leaf_count + kChunk - 1) / kChunk;
   const unsigned threads = leaf_count < threaded_leaves_ || chunks < 2 ? 1u : 2u;
-  if (!cell_bound_) cell_bound_ = std::make_unique_for_overwrite<CellBound[]>(leaves_.size());  // (emit_cells())
+  if (!cell_bound_) cell_bound_ = make_spare_array<CellBound>(spare_, leaves_.size());  // (emit_cells())
   centre_base_ = mesh.points.size();
   // Room (address space only until written) past what the cells need, about 2.5 triangles and 4.5
   // boundary edges per leaf, so that the two threads can extend the arrays in place.
@@ -2751,24 +2916,22 @@ Mesh Builder::run(const std::vector<Point>& holes) {
   const std::size_t leaf_count = leaves_.size();
   const std::size_t grid_room = gpos_.capacity();  // grid vertices and crossing points
   const std::size_t warped_count = with_vertex_[0].size() + with_vertex_[1].size();
-  // First the vertex arrays (the pass below writes them), then the cells' arrays.
+  // First the vertex arrays (the pass below writes them), then the cells' arrays. (The points are
+  // written over the grid positions, below.)
   auto allocate_vertices = [&] {
     const std::size_t point_room = base.points.size() + grid_room + leaf_count / 64 + 16;  // + centres
     const std::size_t known = base.points.size() + (grid_count_ >= warped_count ? grid_count_ - warped_count : 0);
-    reserve_room(mesh.points, point_room);
-    mesh.points.assign(base.points.begin(), base.points.end());
-    mesh.points.resize(known);
     reserve_room(mesh.vertex_kind, point_room);
     mesh.vertex_kind.assign(base.vertex_kind.begin(), base.vertex_kind.end());
     mesh.vertex_kind.resize(known);
     reserve_room(mesh.vertex_marker, point_room);
     mesh.vertex_marker.assign(base.vertex_marker.begin(), base.vertex_marker.end());
     mesh.vertex_marker.resize(known);
-    reserve_room(final_id_, grid_room + leaf_count / 64 + 16);
+    reserve_room(final_id_, grid_reserve());
     final_id_.resize(grid_count_);
   };
   auto allocate_cells = [&] {
-    cell_bound_ = std::make_unique_for_overwrite<CellBound[]>(leaf_count);
+    cell_bound_ = make_spare_array<CellBound>(spare_, leaf_count);
     std::fill(cell_bound_.get(), cell_bound_.get() + leaf_count, CellBound{0, 0});
     reserve_room(bound_, leaf_count * 6);
     bound_.resize(leaf_count * 4);
@@ -2823,14 +2986,13 @@ Mesh Builder::run(const std::vector<Point>& holes) {
   const std::size_t steiner_base = base.points.size();
   const std::size_t steiner = grid - warped;
   if (steiner_base + steiner >= kInfinite) throw RouteFailure{"too many vertices"};
-  reserve_room(mesh.points, steiner_base + steiner + leaf_count / 64 + 16);
-  reserve_room(mesh.vertex_kind, mesh.points.capacity());
-  reserve_room(mesh.vertex_marker, mesh.points.capacity());
-  mesh.points.resize(steiner_base + steiner);
+  const std::size_t point_room = steiner_base + steiner + leaf_count / 64 + 16;  // + centres
+  reserve_room(mesh.vertex_kind, point_room);
+  reserve_room(mesh.vertex_marker, point_room);
   mesh.vertex_kind.resize(steiner_base + steiner);
   mesh.vertex_marker.resize(steiner_base + steiner);
   // Ids in grid order (a prefix count: a half starts after the Steiner points below it), with the
-  // points, kinds and markers, in two halves.
+  // kinds and markers, in two halves.
   in_two_halves(grid, threaded_leaves_, [&](std::size_t begin, std::size_t end) {
     auto next = static_cast<VertexId>(steiner_base + (begin == 0 ? 0 : begin - warped_below_middle));
     for (std::size_t g = begin; g < end; ++g) {
@@ -2846,14 +3008,28 @@ Mesh Builder::run(const std::vector<Point>& holes) {
       }
       const VertexId v = next++;
       final_id_[g] = v;
-      mesh.points[v] = gpos_[g];
       mesh.vertex_kind[v] = kind;
       mesh.vertex_marker[v] = marker;
     }
   });
-  // The positions now live in the mesh: release the grid copies while the triangles are made (the
-  // largest arrays then), and restore the positions if the route fails (fallback_points()).
-  std::vector<Point>().swap(gpos_);
+  // The points are written over the grid positions, whose pages are already touched (a fresh
+  // array would be 16 bytes per grid vertex of new pages, and the positions are dead once moved):
+  // the Steiner point of grid vertex g goes to steiner_base + (g minus the warped vertices below g),
+  // which is at least g (steiner_base counts every input vertex, so at least as many as are
+  // warped), and these ids increase with g; so walking g downwards, each position is read before
+  // anything is written over it. Then the input points go in front (their grid positions, the
+  // warped corners, are dropped). The positions are restored if the route fails
+  // (fallback_points()).
+  mesh.points = std::move(gpos_);
+  gpos_.clear();
+  reserve_room(mesh.points, point_room);
+  mesh.points.resize(steiner_base + steiner);
+  Point* const points = mesh.points.data();
+  for (std::size_t g = grid; g-- > 0;) {
+    const VertexId v = final_id_[g];
+    if (v >= steiner_base) points[v] = points[g];
+  }
+  std::copy(base.points.begin(), base.points.end(), points);
   std::vector<std::uint8_t>().swap(gtop_);
   if (helper.joinable()) {
     helper.join();
