@@ -114,7 +114,9 @@ TEST(SeedPoints, OptimiserSearchesFromTheSeededStarts) {
   const auto& starts = r.extra.at("optimize").at("starts");
   ASSERT_TRUE(starts.contains("dt+junctions"));
   ASSERT_TRUE(starts.contains("dt+centroids"));
-  for (const auto& [name, weight] : starts.items()) EXPECT_LE(r.weight_total, weight.get<double>() * (1 + 1e-12)) << name;
+  for (const auto& [name, weight] : starts.items()) {
+    EXPECT_LE(r.weight_total, weight.get<double>() * (1 + 1e-12)) << name;
+  }
   EXPECT_TRUE(validate(m).empty());
   const CheckResult check = check_mesh(g, m);
   EXPECT_TRUE(check.ok()) << (check.messages.empty() ? "" : check.messages.front());

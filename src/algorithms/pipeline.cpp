@@ -146,11 +146,10 @@ void flip_phase(Mesh& mesh, Report& report) {
 // Our optimiser (method opt): the local search of optimize.hpp from several starting meshes —
 // BRH at the given (A, K) followed by EFH, DR at 5°, 10°, 15° and 20°, the CDT, and (inputs with
 // segments) the CDT seeded with Steiner points at its junction triangles' circumcenters and at its
-// centroids — keeping the
-// lightest result (the starts within 5% of the best get the kicks and the iterated local search),
-// improved by a partition crossover with the others. Since every search only lowers the weight of
-// its start, and the crossover is kept only if lighter, opt is never heavier than BRH+EFH with the
-// same parameters. Phase "optimize".
+// centroids — keeping the lightest result (the starts within 5% of the best get the kicks and the
+// iterated local search), improved by a partition crossover with the others. Since every search
+// only lowers the weight of its start, and the crossover is kept only if lighter, opt is never
+// heavier than BRH+EFH with the same parameters. Phase "optimize".
 Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::time_point start,
                     Report& report) {
   Mesh best = constrained_delaunay_phase(pslg, options, report);

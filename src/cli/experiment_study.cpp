@@ -93,8 +93,8 @@ void plan_sweep(Study& study, bool full_sweep, bool figure3) {
         }
       }
     }
-    // OPT is not swept: it starts from BRH+EFH at that column's chosen (A, K) (and from DR, DT and seeded DT),
-    // so it runs once, among the final runs (choose_and_plan_finals).
+    // OPT is not swept: it starts from BRH+EFH at that column's chosen (A, K) (and from DR, DT and
+    // seeded DT), so it runs once, among the final runs (choose_and_plan_finals).
   }
 }
 

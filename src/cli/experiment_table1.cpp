@@ -247,9 +247,10 @@ std::vector<OutputFile> table1_files(const Study& s) {
   }
   md << "}, off-centers; BRH+EFH is chosen over the same grid with the flips run after BRH. OPT is not "
      << "swept: it searches from BRH+EFH at the (A, K) chosen for BRH+EFH, from DR at 5°, 10°, 15°, "
-     << "20°, from DT and, for inputs with segments, from DT seeded with Steiner points (dt+junctions: at the circumcenters of "
-     << "its triangles with no boundary edge; dt+centroids: at every triangle's centroid), keeps the "
-     << "lightest and crosses it with the others; the last column names the start that won. Every run "
+     << "20°, from DT and, for inputs with segments, from DT seeded with Steiner points "
+     << "(dt+junctions: at the circumcenters of its triangles with no boundary edge; dt+centroids: at "
+     << "every triangle's centroid), keeps the lightest and crosses it with the others; the last column "
+     << "names the start that won. Every run "
      << "is listed in runs.csv.\n\n"
      << "| name | DR | BRH | BRH+EFH | OPT start |\n|---|---|---|---|---|\n";
   for (std::size_t d = 0; d < n; ++d) {
