@@ -9,25 +9,29 @@ and finds the lightest triangulation of the region whose vertices are
   - mandatory: the region's boundary vertices and the input vertices inside it;
   - optional:  the Steiner points inside it and candidate points: a jittered grid of about
                --grid-points points over the region (`grid`), or the centroid of every triangle and
-               a jittered midpoint of every interior edge (`adaptive`), or both.
+               a jittered midpoint of every interior edge (`adaptive`), or both; and with
+               --segment-points K, K points on each of the region's boundary edges that lie on the
+               domain's boundary (a segment or hull edge, split where they are used).
 
 The lightest triangulation is an integer program over the candidate triangles (the triangles of
 candidate points inside the region with no mandatory point inside or on them, plus the region's
 own triangles): minimise the sum of their half perimeters subject to, for every candidate edge,
 "as many chosen triangles on its left as on its right" (interior edges) or "exactly one on the
-inside" (the region's boundary edges). The number of chosen triangles covering a point is then the
-same on both sides of every edge, and 1 next to the boundary, so it is 1 everywhere: the chosen
-triangles tile the region, an optional point is used or lies inside no edge, and a mandatory point
-cannot lie inside a triangle, so it is a vertex (the universal-polytope / edge-flow formulation of
-triangulations; De Loera, Rambau and Santos, "Triangulations", 2010, ch. 8). A gain means a
-lighter triangulation of that region exists with those points; no gain means the mesh is the
-lightest there among them. Geometry here is floating point (it only searches: a gain would have to
-be confirmed by building the mesh and running `mwst check`).
+inside" (each piece of the region's boundary edges). The number of chosen triangles covering a
+point is then the same on both sides of every edge, and 1 next to the boundary, so it is 1
+everywhere: the chosen triangles tile the region, each optional point is a vertex or unused, and
+a mandatory point cannot lie inside a triangle, so it is a vertex (triangle variables and such
+covering constraints are the integer programs of optimal triangulations; see De Loera, Rambau
+and Santos, "Triangulations", 2010, on the universal polytope). A gain means a lighter
+triangulation of that region exists with those points; no gain means the mesh is the lightest
+there among them. Geometry here is floating point (it only searches: a gain would have to be
+confirmed by building the mesh and running `mwst check`).
 
 Needs python3-numpy and python3-scipy (Debian; scipy >= 1.9 for its HiGHS `milp`).
 
 usage: scripts/region_exact.py INPUT.poly|.node MESH_PREFIX [--regions 4] [--region-vertices 40]
-           [--candidates grid|adaptive|both] [--grid-points 60] [--seed 1] [--time-limit 300]
+           [--candidates grid|adaptive|both] [--grid-points 60] [--segment-points 0] [--seed 1]
+           [--time-limit 300]
 MESH_PREFIX.node/.ele is the mesh (`mwst triangulate INPUT -o MESH_PREFIX`); its first vertices are
 the input's, in order (as mwst writes them).
 """
@@ -64,12 +68,13 @@ def read_points(path):
 def read_triangles(path, first):
     rows = read_table(path)
     n = int(rows[0][0])
-    return np.array([[int(r[1]) - first, int(r[2]) - first, int(r[3]) - first] for r in rows[1:1 + n]])
+    return np.array([[int(r[k]) - first for k in (1, 2, 3)] for r in rows[1:1 + n]])
 
 
 def orient(a, b, c):
     """Twice the signed area of abc, over arrays of points (last axis x, y)."""
-    return (b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1]) - (b[..., 1] - a[..., 1]) * (c[..., 0] - a[..., 0])
+    return ((b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1])
+            - (b[..., 1] - a[..., 1]) * (c[..., 0] - a[..., 0]))
 
 
 def inside(points, loops):
@@ -121,7 +126,7 @@ class Mesh:
 
 
 def half_perimeter(a, b, c):
-    return 0.5 * (np.linalg.norm(a - b, axis=-1) + np.linalg.norm(b - c, axis=-1) + np.linalg.norm(c - a, axis=-1))
+    return 0.5 * sum(np.linalg.norm(p - q, axis=-1) for p, q in ((a, b), (b, c), (c, a)))
 
 
 def solve_region(mesh, region, members, verts, n_input, args, rng):
@@ -159,7 +164,8 @@ def solve_region(mesh, region, members, verts, n_input, args, rng):
     if args.candidates in ('grid', 'both'):
         h = math.sqrt(area / args.grid_points)
         grid = [(x + rng.uniform(-0.2, 0.2) * h, y + rng.uniform(-0.2, 0.2) * h)
-                for x in np.arange(lo[0] + h / 2, hi[0], h) for y in np.arange(lo[1] + h / 2, hi[1], h)]
+                for x in np.arange(lo[0] + h / 2, hi[0], h)
+                for y in np.arange(lo[1] + h / 2, hi[1], h)]
         grid = np.array(grid).reshape(-1, 2)
         cand += list(grid[inside(grid, loops)])
     if args.candidates in ('adaptive', 'both'):
@@ -172,27 +178,48 @@ def solve_region(mesh, region, members, verts, n_input, args, rng):
                     d = pts[v] - pts[u]
                     cand.append((pts[u] + pts[v]) / 2 + d * rng.uniform(-0.05, 0.05)
                                 + np.array([-d[1], d[0]]) * rng.uniform(-0.02, 0.02))
+    # Each boundary edge of the region is a chain: its two ends and, where it lies on the domain's
+    # boundary (a segment piece, no triangle beyond it), --segment-points optional points on it.
+    # Any two points of a chain make a boundary edge ("along" the chain) that covers the pieces
+    # between them; every piece is covered exactly once from inside.
+    chains = []
+    for u, v in boundary:
+        chain = [index[u]]
+        if len(mesh.edge_triangles[(min(u, v), max(u, v))]) == 1:
+            for k in range(1, args.segment_points + 1):
+                chain.append(len(cand))
+                cand.append(pts[u] + (pts[v] - pts[u]) * (k / (args.segment_points + 1)))
+        chain.append(index[v])
+        chains.append(chain)
+    along = {}  # directed edge (a, b) along a chain -> (chain number, first piece, end piece)
+    for c, chain in enumerate(chains):
+        for x in range(len(chain)):
+            for y in range(x + 1, len(chain)):
+                along[(chain[x], chain[y])] = (c, x, y)
+    along_undirected = {(min(e), max(e)) for e in along}
+    segment_points = {x for chain in chains for x in chain[1:-1]}
+    on_chain = [set(chain) for chain in chains]
     P = np.array(cand)
     m, n_mandatory = len(P), len(mandatory)
-    fixed = {(index[u], index[v]) for u, v in boundary}
-    fixed_undirected = {(min(e), max(e)) for e in fixed}
 
     # Candidate edges: a boundary edge, or one that crosses no boundary edge and has its midpoint
     # inside the region.
     iu, ju = np.triu_indices(m, 1)
     ok = np.ones(len(iu), dtype=bool)
-    for s, t in fixed:
+    for c, chain in enumerate(chains):
+        s, t = chain[0], chain[-1]
         o1, o2 = orient(P[iu], P[ju], P[s]), orient(P[iu], P[ju], P[t])
         o3, o4 = orient(P[s], P[t], P[iu]), orient(P[s], P[t], P[ju])
-        touches = (iu == s) | (iu == t) | (ju == s) | (ju == t)
+        members = np.array(sorted(on_chain[c]))
+        touches = np.isin(iu, members) | np.isin(ju, members)
         ok &= ~((o1 * o2 < 0) & (o3 * o4 < 0) & ~touches)
     ok &= inside((P[iu] + P[ju]) / 2, loops)
-    ok |= np.array([(i, j) in fixed_undirected for i, j in zip(iu, ju)], dtype=bool)
+    ok |= np.array([(i, j) in along_undirected for i, j in zip(iu, ju)], dtype=bool)
     edge_ok = np.zeros((m, m), dtype=bool)
     edge_ok[iu, ju] = ok
     edge_ok[ju, iu] = ok
     reversed_boundary = np.zeros((m, m), dtype=bool)
-    for s, t in fixed:
+    for s, t in along:
         reversed_boundary[t, s] = True
 
     triangles = [tuple(index[v] for v in tris[t]) for t in region]  # the region's own, always
@@ -211,7 +238,8 @@ def solve_region(mesh, region, members, verts, n_input, args, rng):
         a, b, c = P[ii], P[jj], P[kk]
         keep = inside((a + b + c) / 3, loops)
         for q in range(n_mandatory):
-            covers = (orient(a, b, P[q]) >= 0) & (orient(b, c, P[q]) >= 0) & (orient(c, a, P[q]) >= 0)
+            covers = ((orient(a, b, P[q]) >= 0) & (orient(b, c, P[q]) >= 0)
+                      & (orient(c, a, P[q]) >= 0))
             keep &= ~(covers & (ii != q) & (jj != q) & (kk != q))
         for t in zip(ii[keep].tolist(), jj[keep].tolist(), kk[keep].tolist()):
             if tuple(sorted(t)) not in own:
@@ -219,18 +247,27 @@ def solve_region(mesh, region, members, verts, n_input, args, rng):
     T = np.array(triangles)
     cost = half_perimeter(P[T[:, 0]], P[T[:, 1]], P[T[:, 2]])
 
-    # Edge-flow rows: +1 for a triangle on an edge's left, -1 on its right; boundary rows = 1.
+    # Edge-flow rows: +1 for a triangle on an edge's left, -1 on its right (= 0); a boundary piece
+    # is covered by exactly one triangle (= 1).
     rows, cols, vals, lower = [], [], [], []
     row_of = {}
+
+    def add(key, t, value, bound):
+        if key not in row_of:
+            row_of[key] = len(lower)
+            lower.append(bound)
+        rows.append(row_of[key])
+        cols.append(t)
+        vals.append(value)
+
     for t, (i, j, k) in enumerate(T.tolist()):
         for u, v in ((i, j), (j, k), (k, i)):
-            key = (u, v) if (u, v) in fixed else (min(u, v), max(u, v))
-            if key not in row_of:
-                row_of[key] = len(lower)
-                lower.append(1 if (u, v) in fixed else 0)
-            rows.append(row_of[key])
-            cols.append(t)
-            vals.append(1 if ((u, v) in fixed or u < v) else -1)
+            if (u, v) in along:
+                c, first, end = along[(u, v)]
+                for piece in range(first, end):
+                    add(('piece', c, piece), t, 1, 1)
+            else:
+                add((min(u, v), max(u, v)), t, 1 if u < v else -1, 0)
     A = coo_matrix((vals, (rows, cols)), shape=(len(lower), len(T))).tocsr()
     result = milp(cost, constraints=LinearConstraint(A, lower, lower), integrality=np.ones(len(T)),
                   bounds=Bounds(0, 1), options={'time_limit': args.time_limit})
@@ -240,7 +277,10 @@ def solve_region(mesh, region, members, verts, n_input, args, rng):
                     candidate_triangles=len(T), current=current, best=None, used=None,
                     status=result.message)
     chosen = T[result.x > 0.5]
-    used = len({v for t in chosen.tolist() for v in t if v >= n_mandatory})
+    used_points = {v for t in chosen.tolist() for v in t if v >= n_mandatory}
+    used = len(used_points)
+    if segment_points:
+        used = f"{used} ({len(used_points & segment_points)} on segments)"
     return dict(triangles=len(region), vertices=len(verts), steiner=len(steiner), candidates=m,
                 candidate_triangles=len(T), current=current, best=float(result.fun), used=used,
                 status='optimal' if result.status == 0 else result.message)
@@ -254,6 +294,8 @@ def main():
     parser.add_argument('--region-vertices', type=int, default=40)
     parser.add_argument('--candidates', choices=['grid', 'adaptive', 'both'], default='grid')
     parser.add_argument('--grid-points', type=int, default=60)
+    parser.add_argument('--segment-points', type=int, default=0,
+                        help='optional points on each boundary edge that lies on the domain boundary')
     parser.add_argument('--seed', type=int, default=1)
     parser.add_argument('--time-limit', type=float, default=300)
     args = parser.parse_args()
@@ -269,9 +311,11 @@ def main():
     order = list(range(len(tris)))
     rng.shuffle(order)
     taken = set()
-    print(f'{args.mesh_prefix}: {len(pts)} vertices ({len(pts) - n_input} Steiner), {len(tris)} triangles, '
-          f'weight {mesh.weight:.6f}; regions of <= {args.region_vertices} vertices, {args.candidates} candidates')
-    print('| region | triangles | vertices | Steiner | candidates | candidate triangles | weight now | lightest | gain | Steiner used | status |')
+    print(f'{args.mesh_prefix}: {len(pts)} vertices ({len(pts) - n_input} Steiner), '
+          f'{len(tris)} triangles, weight {mesh.weight:.6f}; regions of <= '
+          f'{args.region_vertices} vertices, {args.candidates} candidates')
+    print('| region | triangles | vertices | Steiner | candidates | candidate triangles '
+          '| weight now | lightest | gain | Steiner used | status |')
     print('|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|')
     done = 0
     for start in order:
