@@ -270,6 +270,55 @@ TEST(QuadtreeCells, PolygonProgramIsValidAndMaximisesTheSmallestAngle) {
   EXPECT_FALSE(detail::triangulate_polygon({{0, 0}, {1, 0}, {2, 0}}, out));
 }
 
+// The shortcut for weakly convex quadrilaterals (most warped point-set cells) must pick what the
+// general program picks, bit for bit: the same two triangles in the same order and the same
+// quality. Quadrilaterals with corners on a coarse grid (so collinear corners, repeated points,
+// reflex and clockwise ones are common), warped unit squares, and exact ties (squares, rhombi).
+TEST(QuadtreeCells, QuadrilateralShortcutMatchesTheGeneralProgram) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-0.5, 0.5);
+  std::size_t convex = 0, refused = 0;
+  auto check = [&](const std::vector<Point>& q) {
+    std::vector<std::array<std::uint8_t, 3>> fast, general;
+    double fast_quality = -2.0, general_quality = -3.0;
+    const bool fast_ok = detail::triangulate_polygon_quality(q, fast, fast_quality, false);
+    const bool general_ok = detail::triangulate_polygon_quality(q, general, general_quality, true);
+    ASSERT_EQ(fast_ok, general_ok) << q[0].x << " " << q[0].y << " " << q[1].x << " " << q[1].y << " "
+                                   << q[2].x << " " << q[2].y << " " << q[3].x << " " << q[3].y;
+    bool weakly_convex = true;
+    for (std::size_t i = 0; i < 4; ++i) {
+      if (orient2d(q[(i + 3) % 4], q[i], q[(i + 1) % 4]) < 0) weakly_convex = false;
+    }
+    convex += weakly_convex ? 1 : 0;
+    if (!fast_ok) {
+      ++refused;
+      return;
+    }
+    ASSERT_EQ(fast, general);
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(fast_quality), std::bit_cast<std::uint64_t>(general_quality));
+  };
+  for (int trial = 0; trial < 20000; ++trial) {
+    std::vector<Point> q;
+    if (trial % 3 == 0) {
+      for (int i = 0; i < 4; ++i) {
+        q.push_back({static_cast<double>(rng() % 4), static_cast<double>(rng() % 4)});
+      }
+    } else {
+      // A unit square with each corner moved with probability 1/2 by up to half its side.
+      const Point corner[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+      for (const Point& c : corner) q.push_back(rng() % 2 == 0 ? c : Point{c.x + u(rng), c.y + u(rng)});
+    }
+    check(q);
+    if (HasFatalFailure()) return;
+  }
+  // Exact ties between the two diagonals (square, rhombus) and a collinear corner.
+  check({{0, 0}, {1, 0}, {1, 1}, {0, 1}});
+  check({{0, 0}, {2, 1}, {0, 2}, {-2, 1}});
+  check({{0, 0}, {1, 0}, {2, 0}, {1, 1}});
+  EXPECT_GT(convex, 5000u);  // the shortcut ran often
+  EXPECT_GT(refused, 100u);  // and so did the refusals (collinear or repeated corners)
+}
+
 // Every configuration of a warped cell in a point set, on a grid: the cell [0,1]², each corner
 // either in place or warped to an input point in one of the three other leaves around it (all of
 // the cell's size, by the warp rule), at an offset in [0, 1/2]² towards that leaf; or the cell holds

@@ -154,6 +154,13 @@ namespace detail {
 bool triangulate_polygon(const std::vector<Point>& polygon,
                          std::vector<std::array<std::uint8_t, 3>>& out);
 
+// Testing only: triangulate_polygon() giving the program's smallest-angle sine too (the value
+// triangulate_piece() compares with the fan), with its shortcut for weakly convex quadrilaterals
+// (general = false) or the general program for every k (general = true). The two must agree
+// exactly: the same triangles in the same order and the same quality.
+bool triangulate_polygon_quality(const std::vector<Point>& polygon,
+                                 std::vector<std::array<std::uint8_t, 3>>& out, double& quality, bool general);
+
 // Sine of the smallest angle over the given triangles of a polygon (+inf if there are none).
 double triangulation_quality(const std::vector<Point>& polygon,
                              const std::vector<std::array<std::uint8_t, 3>>& triangles);

@@ -2209,6 +2209,22 @@ void Builder::prepare_cells(const Mesh& mesh, PreparedChunk& out, std::uint32_t 
     out.segment_edges.clear();
     for (; k < end; ++k) {
       const std::uint32_t* loop = &loops_[8 * std::size_t{k}];
+      // The cell's positions are read below through final ids, a cache miss each when the
+      // vertex belongs to a leaf far away in leaf order or is an input point (in input order):
+      // fetch the ids of the leaf 2·kAhead on and the positions of the leaf kAhead on.
+      constexpr std::uint32_t kAhead = 16;
+      if (end - k > 2 * kAhead) {
+        const std::uint32_t* ahead = loop + 16 * kAhead;
+        for (unsigned s = 0; s < 8; ++s) {
+          if (ahead[s] != kNone) __builtin_prefetch(&final_id_[ahead[s]]);
+        }
+      }
+      if (end - k > kAhead) {
+        const std::uint32_t* ahead = loop + 8 * kAhead;
+        for (unsigned s = 0; s < 8; ++s) {
+          if (ahead[s] != kNone) __builtin_prefetch(&mesh.points[final_id_[ahead[s]]]);
+        }
+      }
       // Crossings on this leaf's edges.
       const std::size_t cross_begin = next_crossing;
       while (next_crossing < crossings_.size() && crossings_[next_crossing].leaf == k) ++next_crossing;

@@ -63,6 +63,74 @@ bool segments_touch(const Point& p, const Point& q, const Point& r, const Point&
   return false;
 }
 
+// The general program below (any k from 4 to kMaxPolygon). Kept out of line: its tables take
+// about 100 KB of stack, whose pages the compiler probes on every call.
+[[gnu::noinline]] bool max_min_general(const std::vector<Point>& q,
+                                       std::vector<std::array<std::uint8_t, 3>>& out, double& quality_out);
+
+// The program for a weakly convex quadrilateral (nine warped point-set cells in ten: a square with
+// one or more corners moved and no side midpoint), step for step what max_min_general() does with
+// k = 4, the same doubles in the same order, so it picks the same diagonal and the same quality.
+// The turns o[i] = orient2d(q[i-1], q[i], q[i+1]) are all the program needs: it is weakly convex
+// when none is negative (the fan test orient2d(q0, q2, q3) is o[3] turned cyclically, which keeps
+// an exact sign), and its candidate triangles (0 1 2), (1 2 3), (0 1 3), (0 2 3) are these turns
+// at vertices 1, 2, 0 and 3. Returns false if the program has no triangulation.
+bool max_min_quadrilateral(const std::vector<Point>& q, const int (&o)[4],
+                           std::vector<std::array<std::uint8_t, 3>>& out, double& quality_out) {
+  const Point &q0 = q[0], &q1 = q[1], &q2 = q[2], &q3 = q[3];
+  const double s01 = squared_length(q0, q1), s02 = squared_length(q0, q2), s03 = squared_length(q0, q3);
+  const double s12 = squared_length(q1, q2), s13 = squared_length(q1, q3), s23 = squared_length(q2, q3);
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  // Sub-polygons 0..2 (closed by diagonal 02, apex 1) and 1..3 (diagonal 13, apex 2): their best
+  // quality (−1: none) and total diagonal length. A diagonal joining two equal points is no chord.
+  double best02 = -1.0, length02 = 0.0, best13 = -1.0, length13 = 0.0;
+  if (!(q0 == q2)) {
+    const double chord = std::sqrt(s02);
+    if (o[1] > 0) {
+      best02 = std::min({min_angle_sine(q0, q1, q2, s01, s12, s02), kInf, kInf});
+      length02 = 0.0 + 0.0 + chord;
+    }
+  }
+  if (!(q1 == q3)) {
+    const double chord = std::sqrt(s13);
+    if (o[2] > 0) {
+      best13 = std::min({min_angle_sine(q1, q2, q3, s12, s23, s13), kInf, kInf});
+      length13 = 0.0 + 0.0 + chord;
+    }
+  }
+  // The whole polygon 0..3: apex 1 (diagonal 13), then apex 2 (diagonal 02), as the program tries
+  // them; ties within rounding go to the lighter one.
+  constexpr double tolerance = 1e-12;
+  double current = -1.0, best_length = 0.0;
+  unsigned split = 0;
+  if (best13 >= 0.0 && o[0] > 0) {
+    current = std::min({min_angle_sine(q0, q1, q3, s01, s13, s03), kInf, best13});
+    best_length = 0.0 + length13 + 0.0;
+    split = 1;
+  }
+  if (best02 >= 0.0 && !(current >= 0.0 && std::min(best02, kInf) < current - tolerance) && o[3] > 0) {
+    const double quality = std::min({min_angle_sine(q0, q2, q3, s02, s23, s03), best02, kInf});
+    const double total = length02 + 0.0 + 0.0;
+    const bool better = quality > current + tolerance ||
+                        (quality >= current - tolerance && total < best_length - 1e-12 * total);
+    if (current < 0.0 || better) {
+      current = quality;
+      split = 2;
+    }
+  }
+  if (current < 0.0) return false;
+  // (The order in which the program unwinds its choices.)
+  if (split == 1) {
+    out.push_back({0, 1, 3});
+    out.push_back({1, 2, 3});
+  } else {
+    out.push_back({0, 2, 3});
+    out.push_back({0, 1, 2});
+  }
+  quality_out = current;
+  return true;
+}
+
 // triangulate_polygon(), also giving the smallest-angle sine of the triangles it appends (the
 // program's value for the whole polygon: the same doubles, so no second pass over them).
 bool max_min_triangulation(const std::vector<Point>& q, std::vector<std::array<std::uint8_t, 3>>& out,
@@ -75,6 +143,19 @@ bool max_min_triangulation(const std::vector<Point>& q, std::vector<std::array<s
     quality_out = min_angle_sine(q[0], q[1], q[2]);
     return true;
   }
+  if (k == 4) {
+    const int o[4] = {orient2d(q[3], q[0], q[1]), orient2d(q[0], q[1], q[2]), orient2d(q[1], q[2], q[3]),
+                      orient2d(q[2], q[3], q[0])};
+    if (o[0] >= 0 && o[1] >= 0 && o[2] >= 0 && o[3] >= 0) {
+      return max_min_quadrilateral(q, o, out, quality_out);
+    }
+  }
+  return max_min_general(q, out, quality_out);
+}
+
+bool max_min_general(const std::vector<Point>& q, std::vector<std::array<std::uint8_t, 3>>& out,
+                     double& quality_out) {
+  const std::size_t k = q.size();
   // ok(i, j), i < j: ij is a polygon edge or a diagonal strictly inside the polygon.
   // Flat k × k tables (entry i·k + j), deliberately left uninitialised: every entry is written
   // before it is read, and clearing 64 × 64 tables per cell dominated the run time.
@@ -193,6 +274,14 @@ bool max_min_triangulation(const std::vector<Point>& q, std::vector<std::array<s
 bool triangulate_polygon(const std::vector<Point>& q, std::vector<std::array<std::uint8_t, 3>>& out) {
   double quality = 0.0;
   return max_min_triangulation(q, out, quality);
+}
+
+bool triangulate_polygon_quality(const std::vector<Point>& polygon,
+                                 std::vector<std::array<std::uint8_t, 3>>& out, double& quality, bool general) {
+  if (!general || polygon.size() < 4 || polygon.size() > kMaxPolygon) {
+    return max_min_triangulation(polygon, out, quality);
+  }
+  return max_min_general(polygon, out, quality);
 }
 
 double triangulation_quality(const std::vector<Point>& polygon,
