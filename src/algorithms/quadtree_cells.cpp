@@ -70,7 +70,8 @@ bool segments_touch(const Point& p, const Point& q, const Point& r, const Point&
 
 // The program for a weakly convex quadrilateral (nine warped point-set cells in ten: a square with
 // one or more corners moved and no side midpoint), step for step what max_min_general() does with
-// k = 4, the same doubles in the same order, so it picks the same diagonal and the same quality.
+// k = 4 (its minima with +inf and sums with 0 left out: they change no double), so it picks the
+// same diagonal and the same quality.
 // The turns o[i] = orient2d(q[i-1], q[i], q[i+1]) are all the program needs: it is weakly convex
 // when none is negative (the fan test orient2d(q0, q2, q3) is o[3] turned cyclically, which keeps
 // an exact sign), and its candidate triangles (0 1 2), (1 2 3), (0 1 3), (0 2 3) are these turns
@@ -80,22 +81,21 @@ bool max_min_quadrilateral(const std::vector<Point>& q, const int (&o)[4],
   const Point &q0 = q[0], &q1 = q[1], &q2 = q[2], &q3 = q[3];
   const double s01 = squared_length(q0, q1), s02 = squared_length(q0, q2), s03 = squared_length(q0, q3);
   const double s12 = squared_length(q1, q2), s13 = squared_length(q1, q3), s23 = squared_length(q2, q3);
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   // Sub-polygons 0..2 (closed by diagonal 02, apex 1) and 1..3 (diagonal 13, apex 2): their best
   // quality (−1: none) and total diagonal length. A diagonal joining two equal points is no chord.
   double best02 = -1.0, length02 = 0.0, best13 = -1.0, length13 = 0.0;
   if (!(q0 == q2)) {
     const double chord = std::sqrt(s02);
     if (o[1] > 0) {
-      best02 = std::min({min_angle_sine(q0, q1, q2, s01, s12, s02), kInf, kInf});
-      length02 = 0.0 + 0.0 + chord;
+      best02 = min_angle_sine(q0, q1, q2, s01, s12, s02);
+      length02 = chord;
     }
   }
   if (!(q1 == q3)) {
     const double chord = std::sqrt(s13);
     if (o[2] > 0) {
-      best13 = std::min({min_angle_sine(q1, q2, q3, s12, s23, s13), kInf, kInf});
-      length13 = 0.0 + 0.0 + chord;
+      best13 = min_angle_sine(q1, q2, q3, s12, s23, s13);
+      length13 = chord;
     }
   }
   // The whole polygon 0..3: apex 1 (diagonal 13), then apex 2 (diagonal 02), as the program tries
@@ -104,13 +104,13 @@ bool max_min_quadrilateral(const std::vector<Point>& q, const int (&o)[4],
   double current = -1.0, best_length = 0.0;
   unsigned split = 0;
   if (best13 >= 0.0 && o[0] > 0) {
-    current = std::min({min_angle_sine(q0, q1, q3, s01, s13, s03), kInf, best13});
-    best_length = 0.0 + length13 + 0.0;
+    current = std::min(min_angle_sine(q0, q1, q3, s01, s13, s03), best13);
+    best_length = length13;
     split = 1;
   }
-  if (best02 >= 0.0 && !(current >= 0.0 && std::min(best02, kInf) < current - tolerance) && o[3] > 0) {
-    const double quality = std::min({min_angle_sine(q0, q2, q3, s02, s23, s03), best02, kInf});
-    const double total = length02 + 0.0 + 0.0;
+  if (best02 >= 0.0 && !(current >= 0.0 && best02 < current - tolerance) && o[3] > 0) {
+    const double quality = std::min(min_angle_sine(q0, q2, q3, s02, s23, s03), best02);
+    const double total = length02;
     const bool better = quality > current + tolerance ||
                         (quality >= current - tolerance && total < best_length - 1e-12 * total);
     if (current < 0.0 || better) {
