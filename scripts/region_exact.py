@@ -138,6 +138,7 @@ def solve_region(mesh, region, members, verts, n_input, args, rng):
         for u, v in ((a, b), (b, c), (c, a)):
             if not any(s in members for s in mesh.edge_triangles[(min(u, v), max(u, v))] if s != t):
                 boundary.append((u, v))
+    boundary_edges = set(boundary)
     boundary_vertices = {u for e in boundary for u in e}
     successor = {}
     for u, v in boundary:
@@ -169,12 +170,11 @@ def solve_region(mesh, region, members, verts, n_input, args, rng):
         grid = np.array(grid).reshape(-1, 2)
         cand += list(grid[inside(grid, loops)])
     if args.candidates in ('adaptive', 'both'):
-        own = {(u, v) for u, v in boundary}
         for t in region:
             a, b, c = tris[t]
             cand.append((pts[a] + pts[b] + pts[c]) / 3)
             for u, v in ((a, b), (b, c), (c, a)):
-                if u < v and (u, v) not in own and (v, u) not in own:
+                if u < v and (u, v) not in boundary_edges and (v, u) not in boundary_edges:
                     d = pts[v] - pts[u]
                     cand.append((pts[u] + pts[v]) / 2 + d * rng.uniform(-0.05, 0.05)
                                 + np.array([-d[1], d[0]]) * rng.uniform(-0.02, 0.02))
@@ -223,7 +223,7 @@ def solve_region(mesh, region, members, verts, n_input, args, rng):
         reversed_boundary[t, s] = True
 
     triangles = [tuple(index[v] for v in tris[t]) for t in region]  # the region's own, always
-    own = {tuple(sorted(t)) for t in triangles}
+    own_triangles = {tuple(sorted(t)) for t in triangles}
     for i in range(m):
         js, ks = np.triu_indices(m - i - 1, 1)
         js, ks = js + i + 1, ks + i + 1
@@ -242,7 +242,7 @@ def solve_region(mesh, region, members, verts, n_input, args, rng):
                       & (orient(c, a, P[q]) >= 0))
             keep &= ~(covers & (ii != q) & (jj != q) & (kk != q))
         for t in zip(ii[keep].tolist(), jj[keep].tolist(), kk[keep].tolist()):
-            if tuple(sorted(t)) not in own:
+            if tuple(sorted(t)) not in own_triangles:
                 triangles.append(t)
     T = np.array(triangles)
     cost = half_perimeter(P[T[:, 0]], P[T[:, 1]], P[T[:, 2]])
