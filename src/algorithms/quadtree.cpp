@@ -65,6 +65,8 @@
 // corners (QuadtreeStats::fallback), so every input still gets a valid mesh.
 #include "mwst/quadtree.hpp"
 
+#include <sys/mman.h>
+
 #include <algorithm>
 #include <atomic>
 #include <bit>
@@ -227,6 +229,34 @@ SpareArray<T> make_spare_array(SpareRoom& room, std::size_t n) {
 // The four children's feature lists while a node is split: filter_children() makes room for a
 // whole parent list in each and writes through pointers, so new room is left unwritten.
 using FeatureList = std::vector<std::uint32_t, UninitializedAllocator<std::uint32_t>>;
+
+// Pages to fault in ahead of their first write, shared by whichever threads are free: ranges of
+// reserved (allocated, not yet written) room are handed out in blocks, and each block's pages are
+// populated by the kernel in one call (MADV_POPULATE_WRITE: no trap per page; the kernel still
+// clears each page). The contents are not touched, so the arrays' values never depend on it;
+// without the call (kernels before 5.14) the pages fault on their first write as usual.
+class PageFaulter {
+ public:
+  void add(const void* begin, std::size_t bytes) {
+    const std::uintptr_t page = 4096;
+    const auto first = (reinterpret_cast<std::uintptr_t>(begin) + page - 1) / page * page;
+    const auto last = (reinterpret_cast<std::uintptr_t>(begin) + bytes) / page * page;
+    for (std::uintptr_t at = first; at < last; at += kBlock) blocks_.push_back({at, std::min(last, at + kBlock)});
+  }
+  // Populates blocks until none are left (several threads may call it at once).
+  void work() {
+    for (;;) {
+      const std::size_t i = next_.fetch_add(1, std::memory_order_relaxed);
+      if (i >= blocks_.size()) return;
+      ::madvise(reinterpret_cast<void*>(blocks_[i].first), blocks_[i].second - blocks_[i].first, MADV_POPULATE_WRITE);
+    }
+  }
+
+ private:
+  static constexpr std::uintptr_t kBlock = std::uintptr_t{1} << 21;
+  std::vector<std::pair<std::uintptr_t, std::uintptr_t>> blocks_;
+  std::atomic<std::size_t> next_{0};
+};
 
 using Clock = std::chrono::steady_clock;
 // Set bits of a byte (std::popcount compiles to a library call without -mpopcnt).
@@ -2924,9 +2954,10 @@ Mesh Builder::run(const std::vector<Point>& holes) {
   build_loops();
   // The arrays the mesh is written into are allocated, and their pages first touched (the kernel
   // clears each page on its first write), by a helper thread while warp() and segments_pass() run
-  // on this one, which leaves the second core idle otherwise (small trees: in line). The helper
-  // touches no more than the mesh surely uses (at least 4 boundary edges and 2 triangles per
-  // cell), and every element is written again later, so the output does not depend on it.
+  // on this one, which leaves the second core idle otherwise (small trees: in line); this thread
+  // joins the touching of the cells' arrays when it is done. Only pages the mesh surely uses (at
+  // least 4 boundary edges and 2 triangles per cell) are touched, and every element is written
+  // later, so the output does not depend on it.
   Mesh mesh;
   const Mesh& base = in_.vertices_only;
   const std::size_t leaf_count = leaves_.size();
@@ -2946,18 +2977,18 @@ Mesh Builder::run(const std::vector<Point>& holes) {
     reserve_room(final_id_, grid_reserve());
     final_id_.resize(grid_count_);
   };
+  PageFaulter cell_pages;
   auto allocate_cells = [&] {
     cell_bound_ = make_spare_array<CellBound>(spare_, leaf_count);
-    std::fill(cell_bound_.get(), cell_bound_.get() + leaf_count, CellBound{0, 0});
     reserve_room(bound_, leaf_count * 6);
-    bound_.resize(leaf_count * 4);
-    bound_.clear();
     reserve_room(mesh.triangles, leaf_count * 4);
-    mesh.triangles.resize(leaf_count * 2);
-    mesh.triangles.clear();
+    if (!spare_.lent(cell_bound_.get())) cell_pages.add(cell_bound_.get(), leaf_count * sizeof(CellBound));
+    cell_pages.add(bound_.data(), leaf_count * 4 * sizeof(Handle));
+    cell_pages.add(mesh.triangles.data(), leaf_count * 2 * sizeof(Triangle));
   };
   // The helper's stage: 1 when the vertex arrays are ready (it then does the cells' arrays while
-  // the ids below are given).
+  // the ids below are given), 2 when the cells' arrays are allocated (their pages are then touched
+  // by both threads).
   std::atomic<int> helper_stage{0};
   std::array<std::exception_ptr, 2> helper_error;
   std::jthread helper;
@@ -2975,6 +3006,9 @@ Mesh Builder::run(const std::vector<Point>& holes) {
       } catch (...) {
         helper_error[1] = std::current_exception();
       }
+      helper_stage.store(2, std::memory_order_release);
+      helper_stage.notify_all();
+      if (!helper_error[1]) cell_pages.work();
     });
   } else {
     allocate_vertices();  // (the cells' arrays after the grid copies are released, below)
@@ -3048,6 +3082,11 @@ Mesh Builder::run(const std::vector<Point>& holes) {
   std::copy(base.points.begin(), base.points.end(), points);
   std::vector<std::uint8_t>().swap(gtop_);
   if (helper.joinable()) {
+    for (int stage = helper_stage.load(std::memory_order_acquire); stage < 2;
+         stage = helper_stage.load(std::memory_order_acquire)) {
+      helper_stage.wait(stage, std::memory_order_acquire);
+    }
+    if (!helper_error[1]) cell_pages.work();
     helper.join();
     if (helper_error[1]) std::rethrow_exception(helper_error[1]);
   } else {
