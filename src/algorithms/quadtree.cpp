@@ -234,7 +234,8 @@ using FeatureList = std::vector<std::uint32_t, UninitializedAllocator<std::uint3
 // reserved (allocated, not yet written) room are handed out in blocks, and each block's pages are
 // populated by the kernel in one call (MADV_POPULATE_WRITE: no trap per page; the kernel still
 // clears each page). The contents are not touched, so the arrays' values never depend on it;
-// without the call (kernels before 5.14) the pages fault on their first write as usual.
+// without the call (kernels before 5.14, C libraries without the flag) the pages fault on their
+// first write as usual.
 class PageFaulter {
  public:
   void add(const void* begin, std::size_t bytes) {
@@ -248,7 +249,9 @@ class PageFaulter {
     for (;;) {
       const std::size_t i = next_.fetch_add(1, std::memory_order_relaxed);
       if (i >= blocks_.size()) return;
+#ifdef MADV_POPULATE_WRITE
       ::madvise(reinterpret_cast<void*>(blocks_[i].first), blocks_[i].second - blocks_[i].first, MADV_POPULATE_WRITE);
+#endif
     }
   }
 
