@@ -66,6 +66,7 @@
 #include "mwst/quadtree.hpp"
 
 #include <sys/mman.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
@@ -239,7 +240,7 @@ using FeatureList = std::vector<std::uint32_t, UninitializedAllocator<std::uint3
 class PageFaulter {
  public:
   void add(const void* begin, std::size_t bytes) {
-    const std::uintptr_t page = 4096;
+    static const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
     const auto first = (reinterpret_cast<std::uintptr_t>(begin) + page - 1) / page * page;
     const auto last = (reinterpret_cast<std::uintptr_t>(begin) + bytes) / page * page;
     for (std::uintptr_t at = first; at < last; at += kBlock) blocks_.push_back({at, std::min(last, at + kBlock)});

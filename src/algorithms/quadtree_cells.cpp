@@ -84,19 +84,13 @@ bool max_min_quadrilateral(const std::vector<Point>& q, const int (&o)[4],
   // Sub-polygons 0..2 (closed by diagonal 02, apex 1) and 1..3 (diagonal 13, apex 2): their best
   // quality (−1: none) and total diagonal length. A diagonal joining two equal points is no chord.
   double best02 = -1.0, length02 = 0.0, best13 = -1.0, length13 = 0.0;
-  if (!(q0 == q2)) {
-    const double chord = std::sqrt(s02);
-    if (o[1] > 0) {
-      best02 = min_angle_sine(q0, q1, q2, s01, s12, s02);
-      length02 = chord;
-    }
+  if (!(q0 == q2) && o[1] > 0) {
+    best02 = min_angle_sine(q0, q1, q2, s01, s12, s02);
+    length02 = std::sqrt(s02);
   }
-  if (!(q1 == q3)) {
-    const double chord = std::sqrt(s13);
-    if (o[2] > 0) {
-      best13 = min_angle_sine(q1, q2, q3, s12, s23, s13);
-      length13 = chord;
-    }
+  if (!(q1 == q3) && o[2] > 0) {
+    best13 = min_angle_sine(q1, q2, q3, s12, s23, s13);
+    length13 = std::sqrt(s13);
   }
   // The whole polygon 0..3: apex 1 (diagonal 13), then apex 2 (diagonal 02), as the program tries
   // them; ties within rounding go to the lighter one.
@@ -110,9 +104,8 @@ bool max_min_quadrilateral(const std::vector<Point>& q, const int (&o)[4],
   }
   if (best02 >= 0.0 && !(current >= 0.0 && best02 < current - tolerance) && o[3] > 0) {
     const double quality = std::min(min_angle_sine(q0, q2, q3, s02, s23, s03), best02);
-    const double total = length02;
     const bool better = quality > current + tolerance ||
-                        (quality >= current - tolerance && total < best_length - 1e-12 * total);
+                        (quality >= current - tolerance && length02 < best_length - 1e-12 * length02);
     if (current < 0.0 || better) {
       current = quality;
       split = 2;
