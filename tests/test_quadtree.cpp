@@ -626,6 +626,78 @@ TEST(Quadtree, PointLeavesAreAloneInTheirHalfGrownCell) {
   }
 }
 
+// The balance and warp rules, checked on the final leaves (independently of the work list that
+// enforces them, which re-checks only the leaves a split can make fail): edge-adjacent leaves
+// differ in size by at most a factor 2, and the four cells around the corner each point takes
+// (the corner of its leaf nearest to it) are leaves of that leaf's size. On both lanes' paths:
+// these sizes are split between two region lanes and the deferred whole-tree lane.
+TEST(Quadtree, LeavesAreBalancedAndKeepTheWarpRule) {
+  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    Pslg g;
+    g.points = seed == 1   ? test::uniform_points(4000, seed)
+               : seed == 2 ? test::kuzmin_points(4000, seed)
+                           : test::clustered_points(3000, 3, seed);
+    QuadtreeOptions options;
+    options.keep_leaves = true;
+    options.threads = seed == 3 ? 1 : 2;
+    const Result r = run(g, options);
+    ASSERT_FALSE(r.stats.fallback) << r.stats.fallback_reason;
+    ASSERT_EQ(r.stats.unresolved, 0u);
+    // Leaves by (size, x, y); the root's lower-left corner is the least leaf corner, its side the
+    // largest extent. All corners and sizes are dyadic, so the sums below are exact.
+    std::set<std::array<double, 3>> leaves;
+    std::set<double> sizes;
+    double ox = std::numeric_limits<double>::infinity(), oy = ox, right = -ox;
+    for (const QuadtreeLeaf& leaf : r.stats.leaf_cells) {
+      leaves.insert({leaf.size, leaf.x, leaf.y});
+      sizes.insert(leaf.size);
+      ox = std::min(ox, leaf.x);
+      oy = std::min(oy, leaf.y);
+      right = std::max(right, leaf.x + leaf.size);
+    }
+    const double root = right - ox;
+    const auto in_root = [&](double x, double y) { return x >= ox && x < ox + root && y >= oy && y < oy + root; };
+    // The leaf whose half-open square holds q: the cell of each size around q, shifted by one where
+    // the division rounded across a cell border.
+    const auto leaf_at = [&](const Point& q) -> std::array<double, 3> {
+      for (const double s : sizes) {
+        double x = ox + std::floor((q.x - ox) / s) * s, y = oy + std::floor((q.y - oy) / s) * s;
+        x = q.x < x ? x - s : q.x >= x + s ? x + s : x;
+        y = q.y < y ? y - s : q.y >= y + s ? y + s : y;
+        if (leaves.count({s, x, y}) != 0) return {s, x, y};
+      }
+      ADD_FAILURE() << "no leaf holds (" << q.x << ", " << q.y << ")";
+      return {0.0, q.x, q.y};
+    };
+    std::size_t too_coarse = 0, probes = 0;
+    for (const auto& [s, x, y] : leaves) {
+      // Points a quarter of the size across each side, at its middle: the leaf there is the one
+      // across the side unless that is finer than a quarter (and then not too coarse).
+      const std::array<Point, 4> across{{{x + s / 2, y - s / 4}, {x + s + s / 4, y + s / 2},
+                                         {x + s / 2, y + s + s / 4}, {x - s / 4, y + s / 2}}};
+      for (const Point& q : across) {
+        if (!in_root(q.x, q.y)) continue;
+        ++probes;
+        if (leaf_at(q)[0] > 2 * s) ++too_coarse;
+      }
+    }
+    EXPECT_GT(probes, leaves.size());
+    EXPECT_EQ(too_coarse, 0u);
+    std::size_t broken = 0;
+    for (const Point& p : g.points) {
+      const auto [s, x, y] = leaf_at(p);
+      const double cx = p.x >= x + s / 2 ? x + s : x, cy = p.y >= y + s / 2 ? y + s : y;
+      for (const double ax : {cx - s, cx}) {
+        for (const double ay : {cy - s, cy}) {
+          if (in_root(ax, ay) && leaves.count({s, ax, ay}) == 0) ++broken;
+        }
+      }
+    }
+    EXPECT_EQ(broken, 0u);
+  }
+}
+
 TEST(Quadtree, PointSetsWithDegeneracies) {
   // Grids (every cell corner cocircular, many collinear hull points), exactly cocircular points,
   // points on a few lines, duplicates, tiny and huge scales, and a hull with a long vertical edge
