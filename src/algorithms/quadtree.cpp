@@ -947,6 +947,18 @@ class Tree {
     return h;
   }
 
+  // Passes that look up the neighbours of the leaves in Morton order (whose nodes lie scattered in
+  // creation order) fetch ahead in two stages: a leaf's node and hints, then, once those are in
+  // cache, the nodes its hints name (where neighbour() starts).
+  void prefetch_node(std::uint32_t a) const {
+    __builtin_prefetch(&nodes[a]);
+    __builtin_prefetch(&hint_[a]);
+  }
+  void prefetch_hinted(std::uint32_t a, unsigned d) const {
+    const std::uint32_t h = hint_[a][d];
+    if (h != kNone) __builtin_prefetch(&nodes[h]);
+  }
+
   // What find(a, level, ix + ox, iy + oy) returns for |ox|, |oy| ≤ 1, through the hints: an edge
   // neighbour directly, a diagonal one as the neighbour of a same-size edge neighbour (climbing
   // only when that edge neighbour is a coarser leaf).
@@ -1763,6 +1775,8 @@ class Builder {
   std::size_t centre_base_ = 0;                            // first centre's vertex id
   std::vector<Point> centre_points_;                       // centres in leaf order
   std::size_t threaded_leaves_ = threads_from(options_, 65536);  // leaves for two threads
+  // How many leaves ahead the passes over the leaves fetch (Tree::prefetch_node, prefetch_hinted).
+  static constexpr std::size_t kLeafLookAhead = 8;
 };
 
 
@@ -1786,6 +1800,11 @@ void Builder::number_vertices() {
   // sum in leaf order, then their positions (two threads).
   in_two_halves(leaves_.size(), threaded_leaves_, [&](std::size_t begin, std::size_t end) {
     for (std::size_t k = begin; k < end; ++k) {
+      if (k + 2 * kLeafLookAhead < end) tree_.prefetch_node(leaves_[k + 2 * kLeafLookAhead]);
+      if (k + kLeafLookAhead < end) {
+        tree_.prefetch_hinted(leaves_[k + kLeafLookAhead], 2);
+        tree_.prefetch_hinted(leaves_[k + kLeafLookAhead], 3);
+      }
       const std::uint32_t a = leaves_[k];
       const Node& n = tree_.nodes[a];
       const unsigned l = n.level;
@@ -1876,6 +1895,11 @@ void Builder::build_loops() {
     const std::uint32_t lo = own_base_[begin], hi = end == leaf_count ? grid_count_ : own_base_[end];
     auto& later = across_halves[begin == 0 ? 0 : 1];
     for (auto k = static_cast<std::uint32_t>(begin); k < end; ++k) {
+      if (k + 2 * kLeafLookAhead < end) tree_.prefetch_node(leaves_[k + 2 * kLeafLookAhead]);
+      if (k + kLeafLookAhead < end) {
+        tree_.prefetch_hinted(leaves_[k + kLeafLookAhead], 0);
+        tree_.prefetch_hinted(leaves_[k + kLeafLookAhead], 1);
+      }
       const std::uint32_t a = leaves_[k];
       const Node& n = tree_.nodes[a];
       if (n.vertex != kNone) with_vertex.push_back(k);
