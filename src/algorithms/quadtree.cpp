@@ -1775,8 +1775,17 @@ class Builder {
   std::size_t centre_base_ = 0;                            // first centre's vertex id
   std::vector<Point> centre_points_;                       // centres in leaf order
   std::size_t threaded_leaves_ = threads_from(options_, 65536);  // leaves for two threads
-  // How many leaves ahead the passes over the leaves fetch (Tree::prefetch_node, prefetch_hinted).
-  static constexpr std::size_t kLeafLookAhead = 8;
+  // For a pass over the leaves [.., end) that looks up neighbours in directions d0 and d1 of leaf
+  // k: fetches the node and hints of the leaf 16 on, and the nodes those hints name for the leaf
+  // 8 on (Tree::prefetch_node, prefetch_hinted).
+  void prefetch_neighbours(std::size_t k, std::size_t end, unsigned d0, unsigned d1) const {
+    constexpr std::size_t kAhead = 8;
+    if (k + 2 * kAhead < end) tree_.prefetch_node(leaves_[k + 2 * kAhead]);
+    if (k + kAhead < end) {
+      tree_.prefetch_hinted(leaves_[k + kAhead], d0);
+      tree_.prefetch_hinted(leaves_[k + kAhead], d1);
+    }
+  }
 };
 
 
@@ -1800,11 +1809,7 @@ void Builder::number_vertices() {
   // sum in leaf order, then their positions (two threads).
   in_two_halves(leaves_.size(), threaded_leaves_, [&](std::size_t begin, std::size_t end) {
     for (std::size_t k = begin; k < end; ++k) {
-      if (k + 2 * kLeafLookAhead < end) tree_.prefetch_node(leaves_[k + 2 * kLeafLookAhead]);
-      if (k + kLeafLookAhead < end) {
-        tree_.prefetch_hinted(leaves_[k + kLeafLookAhead], 2);
-        tree_.prefetch_hinted(leaves_[k + kLeafLookAhead], 3);
-      }
+      prefetch_neighbours(k, end, 2, 3);  // west, south
       const std::uint32_t a = leaves_[k];
       const Node& n = tree_.nodes[a];
       const unsigned l = n.level;
@@ -1895,11 +1900,7 @@ void Builder::build_loops() {
     const std::uint32_t lo = own_base_[begin], hi = end == leaf_count ? grid_count_ : own_base_[end];
     auto& later = across_halves[begin == 0 ? 0 : 1];
     for (auto k = static_cast<std::uint32_t>(begin); k < end; ++k) {
-      if (k + 2 * kLeafLookAhead < end) tree_.prefetch_node(leaves_[k + 2 * kLeafLookAhead]);
-      if (k + kLeafLookAhead < end) {
-        tree_.prefetch_hinted(leaves_[k + kLeafLookAhead], 0);
-        tree_.prefetch_hinted(leaves_[k + kLeafLookAhead], 1);
-      }
+      prefetch_neighbours(k, end, 0, 1);  // east, north
       const std::uint32_t a = leaves_[k];
       const Node& n = tree_.nodes[a];
       if (n.vertex != kNone) with_vertex.push_back(k);
