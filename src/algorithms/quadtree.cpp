@@ -955,6 +955,7 @@ class Tree {
     __builtin_prefetch(&hint_[a]);
   }
   void prefetch_hinted(std::uint32_t a, unsigned d) const {
+    assert(!hints_lent_ && "a prefetch after Builder::build_loops() lent the hints away");
     const std::uint32_t h = hint_[a][d];
     if (h != kNone) __builtin_prefetch(&nodes[h]);
   }
