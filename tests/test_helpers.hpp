@@ -35,6 +35,7 @@
 #include "mwst/check.hpp"
 #include "mwst/geometry.hpp"
 #include "mwst/mesh.hpp"
+#include "mwst/metrics.hpp"
 #include "mwst/pslg.hpp"
 
 namespace mwst::test {
@@ -261,6 +262,13 @@ class ExactPlane {
 };
 
 // ---- reading a mesh ----------------------------------------------------------------------------
+
+// Smallest angle of triangle t, in degrees.
+inline double min_angle_of(const Mesh& m, TriangleId t) {
+  double a[3];
+  triangle_angles_deg(m, t, a);
+  return std::min({a[0], a[1], a[2]});
+}
 
 // The live finite triangles of a mesh (all of them, or only those in the domain).
 inline std::vector<Tri> finite_triangles(const Mesh& m, bool domain_only = false) {

@@ -34,12 +34,6 @@ std::string joined(const std::vector<std::string>& lines) {
   return s;
 }
 
-double min_angle_of(const Mesh& m, TriangleId t) {
-  double a[3];
-  triangle_angles_deg(m, t, a);
-  return std::min({a[0], a[1], a[2]});
-}
-
 // The input plus the convex hull edges that are not input segments (a point set's domain is its
 // hull, as is the domain of --convex-hull; refine marks those hull edges as subsegments).
 Pslg with_hull_segments(const Pslg& g, const Mesh& cdt) {
@@ -156,10 +150,10 @@ Refined refine_and_check(const Pslg& g, const RefineOptions& options, const Cons
     std::size_t below = 0;
     for (TriangleId t = 0; t < m.triangles.size(); ++t) {
       if (!m.in_domain(t)) continue;
-      if (min_angle_of(m, t) < options.min_angle_deg - 1e-9) {
+      if (test::min_angle_of(m, t) < options.min_angle_deg - 1e-9) {
         ++below;
         EXPECT_TRUE(near_small_angle(m, t, apices))
-            << "triangle " << t << " with angle " << min_angle_of(m, t) << " is not at a small input angle";
+            << "triangle " << t << " with angle " << test::min_angle_of(m, t) << " is not at a small input angle";
       }
     }
     EXPECT_LE(below, r.stats.left_small_angle);

@@ -20,6 +20,7 @@
 #include "mwst/delaunay.hpp"
 #include "mwst/metrics.hpp"
 #include "mwst/refine.hpp"
+#include "test_helpers.hpp"
 
 namespace {
 
@@ -34,12 +35,6 @@ Mesh square_cdt(std::size_t n, unsigned seed) {
   for (std::uint32_t i = 0; i < 4; ++i) g.segments.push_back({i, (i + 1) % 4, 1});
   g.is_poly = true;
   return constrained_delaunay(g);
-}
-
-double min_angle_of(const Mesh& m, TriangleId t) {
-  double a[3];
-  triangle_angles_deg(m, t, a);
-  return std::min({a[0], a[1], a[2]});
 }
 
 bool same_mesh(const Mesh& a, const Mesh& b) {
@@ -77,13 +72,13 @@ TEST(RefineSeeds, SeededPassFromAllBadTrianglesMeetsTheBound) {
   first.is_bad = [&](const Mesh& mesh, TriangleId t) {
     const auto& v = mesh.triangles[t].v;
     const double cx = (mesh.points[v[0]].x + mesh.points[v[1]].x + mesh.points[v[2]].x) / 3.0;
-    return cx < 0.5 && min_angle_of(mesh, t) < bound;
+    return cx < 0.5 && test::min_angle_of(mesh, t) < bound;
   };
   refine(m, first);
   ASSERT_TRUE(validate(m, {true, 0.0}).empty());
   std::vector<TriangleId> skinny;
   for (TriangleId t = 0; t < m.triangles.size(); ++t) {
-    if (m.in_domain(t) && min_angle_of(m, t) < bound) skinny.push_back(t);
+    if (m.in_domain(t) && test::min_angle_of(m, t) < bound) skinny.push_back(t);
   }
   ASSERT_GT(skinny.size(), 100u);  // the right half is untouched
   const std::size_t slots_before = m.triangles.size();
@@ -91,7 +86,7 @@ TEST(RefineSeeds, SeededPassFromAllBadTrianglesMeetsTheBound) {
   // domain (ghosts), which must be ignored.
   RefineOptions second;
   second.min_angle_deg = bound;
-  second.is_bad = [&](const Mesh& mesh, TriangleId t) { return min_angle_of(mesh, t) < bound; };
+  second.is_bad = [&](const Mesh& mesh, TriangleId t) { return test::min_angle_of(mesh, t) < bound; };
   second.seed_triangles = skinny;
   second.seed_triangles.push_back(static_cast<TriangleId>(slots_before + 1000));
   for (TriangleId t = 0; t < m.triangles.size(); ++t) {
@@ -110,7 +105,7 @@ TEST(RefineSeeds, SeededPassFromAllBadTrianglesMeetsTheBound) {
   EXPECT_TRUE(problems.empty()) << (problems.empty() ? "" : problems.front());
   std::size_t below = 0;
   for (TriangleId t = 0; t < m.triangles.size(); ++t) {
-    if (m.in_domain(t) && min_angle_of(m, t) < bound) ++below;
+    if (m.in_domain(t) && test::min_angle_of(m, t) < bound) ++below;
   }
   EXPECT_EQ(below, 0u);
 }
@@ -123,7 +118,7 @@ TEST(RefineSeeds, GoodSeedsChangeNothing) {
   const Mesh before = m;
   RefineOptions again;
   again.min_angle_deg = 20.0;
-  again.is_bad = [](const Mesh& mesh, TriangleId t) { return min_angle_of(mesh, t) < 20.0; };
+  again.is_bad = [](const Mesh& mesh, TriangleId t) { return test::min_angle_of(mesh, t) < 20.0; };
   for (TriangleId t = 0; t < m.triangles.size() && again.seed_triangles.size() < 50; ++t) {
     if (m.in_domain(t)) again.seed_triangles.push_back(t);
   }
