@@ -21,6 +21,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -138,6 +139,9 @@ void growth(std::size_t max_n) {
   std::printf("| n | method | CPU s | wall s | tree s | mesh s | leaves | triangles | triangles / point | "
               "triangles / CPU s | peak MiB | bytes / triangle | CPU µs / (n log2 n + triangles) |\n");
   std::printf("|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  // (n, QTR wall, CGAL wall) for the ratios printed below the table: timings on one host move by
+  // tens of percent from hour to hour, their ratio within one run much less.
+  std::vector<std::array<double, 3>> ratios;
   for (const std::size_t n : {std::size_t{10000}, std::size_t{30000}, std::size_t{100000}, std::size_t{300000},
                               std::size_t{1000000}}) {
     if (n > max_n) break;
@@ -161,9 +165,13 @@ void growth(std::size_t max_n) {
       std::printf("| %zu | CGAL DT2 (reference) | %.3f | %.3f | | | | %.0f | %.1f | %.3g | %.1f | %.0f | %.4f |\n", n,
                   c.best_cpu, c.best_seconds, t, t / nd, t / c.best_cpu, c.peak_mib, c.peak_mib * 1048576.0 / t,
                   1e6 * c.best_cpu / (nd * std::log2(nd) + t));
+      ratios.push_back({nd, r.wall, c.best_seconds});
     }
     std::fflush(stdout);
   }
+  std::printf("\nWall time of QTR over CGAL DT2's on the same points in this run:");
+  for (const auto& [n, qtr, cgal] : ratios) std::printf(" n = %.0f: %.1f ×;", n, qtr / cgal);
+  std::printf("\n");
 }
 
 void data_sets(const std::string& dir) {
