@@ -14,6 +14,7 @@
 #include "mwst/io.hpp"
 #include "mwst/metrics.hpp"
 #include "mwst/pipeline.hpp"
+#include "test_helpers.hpp"
 
 namespace mwst {
 namespace {
@@ -31,9 +32,7 @@ BundleResult expect_skinny_outside_k_bundles(const Mesh& m, double angle, std::s
   std::size_t skinny = 0;
   for (TriangleId t = 0; t < m.triangles.size(); ++t) {
     if (!m.in_domain(t)) continue;
-    double a[3];
-    triangle_angles_deg(m, t, a);
-    if (std::min({a[0], a[1], a[2]}) >= angle) continue;
+    if (test::min_angle_of(m, t) >= angle) continue;
     ++skinny;
     EXPECT_LT(exact.per_triangle[t], k) << "skinny triangle " << t << " is in a K-bundle";
   }

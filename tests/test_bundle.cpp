@@ -48,6 +48,7 @@
 #include "mwst/mesh.hpp"
 #include "mwst/metrics.hpp"
 #include "mwst/refine.hpp"
+#include "test_helpers.hpp"
 
 namespace mwst {
 namespace {
@@ -699,9 +700,7 @@ TEST(Bundle, KBundleCacheReusesSweepsAndBoundsWhatChangesAnAnswer) {
         if (!mesh.in_domain(t)) continue;
         // On the point set, BRH's questions: the skinny triangles it left (near the hull, many
         // need the sweeps of flat pencils).
-        double angle[3];
-        triangle_angles_deg(mesh, t, angle);
-        if (!point_set || std::min({angle[0], angle[1], angle[2]}) < 20.0) queries.push_back(t);
+        if (!point_set || test::min_angle_of(mesh, t) < 20.0) queries.push_back(t);
       }
       KBundleCache cache;
       const std::vector<std::uint8_t> plain = in_k_bundle(mesh, k, queries, nullptr, 1);
