@@ -26,6 +26,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -433,6 +434,36 @@ TEST(Cli, BadTimeLimitIsAUsageError) {
     EXPECT_EQ(box.entries(), std::set<std::string>{"in.poly"}) << bad;
   }
   EXPECT_NE(box.run({"triangulate", "--help"}).out.find("--time-limit"), std::string::npos);
+}
+
+// A bad number is named in one short line (no option's message may print a range bound in full:
+// CLI11's own non-negative check printed DBL_MAX in 309 digits).
+TEST(Cli, BadNumbersAreNamedInOneShortLine) {
+  Sandbox box;
+  box.put("in.poly", kSquare + "4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n");
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"triangulate", "in.poly", "--max-steiner", "-1"},
+       "mwst: --max-steiner: must be a whole number >= 0, found '-1'"},
+      {{"triangulate", "in.poly", "--max-steiner", "1.5"},
+       "mwst: --max-steiner: must be a whole number >= 0, found '1.5'"},
+      {{"triangulate", "in.poly", "--bundle-k", "+3"}, "mwst: --bundle-k: must be a whole number >= 0, found '+3'"},
+      {{"triangulate", "in.poly", "--opt-trials", "99999999999999999999"},
+       "mwst: --opt-trials: must be a whole number >= 0, found '99999999999999999999'"},
+      {{"triangulate", "in.poly", "--max-area", "0"}, "mwst: --max-area: must be a number > 0, found '0'"},
+      {{"triangulate", "in.poly", "--max-area", "inf"}, "mwst: --max-area: must be a number > 0, found 'inf'"},
+      {{"triangulate", "in.poly", "--min-angle", "60"}, "mwst: --min-angle: must be a number in [0, 60), found '60'"},
+      {{"triangulate", "in.poly", "--time-limit", "nan"}, "mwst: --time-limit: must be a number > 0, found 'nan'"},
+      {{"generate", "uniform", "-3", "-o", "p.node"}, "mwst: N: must be a whole number >= 0, found '-3'"},
+      {{"generate", "uniform", "3", "--seed", "x", "-o", "p.node"},
+       "mwst: --seed: must be a whole number >= 0, found 'x'"},
+      {{"experiment", "all", "--opt-trials", "-2"}, "mwst: --opt-trials: must be a whole number >= 0, found '-2'"},
+  };
+  for (const auto& [args, message] : cases) {
+    const Outcome r = box.run(args);
+    EXPECT_EQ(r.exit_code, 2) << message << "\n" << describe(r);
+    EXPECT_EQ(r.err.substr(0, r.err.find('\n')), message) << describe(r);
+    EXPECT_EQ(box.entries(), std::set<std::string>{"in.poly"}) << message;
+  }
 }
 
 // ---- 2. bad usage: exit 2, nothing written -----------------------------------------------------

@@ -5,6 +5,8 @@
 //     does not implement yet (checked by asking `mwst triangulate` for it);
 //   - table1.md sets the paper's figures beside ours; runs.csv lists every run;
 //   - the results (tables, Figure 3 data, Figure 4 PNGs) do not depend on the number of threads;
+//   - a non-default --opt-trials is stated in table1.md (the tests use 10 trials per start: the
+//     default search is most of an `experiment` run's time, and test_optimize.cpp tests it);
 //   - `all` writes figure3.csv (both Steiner rules, 0°–20°), figure3.gp (and the plots if gnuplot is
 //     installed) and the Figure 4 pictures;
 //   - no data set is bad input (exit 1), an unknown target bad usage (exit 2).
@@ -145,7 +147,8 @@ const std::string kPng("\x89PNG\r\n\x1a\n", 8);
 
 TEST(ExperimentTable1, OneRowPerDataSetDtIsExactly100AndEveryWeightFinite) {
   Workspace w;
-  const Outcome r = w.run({"experiment", "table1", "--data", "data", "--out", "out", "--jobs", "2"});
+  const Outcome r =
+      w.run({"experiment", "table1", "--data", "data", "--out", "out", "--jobs", "2", "--opt-trials", "10"});
   ASSERT_EQ(r.exit_code, 0) << describe(r);
   EXPECT_NE(r.err.find("mwst: experiment: "), std::string::npos) << "progress lines on stderr";
 
@@ -162,7 +165,9 @@ TEST(ExperimentTable1, OneRowPerDataSetDtIsExactly100AndEveryWeightFinite) {
   // Which methods the pipeline implements today: a cell may be NA only for the others.
   std::map<std::string, bool> implemented;
   for (const auto& [column, args] : std::map<std::string, std::vector<std::string>>{
-           {"BRH", {"--method", "brh"}}, {"BRH+EFH", {"--method", "brh", "--flip"}}, {"OPT", {"--method", "opt"}}}) {
+           {"BRH", {"--method", "brh"}},
+           {"BRH+EFH", {"--method", "brh", "--flip"}},
+           {"OPT", {"--method", "opt", "--opt-trials", "10"}}}) {
     std::vector<std::string> cmd = {"triangulate", "data/cloud.node", "-o", "probe", "-q"};
     cmd.insert(cmd.end(), args.begin(), args.end());
     implemented[column] = w.run(cmd).exit_code == 0;
@@ -204,6 +209,8 @@ TEST(ExperimentTable1, OneRowPerDataSetDtIsExactly100AndEveryWeightFinite) {
   const std::string md = read_bytes(w.path("out/table1.md"));
   EXPECT_NE(md.find("Airliner (Boeing)"), std::string::npos);
   EXPECT_NE(md.find(" / 256.3 "), std::string::npos) << "the paper's QTR figure for Boeing";
+  EXPECT_NE(md.find("searched with --opt-trials 10 trials, not the default"), std::string::npos)
+      << "a non-default OPT effort is stated beside the table";
   const std::vector<std::string> runs = lines_of(read_bytes(w.path("out/runs.csv")));
   ASSERT_GT(runs.size(), 2u * 68u) << "DR alone sweeps 34 angles x 2 rules per data set";
   EXPECT_EQ(runs[0].rfind("phase,name,method,", 0), 0u);
@@ -246,10 +253,12 @@ void expect_figures(const Workspace& w, const std::string& out) {
 // run must give the same files.
 TEST(ExperimentAll, WritesFigure3AndFigure4AndResultsDoNotDependOnTheNumberOfThreads) {
   Workspace w;
-  const Outcome one = w.run({"experiment", "all", "--data", "data", "--out", "one", "--jobs", "1"});
+  const Outcome one =
+      w.run({"experiment", "all", "--data", "data", "--out", "one", "--jobs", "1", "--opt-trials", "10"});
   ASSERT_EQ(one.exit_code, 0) << describe(one);
   expect_figures(w, "one");
-  const Outcome two = w.run({"experiment", "all", "--data", "data", "--out", "two", "--jobs", "3"});
+  const Outcome two =
+      w.run({"experiment", "all", "--data", "data", "--out", "two", "--jobs", "3", "--opt-trials", "10"});
   ASSERT_EQ(two.exit_code, 0) << describe(two);
   // Byte for byte (PDFs carry their creation date, runs.csv the run times: not compared).
   for (const char* name : {"table1.csv", "table1.md", "figure3.csv", "figure3.gp", "figure4_Airliner.png",

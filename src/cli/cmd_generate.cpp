@@ -47,9 +47,9 @@ void register_generate(CLI::App& app, Action& action) {
                   "(integer grid, ceil(sqrt N) columns), circle (unit circle)")
       ->required()
       ->check(CLI::IsMember({"uniform", "kuzmin", "ellipse", "grid", "circle"}));
-  sub->add_option("N", args->count, "Number of points")->required()->check(CLI::NonNegativeNumber);
+  sub->add_option("N", args->count, "Number of points")->required()->check(whole_number());
   sub->add_option("--seed", args->seed, "Seed of std::mt19937_64 (uniform, kuzmin)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(whole_number())
       ->capture_default_str();
   sub->add_option("-o,--output", args->output, "Output FILE.node")->required();
   sub->callback([args, &action] { action = [args] { return run_generate(*args); }; });

@@ -132,30 +132,20 @@ void register_triangulate(CLI::App& app, Action& action) {
       ->check(CLI::IsMember({"dt", "dr", "brh", "qtr", "opt"}))
       ->capture_default_str();
   sub->add_option("--min-angle", args->min_angle, "Minimum angle bound in degrees, in [0, 60)")
-      ->check(CLI::Validator(
-          [](const std::string& s) -> std::string {
-            try {
-              std::size_t used = 0;
-              const double v = std::stod(s, &used);
-              if (used == s.size() && v >= 0.0 && v < 60.0) return {};
-            } catch (const std::exception&) {
-            }
-            return "must be a number in [0, 60), found '" + s + "'";
-          },
-          "in [0, 60)"))
+      ->check(number_in(0.0, 60.0))
       ->capture_default_str();
   sub->add_option("--steiner", args->steiner, "Steiner point rule for refinement")
       ->check(CLI::IsMember({"offcenter", "circumcenter"}))
       ->capture_default_str();
   sub->add_option("--bundle-k", args->bundle_k,
                   "BRH bundle size k >= 3 (default ceil(4*pi/alpha)+3 from --min-angle)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(whole_number());
   sub->add_flag("--flip", args->flip, "Weight-reducing edge flips (EFH) after the method");
   sub->add_option("--max-area", args->max_area, "Refine triangles larger than this area")
-      ->check(CLI::PositiveNumber);
+      ->check(number_above(0.0));
   CLI::Option* max_steiner =
       sub->add_option("--max-steiner", args->max_steiner, "Stop refining after this many Steiner points")
-          ->check(CLI::NonNegativeNumber);
+          ->check(whole_number());
   sub->add_flag("--convex-hull", args->convex_hull, "Triangulate the whole convex hull (holes still carve)");
   sub->add_flag("--strict", args->strict, "Refuse crossing segments instead of splitting them");
   sub->add_flag("--bundle", args->bundle, "Add the exact bundle number to the report");
@@ -163,17 +153,7 @@ void register_triangulate(CLI::App& app, Action& action) {
                   "Stop refining (dr, brh, opt's brh start) after about this many seconds in all; the mesh is "
                   "still valid and the report's stop_reason says \"time budget\"")
       ->type_name("SECONDS")
-      ->check(CLI::Validator(
-          [](const std::string& s) -> std::string {
-            try {
-              std::size_t used = 0;
-              const double v = std::stod(s, &used);
-              if (used == s.size() && std::isfinite(v) && v > 0.0) return {};
-            } catch (const std::exception&) {
-            }
-            return "must be a positive number of seconds, found '" + s + "'";
-          },
-          "> 0"));
+      ->check(number_above(0.0));
   sub->add_flag("--exact-polish", args->exact_polish,
                 "opt: also search from the exact minimum weight triangulation (MWT) of each start's "
                 "vertices, and after the search replace the mesh by the MWT of its vertices when one is "
@@ -182,7 +162,7 @@ void register_triangulate(CLI::App& app, Action& action) {
                   "opt: iterated local search trials per start (default min(600, 300000 / triangles)); "
                   "fewer is faster, 0 stops after the kicks")
       ->type_name("N")
-      ->check(CLI::NonNegativeNumber);
+      ->check(whole_number());
   sub->add_option("--json", args->json, "Write the JSON report to FILE ('-' = standard output)")
       ->type_name("FILE");
   sub->add_option("--draw", args->draw, "Draw the mesh to FILE.png, .svg or .pdf")->type_name("FILE");

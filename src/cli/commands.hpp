@@ -54,6 +54,13 @@ class UsageError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Checks of numeric option values whose failure is one short line naming the value found, e.g.
+// "mwst: --max-steiner: must be a whole number >= 0, found '-1'" (CLI11's NonNegativeNumber and
+// PositiveNumber print their upper bound, DBL_MAX, in all its 309 digits).
+CLI::Validator whole_number();                      // decimal digits only, at most 2^64 - 1
+CLI::Validator number_above(double low);            // a finite number > low
+CLI::Validator number_in(double low, double high);  // a finite number in [low, high)
+
 // "mwst: warning: MESSAGE" on stderr.
 void warn(std::string_view message);
 

@@ -2,9 +2,15 @@
 // output prefix, the overwrite guard, and output files that are removed again if a command fails.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <exception>
 #include <filesystem>
 #include <iostream>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
 #include <system_error>
 
 #include "cli/commands.hpp"
@@ -13,6 +19,64 @@
 namespace mwst::cli {
 
 void warn(std::string_view message) { std::cerr << "mwst: warning: " << message << '\n'; }
+
+namespace {
+
+// The value of `s` if all of it is a finite decimal number (std::stod's syntax), else nullopt.
+std::optional<double> finite_number(const std::string& s) {
+  try {
+    std::size_t used = 0;
+    const double v = std::stod(s, &used);
+    if (used == s.size() && std::isfinite(v)) return v;
+  } catch (const std::exception&) {
+  }
+  return std::nullopt;
+}
+
+std::string shortest(double v) {
+  std::ostringstream out;
+  out << v;
+  return out.str();
+}
+
+}  // namespace
+
+CLI::Validator whole_number() {
+  return CLI::Validator(
+      [](const std::string& s) -> std::string {
+        const bool digits = !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+        if (digits) {
+          try {
+            (void)std::stoull(s);
+            return {};
+          } catch (const std::out_of_range&) {
+          }
+        }
+        return "must be a whole number >= 0, found '" + s + "'";
+      },
+      "NONNEGATIVE");
+}
+
+CLI::Validator number_above(double low) {
+  return CLI::Validator(
+      [low](const std::string& s) -> std::string {
+        const std::optional<double> v = finite_number(s);
+        if (v && *v > low) return {};
+        return "must be a number > " + shortest(low) + ", found '" + s + "'";
+      },
+      "> " + shortest(low));
+}
+
+CLI::Validator number_in(double low, double high) {
+  const std::string range = "[" + shortest(low) + ", " + shortest(high) + ")";
+  return CLI::Validator(
+      [low, high, range](const std::string& s) -> std::string {
+        const std::optional<double> v = finite_number(s);
+        if (v && *v >= low && *v < high) return {};
+        return "must be a number in " + range + ", found '" + s + "'";
+      },
+      "in " + range);
+}
 
 std::string default_prefix(const std::string& input) {
   const std::size_t slash = input.find_last_of('/');

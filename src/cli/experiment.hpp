@@ -117,6 +117,7 @@ struct ColumnChoice {
 struct Study {
   std::vector<DataSet> data_sets;
   Grids grids;
+  std::size_t opt_trials = kDefaultOptTrials;  // OPT's trials per start (TriangulateOptions::opt_trials)
   std::vector<RunSpec> sweep_specs;
   std::vector<RunResult> sweep;
   // [data set][column]

@@ -133,6 +133,7 @@ void choose_and_plan_finals(Study& study, bool pictures) {
         // (A, K) chosen for BRH+EFH, so that OPT ≤ BRH+EFH holds in the table.
         s.data_set = d;
         s.options = base_options(Method::kOpt);
+        s.options.opt_trials = study.opt_trials;
         const ColumnChoice& efh = study.choices[d][static_cast<std::size_t>(Column::kBrhEfh)];
         if (efh.chosen) {
           s.options.min_angle_deg = study.sweep_specs[*efh.chosen].options.min_angle_deg;

@@ -250,8 +250,12 @@ std::vector<OutputFile> table1_files(const Study& s) {
      << "20°, from DT and, for inputs with segments, from DT seeded with Steiner points "
      << "(dt+junctions: at the circumcenters of its triangles with no boundary edge; dt+centroids: at "
      << "every triangle's centroid), keeps the lightest and crosses it with the others; the last column "
-     << "names the start that won. Every run "
-     << "is listed in runs.csv.\n\n"
+     << "names the start that won"
+     << (s.opt_trials == kDefaultOptTrials
+             ? std::string()
+             : " (each start searched with --opt-trials " + std::to_string(s.opt_trials) +
+                   " trials, not the default min(600, 300000 / triangles))")
+     << ". Every run is listed in runs.csv.\n\n"
      << "| name | DR | BRH | BRH+EFH | OPT start |\n|---|---|---|---|---|\n";
   for (std::size_t d = 0; d < n; ++d) {
     std::string opt_start = "—";
