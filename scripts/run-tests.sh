@@ -53,8 +53,10 @@ fi
 if [ "$fuzz_seconds" -gt 0 ]; then
   t=$SECONDS
   step "fuzz build"
-  CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=Release \
-    -DMWST_BUILD_FUZZ=ON -DMWST_BUILD_TESTS=OFF -DMWST_BUILD_CGAL_TESTS=OFF
+  # -O1 (no NDEBUG: assertions on), as OSS-Fuzz builds fuzzers: measured against -O3, 233 instead of
+  # 321 CPU s of compile, and about 15 % fewer executions of fuzz_triangulate in the same time.
+  CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1" -DMWST_BUILD_FUZZ=ON -DMWST_BUILD_TESTS=OFF -DMWST_BUILD_CGAL_TESTS=OFF
   cmake --build build-fuzz -j "$jobs" --target fuzz_node fuzz_poly fuzz_triangulate
   scratch=$(mktemp -d)
   trap 'rm -rf "$scratch"' EXIT
