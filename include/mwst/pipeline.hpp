@@ -99,8 +99,8 @@ struct Report {
 
 // Runs options.method on the input. If `out` is not null the final mesh is moved there.
 // Throws InputError for input the mesher refuses (naming pslg.source and, where known, the line),
-// std::invalid_argument for unusable options or a method that is not implemented yet, and
-// InternalError for broken invariants.
+// std::invalid_argument for unusable options (a bundle size below 3, an angle outside [0, 60), ...),
+// and InternalError for broken invariants.
 Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* out = nullptr);
 
 // The JSON report: input, method, parameters, vertices, triangles, steiner, weight_total,

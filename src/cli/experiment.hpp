@@ -54,7 +54,7 @@ struct RunSpec {
 struct RunResult {
   bool ok = false;
   bool internal_error = false;  // failed for a reason other than input/options/not implemented
-  std::string reason;           // why not ok ("method brh is not implemented yet", ...)
+  std::string reason;           // why not ok (the error's message)
   Report report;                // when ok
   std::optional<io::Picture> picture;
   std::vector<std::string> violations;  // validate() of kept meshes (empty = valid)

@@ -183,7 +183,7 @@ RunResult run_one(const DataSet& data_set, const RunSpec& spec) {
   } catch (const InputError& e) {
     r.reason = e.located();
   } catch (const std::invalid_argument& e) {
-    // Options no method can use, or a method that is not implemented yet.
+    // Options the method cannot use.
     r.reason = e.what();
   } catch (const InternalError& e) {
     r.reason = std::string("internal error: ") + e.what();
