@@ -730,6 +730,25 @@ TEST(Quadtree, PointSetsWithDegeneracies) {
   }
 }
 
+// Far from the origin at great depth the grid lines come within rounding of each other and cells
+// collapse: the mesher finds the cell that is not counter-clockwise and makes the fallback mesh
+// (the CDT of the input and the quadtree's free corners), which must still cover exactly the
+// input's hull: the root square's corners outside it are left out.
+TEST(Quadtree, CollapsedCellsFallBackToAMeshOfTheHull) {
+  // 1e8 + [0, 1]² (a double's spacing there is 2^-26) with two points two spacings apart: the
+  // tree goes 29 levels down, where grid lines are half a spacing apart.
+  Pslg far;
+  for (const Point& q : test::uniform_points(200, 8)) far.points.push_back({1e8 + q.x, 1e8 + q.y});
+  const double x = 1e8 + 0.5, y = 1e8 + 0.25;
+  far.points.push_back({x, y});
+  far.points.push_back({x + std::ldexp(2.0, -26), y + std::ldexp(2.0, -26)});
+  const Result r = run(far);
+  EXPECT_TRUE(r.stats.fallback);
+  EXPECT_EQ(r.stats.fallback_reason, "a cell triangle is not counter-clockwise");
+  EXPECT_GT(measure(r.mesh).steiner, 0u) << "the free corners inside the hull are kept";
+  check_output(far, r, /*expect_no_fallback=*/false);
+}
+
 TEST(Quadtree, StarPolygonsWithHoles) {
   for (std::uint64_t seed = 1; seed <= 8; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed));

@@ -3196,9 +3196,16 @@ Mesh fallback_mesh(const Pslg& pslg, const QuadtreeOptions& options, std::vector
   std::sort(input_sorted.begin(), input_sorted.end(), less);
   std::sort(extra.begin(), extra.end(), less);
   extra.erase(std::unique(extra.begin(), extra.end()), extra.end());
+  // Only points strictly inside the input's convex hull: no domain reaches beyond it, and the
+  // root square's corners outside it would widen a point set's domain (its hull).
+  const Mesh hull = delaunay(pslg.points);
   std::vector<Point> kept;
+  Handle hint = kNone;
   for (const Point& p : extra) {
-    if (!std::binary_search(input_sorted.begin(), input_sorted.end(), p, less)) kept.push_back(p);
+    if (std::binary_search(input_sorted.begin(), input_sorted.end(), p, less)) continue;
+    const Location at = hull.locate(p, hint);
+    hint = at.handle;
+    if (at.kind == Location::Kind::kInTriangle && !hull.is_ghost(at.handle >> 2)) kept.push_back(p);
   }
   Pslg g = pslg;
   const std::size_t n0 = pslg.points.size();
