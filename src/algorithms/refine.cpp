@@ -64,6 +64,14 @@ inline double seconds_since(Clock::time_point t0) {
 // rejected (thin outside triangles along a convex-hull boundary need a point inside them).
 constexpr int kSplitShifts = 24;
 
+// A subsegment is not split where a domain triangle beside it is thinner than kThinSide times the
+// coordinates' magnitude (its apex that close to the subsegment's line): a rounded split point lies
+// up to half an ulp (1.1e-16 of the magnitude) off the line, which changes that triangle's area by
+// the same fraction of its height — over 1e-9 of it only when thinner than this — and an
+// independent check cannot tell which long side of such a sliver the point is on. (Found by the
+// fuzzer: the hull of three points, two of them 50 ulps apart, refined with --convex-hull.)
+constexpr double kThinSide = 1e-7;
+
 inline std::uint64_t pair_key(VertexId u, VertexId w) {
   if (u > w) std::swap(u, w);
   return (static_cast<std::uint64_t>(u) << 32) | w;
@@ -882,6 +890,18 @@ bool Refiner::split_subsegment(Handle h) {
     }
     return false;
   };
+  for (const Handle side : {h, m_.sym(h)}) {
+    if (!m_.in_domain(side >> 2)) continue;
+    const Point& c = m_.points[m_.apex(side)];
+    const double magnitude = std::max({std::fabs(pa.x), std::fabs(pa.y), std::fabs(pb.x), std::fabs(pb.y),
+                                       std::fabs(c.x), std::fabs(c.y)});
+    const double cross = std::fabs((pb.x - pa.x) * (c.y - pa.y) - (pb.y - pa.y) * (c.x - pa.x));
+    if (cross < kThinSide * magnitude * length) {  // the apex's distance to the line, times length
+      unsplittable_.insert(pair_key(a, b));
+      ++stats_.precision_skips;
+      return false;
+    }
+  }
   Point p;
   bool ok = search(p);
   unfolded_.clear();
