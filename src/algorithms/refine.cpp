@@ -68,8 +68,8 @@ constexpr int kSplitShifts = 24;
 // coordinates' magnitude (its apex that close to the subsegment's line): a rounded split point lies
 // up to half an ulp (1.1e-16 of the magnitude) off the line, which changes that triangle's area by
 // the same fraction of its height — over 1e-9 of it only when thinner than this — and an
-// independent check cannot tell which long side of such a sliver the point is on. (Found by the
-// fuzzer: the hull of three points, two of them 50 ulps apart, refined with --convex-hull.)
+// independent check cannot tell which long side of such a sliver the point is on. (Found by
+// fuzzing: the hull of three points, two of them 50 ulps apart, refined with --convex-hull.)
 constexpr double kThinSide = 1e-7;
 
 inline std::uint64_t pair_key(VertexId u, VertexId w) {
