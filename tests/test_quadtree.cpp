@@ -749,6 +749,33 @@ TEST(Quadtree, CollapsedCellsFallBackToAMeshOfTheHull) {
   check_output(far, r, /*expect_no_fallback=*/false);
 }
 
+// The convex hull of three points, two of them some 50 ulps apart, is a sliver thinner than the
+// rounding of the crossings and snapped corners QTR puts on its long sides: they would move the
+// boundary by 1-9 % of the domain's area, and the independent check could not tell which side of
+// a side such a point is on. QTR falls back to the Delaunay triangulation of the input alone.
+// (Found by a trial fuzz_triangulate that places points a few ulps from others.)
+TEST(Quadtree, SliversThinnerThanRoundingFallBackToTheInputAlone) {
+  // (83 and 7 ulps from (12.5, 12.5); 103 and 27 ulps from (-26.5, -27.25).)
+  const std::array<std::array<Point, 2>, 2> slivers = {
+      {{{{12.5, 12.5}, {12.500000000000147, 12.500000000000012}}},
+       {{{-26.5, -27.25}, {-26.500000000000366, -27.250000000000096}}}}};
+  for (std::size_t k = 0; k < slivers.size(); ++k) {
+    for (const bool hull : {false, true}) {
+      Pslg g;
+      g.points = {slivers[k][0], slivers[k][1], {0.0, 0.0}};
+      QuadtreeOptions options;
+      options.convex_hull = hull;
+      const Result r = run(g, options);
+      SCOPED_TRACE("sliver " + std::to_string(k) + (hull ? ", --convex-hull" : ""));
+      EXPECT_TRUE(r.stats.fallback);
+      EXPECT_EQ(r.stats.fallback_reason,
+                "the domain is a sliver thinner than the rounding of points on its segments");
+      check_output(g, r, /*expect_no_fallback=*/false);
+      EXPECT_EQ(r.mesh.points.size(), 3u) << "no corners added";
+    }
+  }
+}
+
 TEST(Quadtree, StarPolygonsWithHoles) {
   for (std::uint64_t seed = 1; seed <= 8; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed));
