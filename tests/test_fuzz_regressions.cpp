@@ -111,9 +111,11 @@ TEST(FuzzRegressions, OptConvexHullKeepsSegmentsStraight) {
   expect_valid_or_input_error(florida, options);
 }
 
-// Found by a trial version of fuzz_triangulate that could place points a few ulps from others (see
-// the note on issue 7 for why that version is not in the harness yet): the convex hull of three
-// points, two of them some 50 ulps apart, is a sliver thinner than rounding near its long sides. DR (with --convex-hull, so the hull edges are subsegments) split the long hull edges,
+// Found by a trial version of fuzz_triangulate that could place points a few ulps from others (not
+// in the harness: on inputs whose features are within about 1e-12 of their coordinates' magnitude
+// the checker's on-line tolerance cannot tell their segments apart, which it then reports): the
+// convex hull of three points, two of them some 50 ulps apart, is a sliver thinner than rounding
+// near its long sides. DR (with --convex-hull, so the hull edges are subsegments) split the long hull edges,
 // encroached by the far apex, at rounded points up to half an ulp off their lines: the mesh lost
 // 11 % of the domain's area and the checker could not tell which long side a split point was on
 // ("the triangles cover an area of 1.32e-13, the domain 1.49e-13"; "... lies on the domain
