@@ -2989,9 +2989,6 @@ void Builder::mark_segments(Mesh& mesh) {
   if (seen.size() != subsegment_count_) throw RouteFailure{"a subsegment is not an edge of the mesh"};
 }
 
-// Hole seeds that fall exactly on a quadtree vertex (round coordinates meet the aligned grid
-// often) are moved into a triangle around it; the CDT has no vertex there, so for it the seed lies
-// in a triangle. Seeds on input vertices stay (carve warns about them, as for the CDT).
 void Builder::refuse_rounded_sliver(const Mesh& mesh) const {
   double moved = 0.0;  // bound on the area between the subsegments and their segments
   for (const auto& [h, s] : segment_edges_) {
@@ -3016,6 +3013,9 @@ void Builder::refuse_rounded_sliver(const Mesh& mesh) const {
   }
 }
 
+// Hole seeds that fall exactly on a quadtree vertex (round coordinates meet the aligned grid
+// often) are moved into a triangle around it; the CDT has no vertex there, so for it the seed lies
+// in a triangle. Seeds on input vertices stay (carve warns about them, as for the CDT).
 std::vector<Point> movable_seeds(const Mesh& mesh, const std::vector<Point>& holes) {
   std::vector<Point> out;
   for (const Point& p : holes) {
@@ -3256,7 +3256,7 @@ Mesh fallback_mesh(const Pslg& pslg, const QuadtreeOptions& options, std::vector
   extra.erase(std::unique(extra.begin(), extra.end()), extra.end());
   // Only points strictly inside the input's convex hull: no domain reaches beyond it, and the
   // root square's corners outside it would widen a point set's domain (its hull).
-  const Mesh hull = delaunay(pslg.points);
+  const Mesh hull = extra.empty() ? Mesh() : delaunay(pslg.points);
   std::vector<Point> kept;
   Handle hint = kNone;
   for (const Point& p : extra) {

@@ -1,5 +1,5 @@
-// `mwst experiment table1|figure3|figure4|all [--data DIR] [--out DIR] [--jobs N] [--opt-trials N]`: the experiments
-// of Boyacı, Erten, Üngör, "Triangulations Loosing Bundles and Weight" in one command.
+// `mwst experiment table1|figure3|figure4|all [--data DIR] [--out DIR] [--jobs N] [--opt-trials N]`:
+// the experiments of Boyacı, Erten, Üngör, "Triangulations Loosing Bundles and Weight" in one command.
 //
 //   table1   Table 1: interior weights of DT, QTR, DR, BRH, BRH+EFH and our optimiser (DT = 100),
 //            Steiner counts, exact bundle numbers, the settings chosen by the sweep
@@ -12,11 +12,11 @@
 // The plan (src/cli/experiment_study.cpp): every data set in --data (default data/) is run with
 // DT, QTR, DR at every angle bound of the grid below with both Steiner rules, BRH over an (A, K)
 // grid with and without the flips, and our optimiser (--opt-trials trials per start, default as for
-// triangulate); each Table 1 column takes its lightest
-// setting, which is then run again with the exact bundle number (and drawn for Figure 4). Runs go
-// to a pool of --jobs worker threads (default: the hardware threads); every result lands in its
-// spec's slot, so the outputs do not depend on scheduling. Progress goes to stderr. Files are
-// written to --out (default results/) only once everything is computed.
+// triangulate); each Table 1 column takes its lightest setting, which is then run again with the
+// exact bundle number (and drawn for Figure 4). Runs go to a pool of --jobs worker threads
+// (default: the hardware threads); every result lands in its spec's slot, so the outputs do not
+// depend on scheduling. Progress goes to stderr. Files are written to --out (default results/) only
+// once everything is computed.
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
