@@ -895,8 +895,8 @@ bool Refiner::split_subsegment(Handle h) {
     const Point& c = m_.points[m_.apex(side)];
     const double magnitude = std::max({std::fabs(pa.x), std::fabs(pa.y), std::fabs(pb.x), std::fabs(pb.y),
                                        std::fabs(c.x), std::fabs(c.y)});
-    const double cross = std::fabs((pb.x - pa.x) * (c.y - pa.y) - (pb.y - pa.y) * (c.x - pa.x));
-    if (cross < kThinSide * magnitude * length) {  // the apex's distance to the line, times length
+    const double cross = 2.0 * std::fabs(signed_area(pa, pb, c));  // the apex's distance to the line,
+    if (cross < kThinSide * magnitude * length) {                   // times length
       unsplittable_.insert(pair_key(a, b));
       ++stats_.precision_skips;
       return false;

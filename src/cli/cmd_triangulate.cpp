@@ -5,7 +5,6 @@
 // Reads a Triangle .node/.poly, runs triangulate() (mwst/pipeline.hpp: the methods of Boyacı,
 // Erten, Üngör, "Triangulations Loosing Bundles and Weight", and ours) and writes PREFIX.node,
 // PREFIX.ele, PREFIX.poly and the JSON report, all only after the computation succeeded.
-#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
