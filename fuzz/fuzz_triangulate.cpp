@@ -14,15 +14,19 @@
 // mutations stay meaningful: byte 0 picks the method and flags, byte 1 the angle, byte 2 the
 // Steiner budget, then records until the bytes run out — a tag byte chooses a point on a coarse
 // grid (x/4, many collinear and cocircular 4-tuples, duplicates, vertices on segments), a point
-// from raw double bits (huge, tiny, NaN, out of range), a segment between two earlier points, or a
-// hole seed. Coarse-grid data is what stresses the exact predicates most.
+// from raw double bits (huge, tiny, NaN, out of range), a segment between two earlier points, a
+// hole seed, a point a few units in the last place from an earlier one, or a shift of everything so
+// far by a power of two (the same shapes far from the origin, where grid coordinates round).
+// Coarse-grid data is what stresses the exact predicates most.
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -62,6 +66,14 @@ class Bytes {
   std::size_t size_;
   std::size_t pos_ = 0;
 };
+
+// x moved by `steps` units in the last place (towards +∞ if positive): pairs of points this close
+// make the quadtree as deep as it goes and the predicates' exact stages decide.
+double ulps_away(double x, int steps) {
+  for (; steps > 0; --steps) x = std::nextafter(x, std::numeric_limits<double>::infinity());
+  for (; steps < 0; ++steps) x = std::nextafter(x, -std::numeric_limits<double>::infinity());
+  return x;
+}
 
 [[noreturn]] void fail(const char* what, const std::string& detail) {
   std::fprintf(stderr, "fuzz_triangulate: %s: %s\n", what, detail.c_str());
@@ -189,11 +201,24 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       pslg.segments.push_back({a % n, b % n, 1 + (tag >> 6)});
       pslg.segment_lines.push_back(pslg.segments.size());
       pslg.is_poly = true;
-    } else {  // a hole seed on the half grid
+    } else if (kind == 14) {  // a hole seed on the half grid
       const double x = in.grid() + 0.125;
       const double y = in.grid() + 0.125;
       if (pslg.holes.size() < kMaxHoles) pslg.holes.push_back({x, y});
       pslg.is_poly = true;
+    } else if ((tag & 0x10) == 0) {  // a point a few units in the last place from an earlier one
+      const std::uint8_t which = in.byte();
+      const auto dx = static_cast<std::int8_t>(in.byte());
+      const auto dy = static_cast<std::int8_t>(in.byte());
+      if (pslg.points.empty() || pslg.points.size() >= kMaxPoints) continue;
+      const mwst::Point p = pslg.points[which % pslg.points.size()];
+      pslg.points.push_back({ulps_away(p.x, dx), ulps_away(p.y, dy)});
+      pslg.point_markers.push_back(0);
+    } else {  // everything so far moved by ±2^e, e in [-16, 47]: the same shapes far from the origin
+      const std::uint8_t e = in.byte();
+      const double shift = std::ldexp((e & 0x80) != 0 ? -1.0 : 1.0, static_cast<int>(e % 64) - 16);
+      for (mwst::Point& p : pslg.points) p = {p.x + shift, p.y + shift};
+      for (mwst::Point& h : pslg.holes) h = {h.x + shift, h.y + shift};
     }
   }
 

@@ -111,9 +111,7 @@ TEST(FuzzRegressions, OptConvexHullKeepsSegmentsStraight) {
   expect_valid_or_input_error(florida, options);
 }
 
-// Found by a trial version of fuzz_triangulate that could place points a few ulps from others (not
-// in the harness: on inputs whose features are within about 1e-12 of their coordinates' magnitude
-// the checker's on-line tolerance cannot tell their segments apart, which it then reports): the
+// Found by fuzz_triangulate's records that place a point a few ulps from an earlier one: the
 // convex hull of three points, two of them some 50 ulps apart, is a sliver thinner than rounding
 // near its long sides. DR (with --convex-hull, so the hull edges are subsegments) split the long hull edges,
 // encroached by the far apex, at rounded points up to half an ulp off their lines: the mesh lost
@@ -147,6 +145,32 @@ TEST(FuzzRegressions, DrDoesNotSplitTheSidesOfASliverThinnerThanRounding) {
     SCOPED_TRACE("sliver at (" + std::to_string(c.p.x) + ", " + std::to_string(c.p.y) + ")");
     expect_valid_or_input_error(pslg, options);
   }
+}
+
+// Found by fuzz_triangulate's record that shifts everything by a power of two (QTR, --flip,
+// --strict): three points whose hull is 27 wide and 5.6e14 long. The mesh was right, but the
+// checker could not tell the two long hull sides apart near their common end (-2^49, 0): its
+// on-line tolerance, 1e-12 of the coordinates' magnitude, is 563 units there, and it walked from
+// one side onto the other ("... lies on the domain boundary but has triangles on both sides").
+// Fixed in check.cpp: a piece of the domain's boundary or of a segment is first followed along
+// the mesh's own boundary edges and listed subsegments (guided_chain), which name the side.
+TEST(FuzzRegressions, CheckerTellsApartTheSidesOfAWedgeThinnerThanItsTolerance) {
+  Pslg pslg;
+  pslg.points = {{0.0, 12.25}, {2.5, -15.25}, {-std::ldexp(1.0, 49), 0.0}};
+  pslg.point_markers.assign(3, 0);
+  TriangulateOptions options;
+  options.method = Method::kQtr;
+  options.flip = true;
+  options.strict = true;
+  options.min_angle_deg = 0.0;
+  options.max_steiner = 1;
+  Mesh mesh;
+  triangulate(pslg, options, &mesh);
+  EXPECT_GT(mesh.points.size(), 3u);  // Steiner points on the long sides: the case the checker met
+  const std::vector<std::string> problems = validate(mesh);
+  EXPECT_TRUE(problems.empty()) << problems.front();
+  const CheckResult check = check_mesh(pslg, mesh);
+  EXPECT_TRUE(check.ok()) << (check.messages.empty() ? "" : check.messages.front());
 }
 
 }  // namespace

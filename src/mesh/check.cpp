@@ -95,6 +95,7 @@ class Checker {
     index_vertices();
     choose_domain();
     check_domain_vertices();
+    build_guides();
     walk_domain_chains();
     check_mesh_boundary();
     check_subsegments();
@@ -263,6 +264,84 @@ class Checker {
     return cross <= kOnLineTolerance * scale * std::hypot(dx, dy);
   }
 
+  void mark_chain_edge(std::uint32_t u, std::uint32_t v, std::uint8_t kind) {
+    chain_[undirected_key(u, v)] |= kind;
+    if (kind & kOnDomainBoundary) boundary_chain_.push_back({u, v});
+  }
+
+  // Guide edges: the mesh's own boundary edges and the subsegments its .poly lists (those that are
+  // mesh edges). On a correct mesh they run along the domain's boundary and segments, and every
+  // guide vertex that is not a vertex of the domain (an input point or crossing: a junction) is a
+  // rounded Steiner point on one piece with exactly two guide edges. Following them tells apart
+  // pieces that rounding cannot: two sides of a wedge far thinner than the coordinates' rounding
+  // (a triangle 27 wide and 5.6e14 long) lie within each other's tolerance near the apex.
+  void build_guides() {
+    const std::size_t n = p_.size();
+    junction_.assign(n, 0);
+    for (VertexId r = 0; r < reference_.points.size(); ++r) {
+      const std::uint32_t v = mesh_vertex_at(r);
+      if (v != kNone) junction_[v] = 1;
+    }
+    std::unordered_set<std::uint64_t> edges;
+    for (const auto& [key, apex] : apex_) {
+      const auto u = static_cast<std::uint32_t>(key >> 32), v = static_cast<std::uint32_t>(key);
+      if (apex_.count(edge_key(v, u)) == 0) edges.insert(undirected_key(u, v));
+    }
+    for (const Segment& s : subsegments_) {
+      if (s.a >= n || s.b >= n || s.a == s.b) continue;
+      if (apex_.count(edge_key(s.a, s.b)) != 0 || apex_.count(edge_key(s.b, s.a)) != 0) {
+        edges.insert(undirected_key(s.a, s.b));
+      }
+    }
+    guide_start_.assign(n + 1, 0);
+    for (const std::uint64_t key : edges) {
+      ++guide_start_[(key >> 32) + 1];
+      ++guide_start_[static_cast<std::uint32_t>(key) + 1];
+    }
+    for (std::size_t v = 0; v < n; ++v) guide_start_[v + 1] += guide_start_[v];
+    guide_.resize(guide_start_[n]);
+    std::vector<std::uint32_t> fill(guide_start_.begin(), guide_start_.end() - 1);
+    for (const std::uint64_t key : edges) {
+      const auto u = static_cast<std::uint32_t>(key >> 32), v = static_cast<std::uint32_t>(key);
+      guide_[fill[u]++] = v;
+      guide_[fill[v]++] = u;
+    }
+  }
+
+  // The piece from reference vertex ru to rv as a path of guide edges: from u, a guide edge, then
+  // through non-junction vertices with two guide edges each, every one within rounding of the line
+  // and further along it than the last, to v. Marks the path's edges with `kind` and returns true
+  // if there is one; false (nothing reported) if not, and walk_chain() decides.
+  bool guided_chain(VertexId ru, VertexId rv, std::uint8_t kind) {
+    const std::uint32_t u = mesh_vertex_at(ru), v = mesh_vertex_at(rv);
+    if (u == kNone || v == kNone) return false;
+    const Point& a = p_[u];
+    const Point& b = p_[v];
+    const double dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
+    for (std::uint32_t i = guide_start_[u]; i < guide_start_[u + 1]; ++i) {
+      path_.assign(1, u);
+      std::uint32_t previous = u, cur = guide_[i];
+      double t_cur = 0.0;
+      while (cur != v) {
+        if (junction_[cur] || guide_start_[cur + 1] - guide_start_[cur] != 2) break;
+        const Point& q = p_[cur];
+        const double t = ((q.x - a.x) * dx + (q.y - a.y) * dy) / len2;
+        if (!(t > t_cur && t < 1.0) || !near_line(a, b, q)) break;  // t rises: the path cannot loop
+        path_.push_back(cur);
+        t_cur = t;
+        const std::uint32_t first = guide_[guide_start_[cur]];
+        const std::uint32_t next = first == previous ? guide_[guide_start_[cur] + 1] : first;
+        previous = cur;
+        cur = next;
+      }
+      if (cur != v) continue;
+      path_.push_back(v);
+      for (std::size_t k = 0; k + 1 < path_.size(); ++k) mark_chain_edge(path_[k], path_[k + 1], kind);
+      return true;
+    }
+    return false;
+  }
+
   // Follows mesh edges from u to v along the straight piece between them, marking each edge with
   // `kind`. Returns false (after reporting) if the mesh has no such chain.
   bool walk_chain(VertexId ru, VertexId rv, std::uint8_t kind) {
@@ -295,8 +374,7 @@ class Checker {
                   " is not a chain of mesh edges (it stops at " + vertex_name(cur) + ")");
         return false;
       }
-      chain_[undirected_key(cur, next)] |= kind;
-      if (kind & kOnDomainBoundary) boundary_chain_.push_back({cur, next});
+      mark_chain_edge(cur, next, kind);
       t_cur = next == v ? 1.0 : t_next;
       cur = next;
     }
@@ -319,7 +397,7 @@ class Checker {
         if (boundary) kind |= kOnDomainBoundary;
         if (segment) kind |= kOnSegment;
         // The domain lies left of org → dest of a domain triangle's edge.
-        walk_chain(r.org(h), r.dest(h), kind);
+        if (!guided_chain(r.org(h), r.dest(h), kind)) walk_chain(r.org(h), r.dest(h), kind);
       }
     }
   }
@@ -450,6 +528,9 @@ class Checker {
   std::vector<std::uint32_t> adj_start_, adj_;
   std::unordered_map<PointKey, std::uint32_t, PointKeyHash> by_point_;
   Mesh reference_;
+  std::vector<char> junction_;  // mesh vertex at a vertex of the domain (input point, crossing)
+  std::vector<std::uint32_t> guide_start_, guide_;  // guide edges (build_guides), both directions
+  std::vector<std::uint32_t> path_;                 // scratch for guided_chain
   std::unordered_map<std::uint64_t, std::uint8_t> chain_;  // undirected mesh edge → kinds
   std::vector<std::pair<std::uint32_t, std::uint32_t>> boundary_chain_;  // directed, domain on the left
 };
