@@ -753,7 +753,7 @@ TEST(Quadtree, CollapsedCellsFallBackToAMeshOfTheHull) {
 // rounding of the crossings and snapped corners QTR puts on its long sides: they would move the
 // boundary by 1-9 % of the domain's area, and the independent check could not tell which side of
 // a side such a point is on. QTR falls back to the Delaunay triangulation of the input alone.
-// (Found by a trial fuzz_triangulate that places points a few ulps from others.)
+// (Found by fuzz_triangulate's record that places a point a few ulps from an earlier one.)
 TEST(Quadtree, SliversThinnerThanRoundingFallBackToTheInputAlone) {
   // (83 and 7 ulps from (12.5, 12.5); 103 and 27 ulps from (-26.5, -27.25).)
   const std::array<std::array<Point, 2>, 2> slivers = {
@@ -774,6 +774,45 @@ TEST(Quadtree, SliversThinnerThanRoundingFallBackToTheInputAlone) {
       EXPECT_EQ(r.mesh.points.size(), 3u) << "no corners added";
     }
   }
+}
+
+// Found by fuzz_triangulate: two clusters of three points 3.4e15 apart, each a few units wide. The
+// two long hull edges run 10–30 apart over their whole length, and BEG's tree must separate them
+// all along: about 1e14 leaves. The route hung (over a minute before the fuzzer gave up, and then
+// out of memory); now it stops at the leaf limit (1024 per feature, at least 2^20) and falls back.
+TEST(Quadtree, AStripTooLongForItsWidthFallsBackAtTheLeafLimit) {
+  Pslg g;
+  g.points = {{-2392537302040607.5, -2392537302040607.5}, {-2392537302040607.5, -2392537302040575.0},
+              {-2392537302040580.0, -2392537302040580.0}, {2.25, 15.75}, {0.0, 1.25}, {0.0, 0.0}};
+  const Result r = run(g, {});
+  EXPECT_TRUE(r.stats.fallback);
+  EXPECT_EQ(r.stats.fallback_reason,
+            "the quadtree would need more than 1048576 leaves (features very close for their extent, as "
+            "in a long thin strip)");
+  check_output(g, r, /*expect_no_fallback=*/false);
+  EXPECT_EQ(r.mesh.points.size(), 6u) << "no corners added";
+}
+
+// The limit is an option: a data set that needs 14 482 leaves goes the quadtree route with the
+// automatic limit and with exactly that many, and falls back with one fewer.
+TEST(Quadtree, MaxLeavesIsTheMostLeavesTheTreeMayHave) {
+  const Pslg g = io::read_input(std::string(MWST_DATA_DIR) + "/Random.poly");
+  const Result automatic = run(g, {});
+  ASSERT_FALSE(automatic.stats.fallback);
+  const std::size_t leaves = automatic.stats.leaves;
+  QuadtreeOptions options;
+  options.max_leaves = leaves;
+  const Result exact = run(g, options);
+  EXPECT_FALSE(exact.stats.fallback) << exact.stats.fallback_reason;
+  EXPECT_EQ(exact.stats.leaves, leaves);
+  EXPECT_EQ(exact.mesh.triangles.size(), automatic.mesh.triangles.size());
+  options.max_leaves = leaves - 1;
+  const Result fewer = run(g, options);
+  EXPECT_TRUE(fewer.stats.fallback);
+  EXPECT_EQ(fewer.stats.fallback_reason.rfind("the quadtree would need more than " + std::to_string(leaves - 1) +
+                                              " leaves", 0), 0u)
+      << fewer.stats.fallback_reason;
+  check_output(g, fewer, /*expect_no_fallback=*/false);
 }
 
 TEST(Quadtree, StarPolygonsWithHoles) {

@@ -93,6 +93,10 @@ struct QuadtreeOptions {
   // Deepest level of the quadtree (cells of size root / 2^max_depth); at most 52 (cell corners
   // are then still distinct doubles for inputs near the origin).
   unsigned max_depth = 50;
+  // Most leaves the quadtree may have; beyond it the route falls back (QuadtreeStats::fallback)
+  // instead of running out of memory or time. 0: automatic, 1024 per input feature (vertex or
+  // segment) but at least 2^20 and at most 2^26.
+  std::size_t max_leaves = 0;
   bool keep_leaves = false;    // fill QuadtreeStats::leaf_cells (used by the tests)
   // 0: two threads on large inputs (about 10^4 points and up); 1: one thread; 2: two threads
   // whatever the size (testing). The output is byte-identical in all three.
