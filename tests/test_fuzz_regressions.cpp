@@ -173,4 +173,30 @@ TEST(FuzzRegressions, CheckerTellsApartTheSidesOfAWedgeThinnerThanItsTolerance) 
   EXPECT_TRUE(check.ok()) << (check.messages.empty() ? "" : check.messages.front());
 }
 
+// Found by fuzz_triangulate (a shift by 2^37 of a polygon with crossing segments; OPT), reduced
+// to 9 points and 6 segments: long, nearly collinear segments from near (2^20, 2^20) to near
+// (2^37, 2^37) cross at rounded points, and where their pieces merge a crossing point is left
+// with two collinear subsegments, like any Steiner point on a segment. OPT's segment kicks removed
+// it ("crossing point (137440002044.38794, 137440002045.13794) is not a vertex of the mesh"); every
+// other method keeps the crossing points. Fixed in optimize.cpp / pipeline.cpp: the crossing
+// points the CDT adds are fixed vertices of the search (OptimizeOptions::fixed_vertices).
+TEST(FuzzRegressions, OptKeepsCrossingPointsOnAStraightChain) {
+  Pslg pslg;
+  pslg.is_poly = true;
+  pslg.points = {{137440002048, 137440002048}, {137440002048.25, 137440002076.5}, {137440002075.75, 137440002076.5},
+                 {137440002060, 137440002061.75}, {1048587.25, 1048588.25}, {1048587.5, 1048589},
+                 {1048588, 1048588}, {1048576, 1048576}, {1048589.75, 1048584}};
+  pslg.point_markers.assign(pslg.points.size(), 0);
+  pslg.segments = {{1, 0, 1}, {3, 4, 1}, {6, 5, 1}, {7, 2, 1}, {2, 8, 1}, {7, 2, 1}};
+  TriangulateOptions options;
+  options.method = Method::kOpt;
+  options.opt_trials = 0;
+  Mesh mesh;
+  triangulate(pslg, options, &mesh);
+  const std::vector<std::string> problems = validate(mesh);
+  EXPECT_TRUE(problems.empty()) << problems.front();
+  const CheckResult check = check_mesh(pslg, mesh);
+  EXPECT_TRUE(check.ok()) << (check.messages.empty() ? "" : check.messages.front());
+}
+
 }  // namespace

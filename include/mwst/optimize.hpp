@@ -12,6 +12,11 @@ namespace mwst {
 
 struct OptimizeOptions {
   std::size_t max_rounds = 100;    // a round visits every Steiner vertex once, then flips
+  // Vertices below this id are never moved or removed, like the input points: the pipeline fixes
+  // the crossing points its constrained Delaunay triangulation added (vertices of the domain,
+  // which every method keeps; one whose crossing segments merged looks like any Steiner point on
+  // a straight chain of subsegments).
+  std::size_t fixed_vertices = 0;
   bool relocate = true;            // move Steiner vertices to the geometric median of neighbours
   bool remove = true;              // remove Steiner vertices whose star re-triangulates lighter
   bool insert = true;              // try Steiner points at the Fermat points of heavy triangles

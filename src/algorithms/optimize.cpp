@@ -325,7 +325,9 @@ bool in_kernel(const Point& p, const std::vector<Point>& polygon) {
 
 class Optimizer {
  public:
-  Optimizer(Mesh& m, const OptimizeOptions& o, OptimizeStats& s) : m_(m), opt_(o), stats_(s) {}
+  Optimizer(Mesh& m, const OptimizeOptions& o, OptimizeStats& s)
+      : m_(m), opt_(o), stats_(s),
+        first_free_(static_cast<VertexId>(std::max<std::size_t>(m.input_vertex_count, o.fixed_vertices))) {}
 
   // With polish_start, first replaces the mesh by the MWT of its vertices, and returns false
   // without searching if that was not kept (not solved, too large or not lighter).
@@ -468,7 +470,7 @@ class Optimizer {
       focused_flips();
       rebuild_vertex_handles();
       const std::size_t n = m_.points.size();
-      for (VertexId v = m_.input_vertex_count; v < n; ++v) {
+      for (VertexId v = first_free_; v < n; ++v) {
         const VertexKind kind = m_.vertex_kind[v];
         if (kind != VertexKind::kSteiner && kind != VertexKind::kSteinerOnSegment) continue;
         if (!in_focus(m_.points[v])) continue;
@@ -962,7 +964,7 @@ class Optimizer {
     std::size_t accepted = 0;
     std::vector<std::array<VertexId, 3>> tris;
     std::vector<std::uint8_t> flags;
-    for (VertexId v = m_.input_vertex_count; v < m_.points.size(); ++v) {
+    for (VertexId v = first_free_; v < m_.points.size(); ++v) {
       if (m_.vertex_kind[v] != VertexKind::kSteinerOnSegment && m_.vertex_kind[v] != VertexKind::kSteiner) continue;
       if (kick_trials_ >= opt_.max_kick_trials) break;
       const Handle h = handle_near(v, m_.any_live_handle());
@@ -1076,7 +1078,7 @@ class Optimizer {
   std::size_t kick_removals() {
     const double weight = measure(m_).weight_total;
     std::size_t accepted = 0;
-    for (VertexId v = m_.input_vertex_count; v < m_.points.size(); ++v) {
+    for (VertexId v = first_free_; v < m_.points.size(); ++v) {
       if (m_.vertex_kind[v] != VertexKind::kSteiner) continue;
       if (kick_trials_ >= opt_.max_kick_trials) break;
       const Handle h = handle_near(v, m_.any_live_handle());
@@ -1453,6 +1455,7 @@ class Optimizer {
   Mesh& m_;
   const OptimizeOptions& opt_;
   OptimizeStats& stats_;
+  VertexId first_free_;  // the first vertex the search may move or remove (OptimizeOptions::fixed_vertices)
   std::vector<Handle> vertex_handle_;
   Region region_;
   std::vector<Point> polygon_;

@@ -210,6 +210,7 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
   }
   OptimizeOptions local;
   local.kick_passes = 0;
+  local.fixed_vertices = cdt.points.size();  // the input and the CDT's crossing points
   std::vector<double> local_weight;
   double lightest = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < starts.size(); ++i) {
@@ -217,6 +218,7 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
     if (i < original_starts) lightest = std::min(lightest, local_weight.back());
   }
   OptimizeOptions kicks;  // the whole-domain MWT was tried in the first pass
+  kicks.fixed_vertices = local.fixed_vertices;
   kicks.max_exact_polygon = 0;
   kicks.max_exact_convex_polygon = 0;
   kicks.exact_polish = options.exact_polish;  // and after the search (optimize.hpp)
