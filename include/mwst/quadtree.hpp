@@ -15,6 +15,8 @@
 //     vertices in C grown by s/2 on every side and the segments meeting C grown by s (the 3×3 block
 //     of same-size cells) are at most one vertex; with one vertex, only segments incident to it;
 //     with none, segments that share an endpoint (at most one segment, or one vertex's segments).
+//     The tree is refused (fallback) beyond QuadtreeOptions::max_leaves leaves: its size grows
+//     with the integral of 1/lfs², not with the number of features.
 //     For a point set: each point is alone in its leaf grown by half its size (hull edges keep the
 //     full block, as all segments do). Half is the least growth that keeps two points from
 //     claiming one corner in step 4 (the square of side s centred on a corner, where the points
