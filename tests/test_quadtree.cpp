@@ -815,6 +815,30 @@ TEST(Quadtree, MaxLeavesIsTheMostLeavesTheTreeMayHave) {
   check_output(g, fewer, /*expect_no_fallback=*/false);
 }
 
+// Found by fuzz_triangulate, reduced to 9 points and 6 crossing segments, two of the points 1e-13
+// apart: the route fails (two vertices at the same place on a segment) and falls back with the
+// tree's free corners. The fallback took those corners as input points of a new CDT, whose
+// rounded crossings then differed from the input's: the mesh covered 17.0 where the domain is
+// 15.04 (edges on the domain boundary with triangles on both sides). Now the corners are inserted
+// into the input's own carved CDT, strictly inside its triangles.
+TEST(Quadtree, FallbackCornersKeepTheInputsDomain) {
+  Pslg g;
+  g.is_poly = true;
+  g.points = {{-26.5625, -27.3125}, {-26.562500000000366, -27.312499999999602}, {11.4375, 12.6875},
+              {13.1875, 13.4375}, {12.4375, 13.4375}, {13.6875, 13.6875}, {12.1875, 7.9375},
+              {13.4375, 12.9375}, {12.9375, 7.9375}};
+  g.point_markers.assign(g.points.size(), 0);
+  g.segments = {{1, 3, 0}, {1, 4, 0}, {2, 5, 0}, {8, 4, 0}, {5, 6, 0}, {6, 7, 0}};
+  g.holes = {{13.0625, 12.0625}};
+  const Result r = run(g, {});
+  ASSERT_TRUE(r.stats.fallback);
+  const Mesh cdt = constrained_delaunay(g, ConstrainOptions{});
+  EXPECT_GT(r.mesh.points.size(), cdt.points.size() + 50) << "the corners are used";
+  check_output(g, r, /*expect_no_fallback=*/false);
+  const CheckResult check = test::check_mesh(g, r.mesh);
+  EXPECT_TRUE(check.ok()) << (check.messages.empty() ? "" : check.messages.front());
+}
+
 TEST(Quadtree, StarPolygonsWithHoles) {
   for (std::uint64_t seed = 1; seed <= 8; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed));

@@ -3257,52 +3257,27 @@ std::vector<Point> Builder::fallback_points() const {
   return out;
 }
 
-// The fallback: the CDT of the input plus extra Steiner points (quadtree corners away from the
-// features), with the kinds fixed up. Valid for every input the CDT accepts.
+// The fallback: the carved CDT of the input — the domain every method and the independent checker
+// build — plus extra Steiner points (quadtree corners away from the features) inserted into it
+// with Lawson flips that never cross a subsegment. Only points strictly inside a triangle of the
+// domain are taken: the domain, its segments and their crossing points stay exactly the CDT's
+// (taking the points as input points of a new CDT changed the segments' rounded crossings, and
+// with them the domain, on inputs whose segments overlap and cross many times).
 Mesh fallback_mesh(const Pslg& pslg, const QuadtreeOptions& options, std::vector<Point> extra) {
-  // Drop extra points that coincide with input points or with each other (a duplicate Steiner
-  // point could otherwise be kept in place of an input point).
-  std::vector<Point> input_sorted = pslg.points;
-  auto less = [](const Point& a, const Point& b) { return a.x != b.x ? a.x < b.x : a.y < b.y; };
-  std::sort(input_sorted.begin(), input_sorted.end(), less);
-  std::sort(extra.begin(), extra.end(), less);
-  extra.erase(std::unique(extra.begin(), extra.end()), extra.end());
-  // Only points strictly inside the input's convex hull: no domain reaches beyond it, and the
-  // root square's corners outside it would widen a point set's domain (its hull).
-  const Mesh hull = extra.empty() ? Mesh() : delaunay(pslg.points);
-  std::vector<Point> kept;
-  Handle hint = kNone;
-  for (const Point& p : extra) {
-    if (std::binary_search(input_sorted.begin(), input_sorted.end(), p, less)) continue;
-    const Location at = hull.locate(p, hint);
-    hint = at.handle;
-    if (at.kind == Location::Kind::kInTriangle && !hull.is_ghost(at.handle >> 2)) kept.push_back(p);
-  }
-  Pslg g = pslg;
-  const std::size_t n0 = pslg.points.size();
-  g.points.insert(g.points.end(), kept.begin(), kept.end());
-  if (!g.point_markers.empty()) g.point_markers.resize(g.points.size(), 0);
   ConstrainOptions constrain;
   constrain.strict = options.strict;
   constrain.convex_hull = options.convex_hull;
-  Mesh m = constrained_delaunay(g, constrain);
-  const std::size_t n1 = n0 + kept.size();
-  for (std::size_t v = n0; v < m.points.size(); ++v) {
-    if (m.vertex_kind[v] == VertexKind::kDuplicate) continue;
-    m.vertex_kind[v] = v < n1 ? VertexKind::kSteiner : VertexKind::kSteinerOnSegment;
-  }
-  m.input_vertex_count = static_cast<std::uint32_t>(n0);
-  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
-    if (m.is_dead(t)) continue;
-    for (unsigned e = 0; e < 3; ++e) {
-      const Handle h = make_handle(t, e);
-      if (!m.is_segment(h)) continue;
-      for (VertexId v : {m.org(h), m.dest(h)}) {
-        if (v != kInfinite && v >= n0 && m.vertex_kind[v] == VertexKind::kSteiner) {
-          m.vertex_kind[v] = VertexKind::kSteinerOnSegment;
-        }
-      }
-    }
+  Mesh m = constrained_delaunay(pslg, constrain);
+  auto less = [](const Point& a, const Point& b) { return a.x != b.x ? a.x < b.x : a.y < b.y; };
+  std::sort(extra.begin(), extra.end(), less);  // (sorted: short walks from one to the next)
+  extra.erase(std::unique(extra.begin(), extra.end()), extra.end());
+  Handle hint = kNone;
+  for (const Point& p : extra) {
+    const Location at = m.locate(p, hint);
+    hint = at.handle;
+    if (at.kind != Location::Kind::kInTriangle || !m.in_domain(at.handle >> 2)) continue;
+    const VertexId v = m.add_vertex(p, VertexKind::kSteiner);
+    m.insert_vertex(v, at.handle, &hint);
   }
   return m;
 }
