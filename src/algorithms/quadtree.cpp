@@ -1589,7 +1589,7 @@ class Tree {
   // 240 bytes per leaf at the peak: 16 GB). BEG's tree has O(Σ 1/lfs²) leaves, unbounded in the
   // number of features: two segments 30 apart running 3e15 long would need 1e14.
   static std::size_t leaf_limit(const QuadtreeOptions& options, std::size_t features) {
-    if (options.max_leaves > 0) return std::max<std::size_t>(options.max_leaves, 1);
+    if (options.max_leaves > 0) return options.max_leaves;
     constexpr std::size_t kPerFeature = 1024, kLeast = std::size_t{1} << 20, kMost = std::size_t{1} << 26;
     return std::clamp(kPerFeature * features, kLeast, kMost);
   }
