@@ -25,6 +25,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -673,6 +674,30 @@ TEST(Bundle, InKBundleAgreesWithPerTriangleValues) {
 // the mesh; (2) its reach boxes are sound: a query answered 0 whose box meets no triangle the
 // refinement made (the hull unchanged) is still answered 0 — what BRH's clean list relies on —
 // and each box holds its query.
+// A deadline that has passed: in_k_bundle throws KBundleTimeout (one and two threads, over the
+// whole mesh and on the local path) instead of answering; without one it answers. (Bundle removal
+// turns the timeout into stop_reason "time budget": on a fuzzed input of 96 points whose segments
+// cross 2552 times, one exact test took 31-71 s; with --time-limit 0.5 BRH stops at 0.50 s.)
+TEST(Bundle, InKBundleGivesUpAtItsDeadline) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Point> pts(2000);
+  for (Point& p : pts) p = {u(rng), u(rng)};
+  const Mesh m = delaunay(pts);
+  std::vector<TriangleId> all;
+  for (TriangleId t = 0; t < m.triangle_slots(); ++t) {
+    if (m.in_domain(t)) all.push_back(t);
+  }
+  const std::vector<TriangleId> few(all.begin(), all.begin() + 3);
+  const auto past = std::chrono::steady_clock::now() - std::chrono::seconds(1);
+  for (const unsigned threads : {1u, 2u}) {
+    for (const std::vector<TriangleId>* asked : {&std::as_const(all), &few}) {
+      EXPECT_THROW(in_k_bundle(m, 5, *asked, nullptr, threads, nullptr, past), KBundleTimeout);
+      EXPECT_EQ(in_k_bundle(m, 5, *asked, nullptr, threads).size(), asked->size());
+    }
+  }
+}
+
 TEST(Bundle, KBundleCacheReusesSweepsAndBoundsWhatChangesAnAnswer) {
   std::mt19937_64 rng(21);
   for (const bool point_set : {false, true}) {

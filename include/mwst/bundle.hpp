@@ -37,9 +37,11 @@
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <stdexcept>
 #include <vector>
 
 #include "mwst/geometry.hpp"
@@ -158,8 +160,19 @@ class KBundleCache {
   std::unique_ptr<Impl> impl;
 };
 
+// Thrown by in_k_bundle when its deadline passes before it has answered (the cache then holds
+// nothing of the call).
+struct KBundleTimeout : std::runtime_error {
+  KBundleTimeout() : std::runtime_error("in_k_bundle: the deadline passed") {}
+};
+
+// `deadline`: bundle removal's time budget. On meshes of thousands of slivers (inputs whose
+// segments cross thousands of times), every disk meets most of the mesh and one call took 30–70 s
+// for 5000 triangles; past the deadline it throws KBundleTimeout instead of answering.
 std::vector<std::uint8_t> in_k_bundle(const Mesh& mesh, std::uint32_t k, const std::vector<TriangleId>& queries,
                                       KBundleStats* stats = nullptr, unsigned threads = 0,
-                                      KBundleCache* cache = nullptr);
+                                      KBundleCache* cache = nullptr,
+                                      std::chrono::steady_clock::time_point deadline =
+                                          std::chrono::steady_clock::time_point::max());
 
 }  // namespace mwst

@@ -351,6 +351,13 @@ constexpr std::size_t kCleanQueriesFrom = 1024;
 
 BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
   const auto start = std::chrono::steady_clock::now();
+  // The time budget also bounds each exact test (in_k_bundle), which alone can take a minute.
+  // (Budgets beyond 1e9 s, 31 years, are none: the time point would overflow.)
+  const auto deadline =
+      options.refine.time_budget_seconds > 0.0 && options.refine.time_budget_seconds < 1e9
+          ? start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                        std::chrono::duration<double>(options.refine.time_budget_seconds))
+          : std::chrono::steady_clock::time_point::max();
   BrhStats stats;
   const double A = options.min_angle_deg;
   const std::uint32_t K = static_cast<std::uint32_t>(options.bundle_k);
@@ -470,7 +477,13 @@ BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
       if (!asked.empty()) {
         // Before the second test only DT(V) is kept (the next test inserts the new vertices into it).
         sweep_cache.reuse_sweeps = use_cache;
-        const std::vector<std::uint8_t> answers = in_k_bundle(mesh, K, asked, nullptr, 0, &sweep_cache);
+        std::vector<std::uint8_t> answers;
+        try {
+          answers = in_k_bundle(mesh, K, asked, nullptr, 0, &sweep_cache, deadline);
+        } catch (const KBundleTimeout&) {  // (the mesh is as the last pass left it)
+          stats.stop_reason = "time budget";
+          break;
+        }
         for (std::size_t j = 0; j < asked.size(); ++j) {
           exact[asked_at[j]] = answers[j];
           if (use_clean && !answers[j]) clean.add(sorted_triple(mesh, asked[j]), sweep_cache.reach[j]);

@@ -55,6 +55,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <chrono>
 #include <cmath>
 #include <exception>
 #include <limits>
@@ -609,9 +610,20 @@ class DenseIds {
 // per-vertex scratch of neighbouring pencils is close in memory), DT(V), the candidate list of
 // every Delaunay triangle, and the pencils (one Delaunay edge each).
 struct Shared {
-  explicit Shared(const Mesh& mesh) : m(mesh) {}
+  explicit Shared(const Mesh& mesh,
+                  std::chrono::steady_clock::time_point until = std::chrono::steady_clock::time_point::max())
+      : m(mesh), deadline(until) {}
+
+  // Throws KBundleTimeout once the deadline (in_k_bundle's) has passed; called once per item of
+  // the costly loops (floods, circumdisk counts, sweeps), each of which costs far more.
+  void check_deadline() const {
+    if (deadline != std::chrono::steady_clock::time_point::max() && std::chrono::steady_clock::now() > deadline) {
+      throw KBundleTimeout();
+    }
+  }
 
   const Mesh& m;
+  std::chrono::steady_clock::time_point deadline;
   std::vector<Point> pts;                   // by renumbered vertex id
   std::vector<VertexId> mesh_id;            // by renumbered vertex id: the mesh's id
   struct Slot {
@@ -1605,6 +1617,7 @@ void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers,
     part.reserve((end - begin) * 12);
     std::vector<TriangleId> one;
     for (std::size_t t = begin; t < end; ++t) {
+      sh.check_deadline();
       local_begin[t] = static_cast<std::uint32_t>(part.size());
       const auto dtt = static_cast<TriangleId>(t);
       if (sh.dt.is_dead(dtt) || sh.dt.is_ghost(dtt) || (needed && (*needed)[t] == 0)) continue;
@@ -1787,6 +1800,7 @@ Attempt in_k_bundle_attempt(Shared& sh, std::uint32_t k, const std::vector<Trian
     const TriangleId t = queries[qi];
     s_begin[qi] = static_cast<std::uint32_t>(s_list.size());
     if (!in_domain(t)) continue;
+    sh.check_deadline();
     is_query[t] = 1;
     const auto& tv = sh.slots[t].v;
     const Point* const corners[3] = {&sh.pts[tv[0]], &sh.pts[tv[1]], &sh.pts[tv[2]]};
@@ -1917,6 +1931,7 @@ Attempt in_k_bundle_attempt(Shared& sh, std::uint32_t k, const std::vector<Trian
   for_ranges(workers, cover.size(), [&](Worker& w, std::size_t begin, std::size_t end, std::size_t part) {
     std::vector<TriangleId> met;
     for (std::size_t i = begin; i < end; ++i) {
+      sh.check_deadline();
       const TriangleId d = cover[i];
       const std::uint32_t size = list_size(d);
       if (size < k) continue;
@@ -1969,7 +1984,10 @@ Attempt in_k_bundle_attempt(Shared& sh, std::uint32_t k, const std::vector<Trian
       if (cache) w->reuse = cache->impl.get();
     }
     for_ranges(workers, sh.pencils.size(), [&](Worker& w, std::size_t begin, std::size_t end, std::size_t) {
-      for (std::size_t i = begin; i < end; ++i) w.sweep(i);
+      for (std::size_t i = begin; i < end; ++i) {
+        sh.check_deadline();
+        w.sweep(i);
+      }
     });
     if (cache) {
       // Keep what this call used or made; drop the rest (stale keys of the mesh before).
@@ -2063,7 +2081,8 @@ void local_region(const Mesh& mesh, const std::vector<TriangleId>& queries, std:
 }  // namespace
 
 std::vector<std::uint8_t> in_k_bundle(const Mesh& mesh, std::uint32_t k, const std::vector<TriangleId>& queries,
-                                      KBundleStats* stats, unsigned threads, KBundleCache* cache_given) {
+                                      KBundleStats* stats, unsigned threads, KBundleCache* cache_given,
+                                      std::chrono::steady_clock::time_point deadline) {
   std::vector<std::uint8_t> answer(queries.size(), 0);
   // `cache`: sweeps and reach boxes; `cache_given`: also DT(V) (see KBundleCache::reuse_sweeps).
   KBundleCache* const cache = cache_given && cache_given->reuse_sweeps ? cache_given : nullptr;
@@ -2083,7 +2102,7 @@ std::vector<std::uint8_t> in_k_bundle(const Mesh& mesh, std::uint32_t k, const s
     Attempt a = Attempt::kGaveUp;
     for (const std::uint32_t rings : kRegionRings) {
       local_region(mesh, queries, rings, region, region_ids, w);
-      Shared sh(mesh);
+      Shared sh(mesh, deadline);
       if (!sh.build_region(region, region_ids, w)) break;
       std::vector<TriangleId> local_queries(queries.size());
       for (std::size_t qi = 0; qi < queries.size(); ++qi) local_queries[qi] = region_ids.find(queries[qi]);
@@ -2097,14 +2116,14 @@ std::vector<std::uint8_t> in_k_bundle(const Mesh& mesh, std::uint32_t k, const s
     if (a == Attempt::kEscaped) {
       // Floods reach far (long Delaunay disks, e.g. along the hull of a point set): the same
       // attempt over the whole mesh, still cheaper than DT(V).
-      Shared sh(mesh);
+      Shared sh(mesh, deadline);
       if (sh.build(false, &w) && in_k_bundle_attempt(sh, k, queries, st, threads, true, answer, cache) == Attempt::kAnswered) {
         st.local = true;
         return answer;
       }
     }
   }
-  Shared sh(mesh);
+  Shared sh(mesh, deadline);
   KBundleCache::Impl* const keep = cache_given ? cache_given->impl.get() : nullptr;
   if (!sh.build(false, nullptr, keep ? &keep->dt : nullptr, keep ? &keep->dt_mesh_id : nullptr)) {
     st = {};
