@@ -32,6 +32,7 @@
 #include <utility>
 #include <vector>
 
+#include "mwst/bundle.hpp"
 #include "mwst/check.hpp"
 #include "mwst/error.hpp"
 #include "mwst/io.hpp"
@@ -45,6 +46,7 @@ constexpr std::size_t kMaxPoints = 96;
 constexpr std::size_t kMaxSegments = 96;
 constexpr std::size_t kMaxHoles = 4;
 constexpr std::size_t kMaxTextPoints = 64;  // keeps each run of every method fast under ASan
+constexpr std::size_t kMaxBundleTriangles = 1000;  // exact bundle numbers only of meshes this small
 
 class Bytes {
  public:
@@ -164,8 +166,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   options.convex_hull = (mode & 0x10) != 0;
   options.strict = (mode & 0x20) != 0;
   options.steiner = (mode & 0x40) != 0 ? mwst::SteinerRule::kCircumcenter : mwst::SteinerRule::kOffCenter;
-  // The exact bundle number is costly on a refined mesh of hundreds of vertices: small inputs only.
-  options.bundle = (mode & 0x80) != 0 && !text && options.method != mwst::Method::kOpt;
+  // The exact bundle number (--bundle) is costly on a mesh of thousands of triangles, which a
+  // refinement of a few points can make (QTR of four points, two of them an ulp apart: 23 710
+  // triangles, 4 s in a release build, past libFuzzer's 60 s here): it is computed below, on
+  // meshes of at most kMaxBundleTriangles, with the same bundle_number() the pipeline calls.
+  const bool bundle = (mode & 0x80) != 0 && !text && options.method != mwst::Method::kOpt;
   static constexpr double kAngles[] = {20.0, 5.0, 10.0, 15.0, 25.0, 28.0, 30.0, 33.0};
   options.min_angle_deg = kAngles[angle_byte % 8];
   if ((angle_byte & 0x08) != 0 && options.method != mwst::Method::kBrh) options.min_angle_deg = 0.0;
@@ -232,6 +237,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   const std::vector<std::string> problems = mwst::validate(mesh);
   if (!problems.empty()) fail("validate", problems.front());
+  if (bundle && mesh.domain_triangle_count() <= kMaxBundleTriangles) {
+    const mwst::BundleResult b = mwst::bundle_number(mesh);
+    // Every triangle is a 1-bundle (its inscribed disk); the circumdisk bound is a lower bound.
+    if (mesh.domain_triangle_count() > 0 && (b.bundle_number < 1 || b.circumdisk_bound > b.bundle_number)) {
+      fail("bundle_number", std::to_string(b.bundle_number) + " with circumdisk bound " +
+                                std::to_string(b.circumdisk_bound));
+    }
+  }
   try {
     const mwst::CheckResult check = check_mesh(pslg, mesh);
     if (!check.ok()) fail("check_triangulation", check.messages.empty() ? "?" : check.messages.front());
