@@ -276,6 +276,23 @@ TEST(Refine, SteinerBudgetStops) {
   EXPECT_EQ(r.stats.steiner_inserted + r.stats.segment_splits, 25u);
 }
 
+// Found by fuzz_triangulate (ASan's allocation limit): with --max-area the triangle arrays are
+// reserved for the expected final size, 1.7 × area / max_area, regardless of --max-steiner: on a
+// domain of area 5.6e14 with max_area 2 and a budget of 32 Steiner points that was 4e8 triangles
+// (9.8 GB; at 1e10 triangles a failed allocation). Now the budget bounds the reservation.
+TEST(Refine, AreaBoundReservesNoMoreThanTheSteinerBudgetAllows) {
+  Pslg g;
+  g.points = {{0.0, 0.0}, {29.0, 0.0}, {33554457.25, 33554458.25}, {33554432.0, 33554460.75}};
+  g.point_markers.assign(g.points.size(), 0);
+  RefineOptions o;
+  o.min_angle_deg = 30.0;
+  o.max_area = 2.0;
+  o.max_steiner = 32;
+  const Refined r = refine_and_check(g, o);
+  EXPECT_EQ(r.stats.stop_reason, "steiner budget");
+  EXPECT_LT(r.mesh.triangles.capacity(), 1000u);
+}
+
 TEST(Refine, TimeBudgetStops) {
   const Pslg g = io::read_input(std::string(MWST_DATA_DIR) + "/Random.poly");
   RefineOptions o;

@@ -1007,8 +1007,11 @@ void Refiner::reserve_for_area_bound() {
                             (m_.points[T.v[1]].y - m_.points[T.v[0]].y) *
                                 (m_.points[T.v[2]].x - m_.points[T.v[0]].x));
   }
-  const double expected = 1.7 * area / max_area_;
-  if (!(expected < 1e10)) return;
+  // No more than the Steiner budget allows (each point adds two triangles; a budget of 32 on a
+  // domain of area 5.6e14 with --max-area 2 reserved 9.8 GB), and no reservation beyond 1e8
+  // triangles (2.4 GB): past that the arrays grow as they are used.
+  const double expected = std::min(1.7 * area / max_area_, 2.0 * static_cast<double>(opt_.max_steiner) + 16.0);
+  if (!(expected < 1e8)) return;
   const std::size_t tris = m_.triangles.size() + static_cast<std::size_t>(expected);
   const std::size_t verts = m_.points.size() + static_cast<std::size_t>(expected * 0.5);
   if (tris > m_.triangles.capacity()) {
