@@ -168,6 +168,9 @@ class Mesh {
 
   // Number of live triangles in the domain / ghosts (linear scans).
   std::size_t domain_triangle_count() const;
+  // Area of the domain: the sum of the live finite in-domain triangles' areas (each accurately
+  // rounded, signed_area(); the sum in floating point).
+  double domain_area() const;
 
   // Adds a triangle slot (reusing a dead slot if any).
   TriangleId new_triangle();

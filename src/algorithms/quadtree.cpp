@@ -338,17 +338,6 @@ struct CleanInput {
   double domain_area = 0.0;              // of the input's domain (in floating point)
 };
 
-// Area of a mesh's domain triangles (each rounded from its exact value; the sum in floating point).
-double domain_area_of(const Mesh& m) {
-  double area = 0.0;
-  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
-    if (!m.in_domain(t)) continue;
-    const Triangle& T = m.triangles[t];
-    area += signed_area(m.points[T.v[0]], m.points[T.v[1]], m.points[T.v[2]]);
-  }
-  return area;
-}
-
 // A PSLG with segments: its CDT resolves duplicates, vertices on segments and crossings; the
 // subsegments of the CDT are the clean segments.
 CleanInput clean_graph(const Pslg& pslg, const QuadtreeOptions& options, QuadtreeStats& stats) {
@@ -357,7 +346,7 @@ CleanInput clean_graph(const Pslg& pslg, const QuadtreeOptions& options, Quadtre
   constrain.convex_hull = options.convex_hull;
   Mesh cdt = constrained_delaunay(pslg, constrain, &stats.input);
   CleanInput in;
-  in.domain_area = domain_area_of(cdt);
+  in.domain_area = cdt.domain_area();
   in.vertices_only.points = cdt.points;
   in.vertices_only.vertex_kind = cdt.vertex_kind;
   in.vertices_only.vertex_marker = cdt.vertex_marker;

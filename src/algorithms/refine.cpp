@@ -998,15 +998,7 @@ void Refiner::mark_hull_segments() {
 // transient doubling of the triangle arrays, which dominates peak memory on large runs.
 void Refiner::reserve_for_area_bound() {
   if (max_area_ <= 0.0) return;
-  double area = 0.0;
-  for (TriangleId t = 0; t < m_.triangles.size(); ++t) {
-    if (!m_.in_domain(t)) continue;
-    const Triangle& T = m_.triangles[t];
-    area += 0.5 * std::fabs((m_.points[T.v[1]].x - m_.points[T.v[0]].x) *
-                                (m_.points[T.v[2]].y - m_.points[T.v[0]].y) -
-                            (m_.points[T.v[1]].y - m_.points[T.v[0]].y) *
-                                (m_.points[T.v[2]].x - m_.points[T.v[0]].x));
-  }
+  const double area = m_.domain_area();
   // No more than the Steiner budget allows (each point adds two triangles; a budget of 32 on a
   // domain of area 5.6e14 with --max-area 2 reserved 9.8 GB), and no reservation beyond 1e8
   // triangles (2.4 GB): past that the arrays grow as they are used.

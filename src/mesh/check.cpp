@@ -189,15 +189,6 @@ class Checker {
     }
   }
 
-  static double domain_area(const Mesh& m) {
-    double area = 0.0;
-    for (TriangleId t = 0; t < m.triangles.size(); ++t) {
-      if (!m.in_domain(t)) continue;
-      const auto& v = m.triangles[t].v;
-      area += signed_area(m.points[v[0]], m.points[v[1]], m.points[v[2]]);
-    }
-    return area;
-  }
   static bool areas_agree(double a, double b) {
     return std::fabs(a - b) <= kAreaTolerance * std::max(std::fabs(a), std::fabs(b));
   }
@@ -207,12 +198,12 @@ class Checker {
   void choose_domain() {
     ConstrainOptions carved;
     reference_ = constrained_delaunay(input_, carved);
-    result_.domain_area = domain_area(reference_);
+    result_.domain_area = reference_.domain_area();
     if (!areas_agree(result_.area, result_.domain_area) && !input_.segments.empty()) {
       ConstrainOptions hull;
       hull.convex_hull = true;
       Mesh whole = constrained_delaunay(input_, hull);
-      const double whole_area = domain_area(whole);
+      const double whole_area = whole.domain_area();
       if (areas_agree(result_.area, whole_area)) {
         reference_ = std::move(whole);
         result_.domain_area = whole_area;

@@ -256,6 +256,16 @@ std::size_t Mesh::domain_triangle_count() const {
   return n;
 }
 
+double Mesh::domain_area() const {
+  double area = 0.0;
+  for (TriangleId t = 0; t < triangles.size(); ++t) {
+    if (!in_domain(t)) continue;
+    const auto& v = triangles[t].v;
+    area += signed_area(points[v[0]], points[v[1]], points[v[2]]);
+  }
+  return area;
+}
+
 Location Mesh::locate(const Point& p, Handle start) const {
   if (start == kNone || (flags[start >> 2] & kDead)) start = any_live_handle();
   if (start == kNone) throw InternalError("locate: the mesh has no live triangle");
