@@ -375,6 +375,64 @@ TEST(Bundle, SingleTriangleAndEmpty) {
   expect_matches_oracle(pts, {Tri{0, 1, 2}});
 }
 
+// detail::enters_circle, the sweep's exact predicate, against rationals near tangency: u, p, q
+// random in a box at an offset (0: the six differences carry full mantissas, so the second
+// stage's factors are rounded; 2^37, as in inputs whose segments cross thousands of times: the
+// differences are exact doubles of fewer bits), w just off the tangent at u of the circle through
+// p, q and u, by 1e-18 to 1e-12 of its distance (the first stage cannot decide these; the second
+// decides them with its bounds or defers), and w exactly on the tangent of lattice circles (0).
+TEST(Bundle, EntersCircleMatchesRationalsNearTangency) {
+  auto oracle = [](const Point& p, const Point& q, const Point& u, const Point& w) {
+    const QPoint pu{Q(p.x) - Q(u.x), Q(p.y) - Q(u.y)}, qu{Q(q.x) - Q(u.x), Q(q.y) - Q(u.y)};
+    const QPoint e{Q(w.x) - Q(u.x), Q(w.y) - Q(u.y)};
+    const Q value = dot(pu, pu) * cross(e, qu) - dot(qu, qu) * cross(e, pu);
+    return sgn(value) * sgn(cross(pu, qu));  // orient(p, q, u) = cross(p', q')
+  };
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::size_t zeros = 0, checked = 0;
+  for (int c = 0; c < 60000; ++c) {
+    const double offset = c % 2 == 0 ? 0.0 : 0x1p37;
+    const double size = c % 3 == 0 ? 1.0 : 1000.0;
+    auto random_point = [&] { return Point{offset + size * unit(rng), offset + size * unit(rng)}; };
+    const Point p = random_point(), q = random_point(), u = random_point();
+    const int o = orient2d(p, q, u);
+    if (o == 0) continue;
+    // The centre of the circle through p, q, u (rounded), the tangent and the normal at u.
+    const Point centre = circumcenter(p, q, u);
+    const double nx = centre.x - u.x, ny = centre.y - u.y, len = std::hypot(nx, ny);
+    if (!(len > 0.0) || !std::isfinite(len)) continue;
+    const double along = (unit(rng) < 0.5 ? -1.0 : 1.0) * size * (0.01 + unit(rng));
+    const double off = (unit(rng) < 0.5 ? -1.0 : 1.0) * std::pow(10.0, -18.0 + 6.0 * unit(rng)) * std::fabs(along);
+    const Point w{u.x - ny / len * along + nx / len * off, u.y + nx / len * along + ny / len * off};
+    if (w.x == u.x && w.y == u.y) continue;
+    ASSERT_EQ(detail::enters_circle(p, q, u, w, o), oracle(p, q, u, w))
+        << std::hexfloat << "p " << p.x << " " << p.y << " q " << q.x << " " << q.y << " u " << u.x << " " << u.y
+        << " w " << w.x << " " << w.y;
+    ++checked;
+  }
+  // Exact tangents: the circle through u, u + (0, 2b) and u + (2a, 0) has centre u + (a, b); the
+  // tangent at u runs along (−b, a).
+  for (int c = 0; c < 2000; ++c) {
+    const double offset = c % 2 == 0 ? 0.0 : 0x1p37;
+    std::uniform_int_distribution<int> small(-40, 40);
+    const double a = small(rng), b = small(rng);
+    if (a == 0.0 || b == 0.0) continue;
+    const Point u{offset + small(rng), offset + small(rng)};
+    const Point p{u.x, u.y + 2 * b}, q{u.x + 2 * a, u.y};
+    const double k = small(rng);
+    if (k == 0.0) continue;
+    const Point w{u.x - k * b, u.y + k * a};
+    const int o = orient2d(p, q, u);
+    ASSERT_NE(o, 0);
+    EXPECT_EQ(detail::enters_circle(p, q, u, w, o), 0);
+    EXPECT_EQ(oracle(p, q, u, w), 0);
+    ++zeros;
+  }
+  EXPECT_GT(checked, 50000u);
+  EXPECT_GT(zeros, 1500u);
+}
+
 TEST(Bundle, RandomDelaunayMatchesOracle) {
   std::mt19937_64 rng(1);
   for (int c = 0; c < 50; ++c) {

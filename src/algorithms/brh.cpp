@@ -351,7 +351,7 @@ constexpr std::size_t kCleanQueriesFrom = 1024;
 
 BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  // The time budget also bounds each exact test (in_k_bundle), which alone can take a minute.
+  // The time budget also bounds each exact test (in_k_bundle), which alone can take many seconds.
   // (Budgets beyond 1e9 s, 31 years, are none: the time point would overflow.)
   const auto deadline =
       options.refine.time_budget_seconds > 0.0 && options.refine.time_budget_seconds < 1e9

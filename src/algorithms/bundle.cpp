@@ -130,13 +130,26 @@ Approx approx_mul(const Approx& x, const Approx& y) {
                  2.0 * kEps * std::fabs(v)};
 }
 
-// Does the segment from u towards w, at u, enter the open disk bounded by the circle through p, q
-// and u? +1 enters, −1 leaves, 0 tangent. `orient_pqu` = orient2d(p, q, u) ≠ 0. With p' = p − u,
-// q' = q − u, e = w − u, the centre of that circle is u + c' with
-// c' · 2 cross(p', q') = |p'|² (q'⊥) − |q'|² (p'⊥), so the sign of e · c' is the sign of
-// (|p'|² cross(e, q') − |q'|² cross(e, p')) · orient(p, q, u): the incircle determinant without its
-// |e|² term (its derivative at u). Filtered, then exact.
-int enters_circle(const Point& p, const Point& q, const Point& u, const Point& w, int orient_pqu) {
+// a·b + c·d for doubles a, b, c, d, rounded, with a rigorous bound: the two products split exactly
+// into value and error (two_product), the four parts summed (the two values first: they cancel
+// when the sum is small), each addition erring by at most ε of its result (doubled, as in
+// estimate_with_error, for the rounding of the bound itself). two_product is exact without
+// underflow: for supported coordinates (0 or magnitude in [1e-50, 1e50]) a nonzero difference is at
+// least an ulp of 1e-50 (about 1e-66), so products and their error terms stay far above it.
+Approx sum_of_products(double a, double b, double c, double d) {
+  double x1 = 0.0, y1 = 0.0, x2 = 0.0, y2 = 0.0;
+  exact::two_product(a, b, x1, y1);
+  exact::two_product(c, d, x2, y2);
+  const double s1 = x1 + x2;
+  const double s2 = s1 + y1;
+  const double s3 = s2 + y2;
+  return {s3, 2.0 * kEps * (std::fabs(s1) + std::fabs(s2) + std::fabs(s3))};
+}
+
+}  // namespace
+
+// (Declared in mwst/bundle.hpp, where its geometry is described.)
+int detail::enters_circle(const Point& p, const Point& q, const Point& u, const Point& w, int orient_pqu) {
   const double pux = p.x - u.x, puy = p.y - u.y;
   const double qux = q.x - u.x, quy = q.y - u.y;
   const double ex = w.x - u.x, ey = w.y - u.y;
@@ -156,35 +169,65 @@ int enters_circle(const Point& p, const Point& q, const Point& u, const Point& w
     s = -1;
   } else {
     using namespace exact;
-    const Expansion<2> epx = difference(p.x, u.x), epy = difference(p.y, u.y);
-    const Expansion<2> eqx = difference(q.x, u.x), eqy = difference(q.y, u.y);
-    const Expansion<2> eex = difference(w.x, u.x), eey = difference(w.y, u.y);
-    Expansion<16> pl = epx * epx + epy * epy;
-    Expansion<16> ql = eqx * eqx + eqy * eqy;
-    Expansion<16> cq = eex * eqy - eey * eqx;
-    Expansion<16> cp = eex * epy - eey * epx;
-    compress(pl);
-    compress(ql);
-    compress(cq);
-    compress(cp);
-    // Second stage: the four factors are exact expansions; their rounded sums carry a rigorous
-    // error bound (each addition's rounding is at most ε of the partial sum). The first stage fails
-    // when the cross products cancel (near-tangent hull edges of nearly collinear hull vertices:
-    // each cross is 10⁻¹⁶ of its products); the terms pl·cq and ql·cp rarely cancel then, and the
-    // products of 16 × 16 components are needed only when they do.
-    const Approx apl = estimate_with_error(pl), aql = estimate_with_error(ql);
-    const Approx acq = estimate_with_error(cq), acp = estimate_with_error(cp);
+    // Second stage: the four factors |p'|², |q'|², cross(e, q'), cross(e, p'), each rounded with a
+    // rigorous error bound (each addition's rounding is at most ε of the partial sum). The first
+    // stage fails when the cross products cancel (near-tangent edges: nearly collinear p, q, u, as
+    // on flat hulls or along segments that cross many times, where most calls end up here); the
+    // terms pl·cq and ql·cp rarely cancel then, and the products of 16 × 16 components are needed
+    // only when they do. When the six differences are exact doubles (coordinates within a factor
+    // 2 of each other, Sterbenz, or otherwise exactly representable), each factor is a sum of two
+    // exact products: four doubles, no expansion arithmetic.
+    double dx[6], tail[6];
+    two_diff(p.x, u.x, dx[0], tail[0]);
+    two_diff(p.y, u.y, dx[1], tail[1]);
+    two_diff(q.x, u.x, dx[2], tail[2]);
+    two_diff(q.y, u.y, dx[3], tail[3]);
+    two_diff(w.x, u.x, dx[4], tail[4]);
+    two_diff(w.y, u.y, dx[5], tail[5]);
+    const bool exact_differences =
+        tail[0] == 0.0 && tail[1] == 0.0 && tail[2] == 0.0 && tail[3] == 0.0 && tail[4] == 0.0 && tail[5] == 0.0;
+    // The factors as exact expansions (compressed).
+    struct ExactFactors {
+      Expansion<16> pl, ql, cq, cp;
+    };
+    auto exact_factors = [&] {
+      const Expansion<2> epx = difference(p.x, u.x), epy = difference(p.y, u.y);
+      const Expansion<2> eqx = difference(q.x, u.x), eqy = difference(q.y, u.y);
+      const Expansion<2> eex = difference(w.x, u.x), eey = difference(w.y, u.y);
+      ExactFactors f{epx * epx + epy * epy, eqx * eqx + eqy * eqy, eex * eqy - eey * eqx, eex * epy - eey * epx};
+      compress(f.pl);
+      compress(f.ql);
+      compress(f.cq);
+      compress(f.cp);
+      return f;
+    };
+    Approx apl, aql, acq, acp;
+    if (exact_differences) {
+      apl = sum_of_products(dx[0], dx[0], dx[1], dx[1]);
+      aql = sum_of_products(dx[2], dx[2], dx[3], dx[3]);
+      acq = sum_of_products(dx[4], dx[3], -dx[5], dx[2]);
+      acp = sum_of_products(dx[4], dx[1], -dx[5], dx[0]);
+    } else {
+      const ExactFactors f = exact_factors();
+      apl = estimate_with_error(f.pl);
+      aql = estimate_with_error(f.ql);
+      acq = estimate_with_error(f.cq);
+      acp = estimate_with_error(f.cp);
+    }
     const Approx term_q = approx_mul(apl, acq), term_p = approx_mul(aql, acp);
     const double det2 = term_q.value - term_p.value;
     const double bound2 = 2.0 * (term_q.error + term_p.error + 2.0 * kEps * std::fabs(det2)) + 1e-290;
     if (std::isfinite(det2) && std::isfinite(bound2) && std::fabs(det2) > bound2) {
       s = det2 > 0.0 ? 1 : -1;
     } else {
-      s = sign(pl * cq - ql * cp);
+      const ExactFactors f = exact_factors();
+      s = sign(f.pl * f.cq - f.ql * f.cp);
     }
   }
   return s * orient_pqu;
 }
+
+namespace {
 
 // Does the open segment u→w meet the open disk bounded by the circle through the
 // counter-clockwise a, b, c, given that u and w lie strictly outside that circle? Along
@@ -929,6 +972,7 @@ class Worker {
       : sh_(shared), per_triangle_enabled_(per_triangle), prune_(prune) {
     flood_vertex_.assign(sh_.pts.size(), FloodVertex{});
     pencil_vertex_.assign(sh_.pts.size(), PencilVertex{});
+    disk_side_.assign(sh_.pts.size(), DiskSide{});
     triangle_stamp_.assign(sh_.slots.size(), 0);
     candidate_stamp_.assign(sh_.slots.size(), 0);
     candidate_index_.assign(sh_.slots.size(), 0);
@@ -1015,6 +1059,9 @@ class Worker {
   std::uint32_t circumdisk_count(TriangleId dtt, const TriangleId* list, std::size_t size,
                                  std::vector<TriangleId>* met) {
     const auto& v = sh_.dt.triangles[dtt].v;
+    bump(disk_stamp_, [this] {
+      for (auto& d : disk_side_) d.stamp = 0;
+    });
     std::uint32_t count = 0;
     for (std::size_t i = 0; i < size; ++i) {
       if (meets_circumdisk(list[i], v[0], v[1], v[2])) {
@@ -1328,8 +1375,8 @@ class Worker {
   // Does mesh triangle t meet the open circumdisk of the vertices ca, cb, cc (counter-clockwise)?
   // A corner strictly inside (exact incircle), a corner on the circle whose edge enters the disk
   // (exact), or an edge passing through between two corners outside (exact:
-  // segment_meets_open_circumdisk).
-  bool meets_circumdisk(TriangleId t, VertexId ca, VertexId cb, VertexId cc) const {
+  // segment_meets_open_circumdisk). Only within circumdisk_count(), which starts each disk.
+  bool meets_circumdisk(TriangleId t, VertexId ca, VertexId cb, VertexId cc) {
     const Point& a = sh_.pts[ca];
     const Point& b = sh_.pts[cb];
     const Point& c = sh_.pts[cc];
@@ -1337,7 +1384,22 @@ class Worker {
     int inside[3];
     for (int i = 0; i < 3; ++i) {
       const VertexId v = tv[i];
-      inside[i] = (v == ca || v == cb || v == cc) ? 0 : incircle(a, b, c, sh_.pts[v]);
+      if (v == ca || v == cb || v == cc) {
+        inside[i] = 0;
+        continue;
+      }
+      // incircle(a, b, c, v): the filter, and the exact stage at most once per vertex and disk (a
+      // vertex is a corner of several candidates; on meshes of slivers the disks are nearly flat
+      // and most corners need the exact stage).
+      const detail::FilteredDeterminant det = detail::incircle_determinant(a, b, c, sh_.pts[v]);
+      if (det.value > det.bound) return true;
+      if (-det.value > det.bound) {
+        inside[i] = -1;
+        continue;
+      }
+      DiskSide& side = disk_side_[v];
+      if (side.stamp != disk_stamp_) side = {disk_stamp_, static_cast<std::int8_t>(detail::incircle_exact(a, b, c, sh_.pts[v]))};
+      inside[i] = side.sign;
       if (inside[i] > 0) return true;
     }
     const VertexId circle_ids[3] = {ca, cb, cc};
@@ -1359,7 +1421,7 @@ class Worker {
       const Point& pu = sh_.pts[u];
       const int o = orient2d(p, q, pu);
       for (int k = 1; k <= 2; ++k) {
-        if (enters_circle(p, q, pu, sh_.pts[tv[(i + k) % 3]], o) > 0) return true;
+        if (detail::enters_circle(p, q, pu, sh_.pts[tv[(i + k) % 3]], o) > 0) return true;
       }
     }
     for (int i = 0; i < 3; ++i) {
@@ -1440,11 +1502,11 @@ class Worker {
       if (!in_u && !in_w) continue;
       bool interior = false;
       if (in_u && in_w) {
-        interior = enters_circle(pc_.p, pc_.q, pu, pw, su) > 0 && enters_circle(pc_.p, pc_.q, pw, pu, sw) > 0;
+        interior = detail::enters_circle(pc_.p, pc_.q, pu, pw, su) > 0 && detail::enters_circle(pc_.p, pc_.q, pw, pu, sw) > 0;
       } else if (in_u) {
-        interior = enters_circle(pc_.p, pc_.q, pu, pw, su) > 0;
+        interior = detail::enters_circle(pc_.p, pc_.q, pu, pw, su) > 0;
       } else {
-        interior = enters_circle(pc_.p, pc_.q, pw, pu, sw) > 0;
+        interior = detail::enters_circle(pc_.p, pc_.q, pw, pu, sw) > 0;
       }
       if (!interior) continue;
       // Local coordinates, mirrored for the lower side (f(x₁, −x₂) = −f(x₁, x₂)).
@@ -1559,6 +1621,13 @@ class Worker {
   Pencil pc_;
   std::uint32_t pencil_stamp_ = 0, candidate_mark_ = 0;
   std::vector<PencilVertex> pencil_vertex_;
+  // circumdisk_count(): the exact incircle signs of the vertices the filter left undecided, per disk.
+  struct DiskSide {
+    std::uint32_t stamp = 0;
+    std::int8_t sign = 0;
+  };
+  std::uint32_t disk_stamp_ = 0;
+  std::vector<DiskSide> disk_side_;
   std::vector<std::uint32_t> candidate_stamp_, candidate_index_;
   std::vector<Candidate> candidates_;
   std::vector<EdgeInfo> edge_info_;        // the edges classified for the current pencil
@@ -1906,6 +1975,12 @@ Attempt in_k_bundle_attempt(Shared& sh, std::uint32_t k, const std::vector<Trian
   if (subset) {
     // Each DT(W) triangle used must have a vertex-empty circumdisk: a vertex of V strictly inside
     // would be a corner of an in-domain triangle meeting the disk, hence of its candidate list.
+    // Only vertices outside W need the test (ids from sh.used on): DT(W) is Delaunay, exactly, so
+    // no vertex of W lies strictly inside one of its circumdisks. Each is tested once per disk
+    // (it is a corner of several candidates). On meshes of slivers the disks are nearly flat and
+    // most of these tests need the exact stage: testing W too took a third of bundle removal's
+    // time on an input whose segments cross 2552 times.
+    std::vector<TriangleId> tested_for(sh.pts.size(), kNone);
     for (TriangleId d = 0; d < dt_slots; ++d) {
       if (needed[d] == 0) continue;
       const auto& dv = dt.triangles[d].v;
@@ -1914,7 +1989,9 @@ Attempt in_k_bundle_attempt(Shared& sh, std::uint32_t k, const std::vector<Trian
       const Point& c = sh.pts[dv[2]];
       for (std::uint32_t i = sh.list_begin[d]; i < sh.list_begin[d + 1]; ++i) {
         for (const VertexId v : sh.slots[sh.list[i]].v) {
-          if (v != dv[0] && v != dv[1] && v != dv[2] && incircle(a, b, c, sh.pts[v]) > 0) return Attempt::kGaveUp;
+          if (v < sh.used || tested_for[v] == d) continue;
+          tested_for[v] = d;
+          if (incircle(a, b, c, sh.pts[v]) > 0) return Attempt::kGaveUp;
         }
       }
     }
