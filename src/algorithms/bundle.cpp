@@ -973,6 +973,7 @@ class Worker {
     flood_vertex_.assign(sh_.pts.size(), FloodVertex{});
     pencil_vertex_.assign(sh_.pts.size(), PencilVertex{});
     disk_side_.assign(sh_.pts.size(), DiskSide{});
+    edge_meets_.assign(4 * sh_.slots.size(), 0u);
     triangle_stamp_.assign(sh_.slots.size(), 0);
     candidate_stamp_.assign(sh_.slots.size(), 0);
     candidate_index_.assign(sh_.slots.size(), 0);
@@ -1059,9 +1060,12 @@ class Worker {
   std::uint32_t circumdisk_count(TriangleId dtt, const TriangleId* list, std::size_t size,
                                  std::vector<TriangleId>* met) {
     const auto& v = sh_.dt.triangles[dtt].v;
-    bump(disk_stamp_, [this] {
+    // (Stamps below 2^31: edge_meets_ keeps the stamp shifted by one bit.)
+    if (++disk_stamp_ == (1u << 31)) {
       for (auto& d : disk_side_) d.stamp = 0;
-    });
+      std::fill(edge_meets_.begin(), edge_meets_.end(), 0u);
+      disk_stamp_ = 1;
+    }
     std::uint32_t count = 0;
     for (std::size_t i = 0; i < size; ++i) {
       if (meets_circumdisk(list[i], v[0], v[1], v[2])) {
@@ -1427,7 +1431,21 @@ class Worker {
     for (int i = 0; i < 3; ++i) {
       const int iu = (i + 1) % 3, iw = (i + 2) % 3;
       if (inside[iu] == 0 || inside[iw] == 0) continue;  // decided above
-      if (segment_meets_open_circumdisk(a, b, c, sh_.pts[tv[iu]], sh_.pts[tv[iw]])) return true;
+      // Edge i of t (from corner i + 1 to i + 2), decided once per disk for both triangles on it.
+      const Handle h = make_handle(t, static_cast<unsigned>(i));
+      const std::uint32_t known = edge_meets_[h];
+      if ((known >> 1) == disk_stamp_) {
+        if ((known & 1u) != 0) return true;
+        continue;
+      }
+      const bool meets = segment_meets_open_circumdisk(a, b, c, sh_.pts[tv[iu]], sh_.pts[tv[iw]]);
+      const std::uint32_t value = disk_stamp_ << 1 | (meets ? 1u : 0u);
+      edge_meets_[h] = value;
+      // (Only in-domain triangles are candidates; a region's edges out of it all lead to the one
+      // `outside` slot, which is not.)
+      const Handle twin = sh_.sym(h);
+      if (sh_.in_domain(triangle_of(twin))) edge_meets_[twin] = value;
+      if (meets) return true;
     }
     return false;
   }
@@ -1621,13 +1639,15 @@ class Worker {
   Pencil pc_;
   std::uint32_t pencil_stamp_ = 0, candidate_mark_ = 0;
   std::vector<PencilVertex> pencil_vertex_;
-  // circumdisk_count(): the exact incircle signs of the vertices the filter left undecided, per disk.
+  // circumdisk_count(): the exact incircle signs of the vertices the filter left undecided, and per
+  // edge handle whether the edge meets the disk (stamp << 1 | answer), per disk.
   struct DiskSide {
     std::uint32_t stamp = 0;
     std::int8_t sign = 0;
   };
   std::uint32_t disk_stamp_ = 0;
   std::vector<DiskSide> disk_side_;
+  std::vector<std::uint32_t> edge_meets_;
   std::vector<std::uint32_t> candidate_stamp_, candidate_index_;
   std::vector<Candidate> candidates_;
   std::vector<EdgeInfo> edge_info_;        // the edges classified for the current pencil
