@@ -45,7 +45,8 @@
 // used — collecting the triangles whose edges meet the circumdisk (a permissive floating-point
 // test: the incircle determinant is a concave quadratic along an edge; a superset is harmless).
 //
-// Work. A pencil's candidates are classified edge by edge, each edge once for both triangles on it.
+// Work. A pencil's candidates are classified edge by edge, each edge once for both triangles on it;
+// likewise a circumdisk's count decides each edge, and each corner's exact incircle, once per disk.
 // Without per-triangle values, a pencil with no more candidates than the best count so far is
 // skipped. Vertices are renumbered along a Morton curve for locality; floods and pencils are split
 // over worker threads in contiguous ranges and merged deterministically (largest count, ties to the
