@@ -777,6 +777,42 @@ TEST(Cli, WarningsGoToStderrUnlessQuiet) {
   EXPECT_TRUE(r.err.empty() && r.out.empty()) << describe(r);
 }
 
+// An option the chosen method does not read is named in a warning (and in the report), not
+// silently dropped; the options a method reads give none.
+TEST(Cli, OptionsTheMethodDoesNotReadAreWarnedAbout) {
+  Sandbox box;
+  box.put("in.poly", kSquare + "4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n");
+  Outcome r = box.run({"triangulate", "in.poly", "--method", "qtr", "--max-steiner", "10", "--min-angle", "25",
+                       "--json", "q.json", "-o", "q"});
+  ASSERT_EQ(r.exit_code, 0) << describe(r);
+  const std::vector<std::string> expected = {"--min-angle has no effect with --method qtr",
+                                             "--max-steiner has no effect with --method qtr"};
+  ASSERT_EQ(r.err_lines().size(), 2u) << describe(r);
+  for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(r.err_lines()[i], "mwst: warning: " + expected[i]);
+  const auto j = nlohmann::json::parse(box.get("q.json"));
+  EXPECT_EQ(j["warnings"], nlohmann::json(expected));
+  r = box.run({"triangulate", "in.poly", "--method", "dr", "--bundle-k", "9", "--opt-trials", "2", "-o", "d"});
+  ASSERT_EQ(r.exit_code, 0) << describe(r);
+  EXPECT_EQ(r.err_lines(), (std::vector<std::string>{"mwst: warning: --bundle-k has no effect with --method dr",
+                                                     "mwst: warning: --opt-trials has no effect with --method dr"}));
+  // What each method reads: no warning.
+  for (const auto& args : std::vector<std::vector<std::string>>{
+           {"--method", "dr", "--min-angle", "25", "--steiner", "circumcenter", "--max-area", "1", "--max-steiner", "5",
+            "--time-limit", "10"},
+           {"--method", "brh", "--min-angle", "25", "--bundle-k", "9", "--max-steiner", "5"},
+           {"--method", "opt", "--min-angle", "25", "--bundle-k", "9", "--opt-trials", "1", "--exact-polish"},
+           {"--method", "qtr", "--flip", "--convex-hull", "--strict", "--bundle"}}) {
+    std::vector<std::string> call = {"triangulate", "in.poly", "-o", "ok"};
+    call.insert(call.end(), args.begin(), args.end());
+    r = box.run(call);
+    ASSERT_EQ(r.exit_code, 0) << describe(r);
+    EXPECT_TRUE(r.err.empty()) << describe(r);
+  }
+  r = box.run({"triangulate", "in.poly", "--method", "dt", "--min-angle", "30", "--quiet", "-o", "quiet"});
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_TRUE(r.err.empty() && r.out.empty()) << describe(r);
+}
+
 // ---- 6. default prefix -------------------------------------------------------------------------
 
 TEST(Cli, DefaultPrefixFollowsTriangle) {

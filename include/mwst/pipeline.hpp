@@ -71,6 +71,13 @@ std::size_t default_bundle_k(double min_angle_deg);
 // NaN, ...). Throws std::invalid_argument naming the option as the command line spells it.
 void check_options(const TriangulateOptions& options);
 
+// Does `method` read the option the command line spells `option` ("--min-angle", "--steiner",
+// "--bundle-k", "--max-area", "--max-steiner", "--time-limit", "--exact-polish", "--opt-trials")?
+// dt and qtr read none of them; dr the angle, rule and budgets; brh also --bundle-k; opt all (its
+// BRH and DR starts, its search). Options every method reads (--flip, --convex-hull, --strict,
+// --bundle) and names not listed: true.
+bool method_reads_option(Method method, std::string_view option);
+
 struct Report {
   std::string input;   // Pslg::source
   std::string method;  // method_name()

@@ -352,6 +352,22 @@ void check_options(const TriangulateOptions& o) {
   }
 }
 
+bool method_reads_option(Method method, std::string_view option) {
+  const bool refinement = option == "--min-angle" || option == "--steiner" || option == "--max-area" ||
+                          option == "--max-steiner" || option == "--time-limit";
+  const bool bundle_size = option == "--bundle-k";
+  const bool optimiser = option == "--exact-polish" || option == "--opt-trials";
+  if (!refinement && !bundle_size && !optimiser) return true;
+  switch (method) {
+    case Method::kDt:
+    case Method::kQtr: return false;
+    case Method::kDr: return refinement;
+    case Method::kBrh: return refinement || bundle_size;
+    case Method::kOpt: return true;
+  }
+  throw InternalError("method_reads_option: unknown method");
+}
+
 double Report::total_seconds() const {
   double total = 0.0;
   for (const auto& phase : seconds) total += phase.second;

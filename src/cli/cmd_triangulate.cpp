@@ -9,6 +9,7 @@
 #include <iostream>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "cli/commands.hpp"
 #include "mwst/io.hpp"
@@ -37,6 +38,7 @@ struct TriangulateArgs {
   bool strict = false;
   bool bundle = false;
   double time_limit = -1.0;  // seconds; ≤ 0: none (the option itself only accepts > 0)
+  std::vector<std::string> given;  // the method-specific options given (see method_reads_option)
   std::string json;
   std::string draw;
   bool quiet = false;
@@ -98,7 +100,13 @@ int run_triangulate(const TriangulateArgs& a) {
 
   const Pslg pslg = io::read_input(a.input);
   Mesh mesh;
-  const Report report = triangulate(pslg, options, &mesh);
+  Report report = triangulate(pslg, options, &mesh);
+  // An option the method does not read is said so, not silently dropped.
+  for (const std::string& option : a.given) {
+    if (!method_reads_option(options.method, option)) {
+      report.warnings.push_back(option + " has no effect with --method " + a.method);
+    }
+  }
 
   OutputFiles out;
   out.write_mesh(mesh, prefix, pslg.first_index);
@@ -166,8 +174,12 @@ void register_triangulate(CLI::App& app, Action& action) {
       ->type_name("FILE");
   sub->add_option("--draw", args->draw, "Draw the mesh to FILE.png, .svg or .pdf")->type_name("FILE");
   sub->add_flag("-q,--quiet", args->quiet, "No summary and no warnings");
-  sub->callback([args, max_steiner, &action] {
+  sub->callback([args, max_steiner, sub, &action] {
     args->max_steiner_given = max_steiner->count() > 0;
+    for (const char* option : {"--min-angle", "--steiner", "--bundle-k", "--max-area", "--max-steiner", "--time-limit",
+                               "--exact-polish", "--opt-trials"}) {
+      if (sub->count(option) > 0) args->given.emplace_back(option);
+    }
     action = [args] { return run_triangulate(*args); };
   });
 }
