@@ -182,6 +182,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // build and over libFuzzer's 60 s per input under the sanitizers. A few trials reach every move
   // and kick of the search; how many is up to the bytes.
   options.opt_trials = budget_byte >> 6;
+  // QTR's tree grows with the integral of 1/lfs², not with the input: four points, two of them 0.5
+  // apart at one end of a hull 92 000 long, made 1.27M triangles (2.8 s in a release build; with
+  // the flips and both checkers past libFuzzer's 60 s here). A limit of 2^16 leaves (about 150 000
+  // triangles) keeps every run short and sends such inputs down the fallback, which gets tested too.
+  options.quadtree_max_leaves = std::size_t{1} << 16;
 
   while (!in.empty()) {
     const std::uint8_t tag = in.byte();

@@ -60,6 +60,9 @@ struct TriangulateOptions {
   // (kDefaultOptTrials) is min(600, 300000 / triangles of the start); fewer trials are faster and
   // at most as thorough, 0 stops after the kicks.
   std::size_t opt_trials = kDefaultOptTrials;
+  // qtr: the most leaves its quadtree may have before the method falls back
+  // (QuadtreeOptions::max_leaves; 0 = automatic). The fuzz harness keeps its meshes small with it.
+  std::size_t quadtree_max_leaves = 0;
 };
 
 // The paper's lemma: a triangulation with minimum angle α is (4π/α + 3)-bundle-free, so the default

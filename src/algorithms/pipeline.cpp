@@ -400,6 +400,7 @@ Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* ou
       QuadtreeOptions quadtree_options;
       quadtree_options.convex_hull = options.convex_hull;
       quadtree_options.strict = options.strict;
+      quadtree_options.max_leaves = options.quadtree_max_leaves;
       QuadtreeStats qs;
       mesh = quadtree_refinement(pslg, quadtree_options, &qs);
       report.seconds.emplace_back("input", qs.seconds_input);
