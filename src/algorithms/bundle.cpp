@@ -192,9 +192,12 @@ int detail::enters_circle(const Point& p, const Point& q, const Point& u, const 
       Expansion<16> pl, ql, cq, cp;
     };
     auto exact_factors = [&] {
-      const Expansion<2> epx = difference(p.x, u.x), epy = difference(p.y, u.y);
-      const Expansion<2> eqx = difference(q.x, u.x), eqy = difference(q.y, u.y);
-      const Expansion<2> eex = difference(w.x, u.x), eey = difference(w.y, u.y);
+      Expansion<2> d[6];  // the differences above, exactly: rounded value and tail
+      for (int i = 0; i < 6; ++i) {
+        d[i].push(tail[i]);
+        d[i].push(dx[i]);
+      }
+      const auto &epx = d[0], &epy = d[1], &eqx = d[2], &eqy = d[3], &eex = d[4], &eey = d[5];
       ExactFactors f{epx * epx + epy * epy, eqx * eqx + eqy * eqy, eex * eqy - eey * eqx, eex * epy - eey * epx};
       compress(f.pl);
       compress(f.ql);

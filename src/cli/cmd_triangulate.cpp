@@ -38,7 +38,7 @@ struct TriangulateArgs {
   bool strict = false;
   bool bundle = false;
   double time_limit = -1.0;  // seconds; ≤ 0: none (the option itself only accepts > 0)
-  std::vector<std::string> given;  // the method-specific options given (see method_reads_option)
+  std::vector<std::string> given;  // the options given, as --long-name (see method_reads_option)
   std::string json;
   std::string draw;
   bool quiet = false;
@@ -176,9 +176,8 @@ void register_triangulate(CLI::App& app, Action& action) {
   sub->add_flag("-q,--quiet", args->quiet, "No summary and no warnings");
   sub->callback([args, max_steiner, sub, &action] {
     args->max_steiner_given = max_steiner->count() > 0;
-    for (const char* option : {"--min-angle", "--steiner", "--bundle-k", "--max-area", "--max-steiner", "--time-limit",
-                               "--exact-polish", "--opt-trials"}) {
-      if (sub->count(option) > 0) args->given.emplace_back(option);
+    for (const CLI::Option* option : sub->get_options([](const CLI::Option* o) { return o->count() > 0; })) {
+      args->given.push_back(option->get_name());
     }
     action = [args] { return run_triangulate(*args); };
   });
