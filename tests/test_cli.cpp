@@ -362,12 +362,13 @@ TEST(Cli, RandomBytesGiveACheckedMeshOrACleanRefusal) {
   }
 }
 
-// --time-limit (TriangulateOptions::time_budget_seconds): a refinement stopped by it still writes
-// a valid mesh, and says why it stopped. (Nothing here measures time: a budget of a microsecond
-// is exhausted long before a refinement of this size finishes, whatever the machine.)
+// --time-limit (TriangulateOptions::time_budget_seconds): a refinement or search stopped by it
+// still writes a valid mesh, and says why it stopped; opt makes no start after its BRH start once
+// the budget has passed. (Nothing here measures time: a budget of a microsecond is exhausted long
+// before a refinement of this size finishes, whatever the machine.)
 TEST(Cli, TimeLimitStopsRefinementWithAValidMesh) {
   Sandbox box;
-  for (const std::string method : {"dr", "brh"}) {
+  for (const std::string method : {"dr", "brh", "opt"}) {
     SCOPED_TRACE(method);
     const Outcome r = box.run({"triangulate", data("Superior.poly"), "-o", "t", "-q", "--method", method,
                                "--min-angle", "30", "--max-area", "1e-6", "--time-limit", "1e-6",
@@ -376,6 +377,11 @@ TEST(Cli, TimeLimitStopsRefinementWithAValidMesh) {
     const auto report = nlohmann::json::parse(box.get("t.json"));
     EXPECT_EQ(report.at("stop_reason").get<std::string>(), "time budget");
     EXPECT_EQ(report.at("parameters").at("time_budget").get<double>(), 1e-6);
+    if (method == "opt") {
+      const auto& starts = report.at("optimize").at("starts");
+      EXPECT_EQ(starts.size(), 1u) << starts.dump();
+      EXPECT_TRUE(starts.contains("brh+efh")) << starts.dump();
+    }
     const Outcome check = box.run({"check", data("Superior.poly"), "t"});
     EXPECT_EQ(check.exit_code, 0) << describe(check);
   }

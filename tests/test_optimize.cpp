@@ -273,6 +273,53 @@ TEST(Optimize, PerturbationSearchNeverHurtsAndIsDeterministic) {
   EXPECT_GT(kept, 0u);
 }
 
+// OptimizeOptions::time_budget_seconds: a budget that has passed before the first round stops the
+// search before any move; one that runs out somewhere in the search (where depends on the
+// machine) leaves a valid, conforming mesh no heavier than the start, input vertices in place, and
+// says so; one that does not run out changes nothing.
+TEST(Optimize, TimeBudgetStopsTheSearchWithAValidMesh) {
+  for (const char* name : {"Africa.poly", "Plate.poly"}) {
+    const Pslg g = io::read_input(std::string(MWST_DATA_DIR) + "/" + name);
+    const Mesh start = refined_10_degrees(g);
+    const double start_weight = measure(start).weight_total;
+    OptimizeOptions o;
+    o.perturbation_trials = 40;
+    Mesh full = start;
+    const OptimizeStats full_stats = optimize(full, o);
+    EXPECT_FALSE(full_stats.out_of_time) << name;
+
+    Mesh roomy = start;
+    o.time_budget_seconds = 1e6;
+    EXPECT_FALSE(optimize(roomy, o).out_of_time) << name;
+    expect_same_mesh(roomy, full, name);
+
+    Mesh none = start;
+    o.time_budget_seconds = 1e-9;
+    const OptimizeStats none_stats = optimize(none, o);
+    EXPECT_TRUE(none_stats.out_of_time) << name;
+    EXPECT_EQ(none_stats.rounds, 0u) << name;
+    EXPECT_EQ(none_stats.relocations + none_stats.removals + none_stats.insertions + none_stats.flips +
+                  none_stats.kick_insertions + none_stats.kick_removals + none_stats.perturbations,
+              0u)
+        << name;
+    EXPECT_NEAR(measure(none).weight_total, start_weight, 1e-12 * start_weight) << name;
+    EXPECT_TRUE(validate(none).empty()) << name;
+
+    for (const double budget : {1e-3, 1e-2, 5e-2}) {
+      Mesh cut = start;
+      o.time_budget_seconds = budget;
+      const OptimizeStats stats = optimize(cut, o);
+      EXPECT_TRUE(validate(cut).empty()) << name << " " << budget;
+      const CheckResult check = check_mesh(g, cut);
+      EXPECT_TRUE(check.ok()) << name << " " << budget << ": " << (check.messages.empty() ? "" : check.messages.front());
+      EXPECT_LE(measure(cut).weight_total, start_weight) << name << " " << budget;
+      EXPECT_EQ(stats.weight_after, measure(cut).weight_total) << name << " " << budget;
+      for (VertexId v = 0; v < g.points.size(); ++v) EXPECT_EQ(cut.points[v], g.points[v]) << name;
+      if (!stats.out_of_time) expect_same_mesh(cut, full, name);
+    }
+  }
+}
+
 // The cluster polish (kick_neighbour_sweeps) and the pair kicks (kick_pairs), both off by
 // default: kicks run after the same local search and keep only lighter meshes, so the result is
 // never heavier than the search without kicks; valid, conforming, deterministic.

@@ -47,6 +47,13 @@ struct OptimizeOptions {
   // about 11; far more means a slow skeleton that rarely solves), crossing pairs of candidates.
   std::size_t exact_polish_candidates_per_vertex = 16;
   std::size_t exact_polish_max_crossing_pairs = 2000000;
+  // Wall-clock budget in seconds (≤ 0: none, the default). The search looks at the clock before
+  // each round of the local search and every 1024 vertices or triangles within one, before each
+  // kick, perturbation trial and exact polish round; once the budget has passed it stops there
+  // (OptimizeStats::out_of_time). Every move kept before that lowered the weight, so the mesh is
+  // valid and no heavier than given, but where it stopped depends on the machine's speed: only
+  // the size budgets above give the same result on every run.
+  double time_budget_seconds = -1.0;
 };
 
 struct OptimizeStats {
@@ -66,6 +73,7 @@ struct OptimizeStats {
   double weight_before = 0.0;
   double weight_after = 0.0;
   double seconds = 0.0;
+  bool out_of_time = false;  // stopped by OptimizeOptions::time_budget_seconds
 };
 
 // Improves the weight of a carved mesh in place: the exact MWT of the domain when it is one small
@@ -77,7 +85,8 @@ struct OptimizeStats {
 // Input vertices and segments never change (a Steiner point on a segment only slides along its
 // subsegment line or is removed, merging its two subsegments); every kept move keeps the mesh
 // valid and strictly lowers the total weight, so the search terminates; results are deterministic
-// (the kick budget counts trials, not seconds). Removed vertices are dropped (mwst::compact).
+// (the kick budget counts trials, not seconds) unless time_budget_seconds cuts the search short.
+// Removed vertices are dropped (mwst::compact).
 // With exact_polish (off by default) the exact MWT of the mesh's vertices (exact_mwt, mwt.hpp)
 // replaces the converged mesh whenever it is solved and lighter, followed by the search again; with
 // exact_polish_start a second search runs from the MWT of the starting mesh, and the lighter of

@@ -38,6 +38,7 @@
 
 #include "mwst/bundle.hpp"
 #include "mwst/metrics.hpp"
+#include "algorithms/time_budget.hpp"
 
 namespace mwst {
 
@@ -352,12 +353,7 @@ constexpr std::size_t kCleanQueriesFrom = 1024;
 BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   // The time budget also bounds each exact test (in_k_bundle), which alone can take many seconds.
-  // (Budgets beyond 1e9 s, 31 years, are none: the time point would overflow.)
-  const auto deadline =
-      options.refine.time_budget_seconds > 0.0 && options.refine.time_budget_seconds < 1e9
-          ? start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                        std::chrono::duration<double>(options.refine.time_budget_seconds))
-          : std::chrono::steady_clock::time_point::max();
+  const auto deadline = detail::deadline_after(start, options.refine.time_budget_seconds);
   BrhStats stats;
   const double A = options.min_angle_deg;
   const std::uint32_t K = static_cast<std::uint32_t>(options.bundle_k);

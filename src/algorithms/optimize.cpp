@@ -53,6 +53,7 @@
 #include "mwst/flip.hpp"
 #include "mwst/metrics.hpp"
 #include "mwst/mwt.hpp"
+#include "algorithms/time_budget.hpp"
 
 namespace mwst {
 
@@ -325,9 +326,10 @@ bool in_kernel(const Point& p, const std::vector<Point>& polygon) {
 
 class Optimizer {
  public:
-  Optimizer(Mesh& m, const OptimizeOptions& o, OptimizeStats& s)
+  Optimizer(Mesh& m, const OptimizeOptions& o, OptimizeStats& s, std::chrono::steady_clock::time_point deadline)
       : m_(m), opt_(o), stats_(s),
-        first_free_(static_cast<VertexId>(std::max<std::size_t>(m.input_vertex_count, o.fixed_vertices))) {}
+        first_free_(static_cast<VertexId>(std::max<std::size_t>(m.input_vertex_count, o.fixed_vertices))),
+        deadline_(deadline) {}
 
   // With polish_start, first replaces the mesh by the MWT of its vertices, and returns false
   // without searching if that was not kept (not solved, too large or not lighter).
@@ -335,7 +337,7 @@ class Optimizer {
     const double start_weight = measure(m_).weight_total;
     stats_.weight_before = start_weight;
     if (polish_start && !exact_polish_step()) return false;
-    whole_domain_mwt();
+    if (!out_of_time()) whole_domain_mwt();
     local_search();
     // Kicks: trial insertions and removals, each followed by a local re-optimisation and kept only
     // if the total weight drops; then the local search again, while the kicks pay.
@@ -348,8 +350,20 @@ class Optimizer {
   }
 
  private:
+  // Has OptimizeOptions::time_budget_seconds passed? (Sticky: once it has, every loop stops.)
+  bool out_of_time() {
+    if (!stats_.out_of_time && deadline_ != std::chrono::steady_clock::time_point::max() &&
+        std::chrono::steady_clock::now() >= deadline_) {
+      stats_.out_of_time = true;
+    }
+    return stats_.out_of_time;
+  }
+
+  // May one more kick be tried (trial budget and time budget)?
+  bool may_kick() { return kick_trials_ < opt_.max_kick_trials && !out_of_time(); }
+
   void kicks_and_search() {
-    for (std::size_t pass = 0; pass < opt_.kick_passes; ++pass) {
+    for (std::size_t pass = 0; pass < opt_.kick_passes && !out_of_time(); ++pass) {
       const std::size_t accepted =
           kick_insertions() + kick_edge_splits() + kick_segment_insertions() + kick_removals() +
           kick_segment_removals() + kick_pairs();
@@ -373,7 +387,7 @@ class Optimizer {
     double weight = measure(m_).weight_total;
     std::vector<TriangleId> domain;
     Mesh saved;
-    for (std::size_t trial = 0; trial < opt_.perturbation_trials; ++trial) {
+    for (std::size_t trial = 0; trial < opt_.perturbation_trials && !out_of_time(); ++trial) {
       // A triangle drawn with probability proportional to its perimeter (long edges are where
       // weight can be saved).
       domain.clear();
@@ -446,7 +460,7 @@ class Optimizer {
   // insertions now start from the lighter triangulation, and their local minimum is no heavier.
   // Every step lowers the weight strictly, so the polished mesh is never heavier than before.
   void exact_polish() {
-    for (std::size_t round = 0; round < opt_.exact_polish_rounds; ++round) {
+    for (std::size_t round = 0; round < opt_.exact_polish_rounds && !out_of_time(); ++round) {
       if (!exact_polish_step()) return;
       local_search();
       kicks_and_search();
@@ -465,12 +479,13 @@ class Optimizer {
 
   void local_search() {
     double weight = measure(m_).weight_total;
-    for (std::size_t round = 0; round < opt_.max_rounds; ++round) {
+    for (std::size_t round = 0; round < opt_.max_rounds && !out_of_time(); ++round) {
       ++stats_.rounds;
       focused_flips();
       rebuild_vertex_handles();
       const std::size_t n = m_.points.size();
       for (VertexId v = first_free_; v < n; ++v) {
+        if ((v & 1023u) == 0 && out_of_time()) break;
         const VertexKind kind = m_.vertex_kind[v];
         if (kind != VertexKind::kSteiner && kind != VertexKind::kSteinerOnSegment) continue;
         if (!in_focus(m_.points[v])) continue;
@@ -490,7 +505,7 @@ class Optimizer {
       weight = now;
       if (!(gain > opt_.min_relative_gain * now)) break;
     }
-    focused_flips();
+    if (!out_of_time()) focused_flips();
   }
 
   // EFH's flips to a local minimum; in a focused search (perturbation_search) only from the edges
@@ -639,7 +654,7 @@ class Optimizer {
     std::size_t accepted = 0;
     Handle near = m_.any_live_handle();
     for (const Point& p : candidates) {
-      if (kick_trials_ >= opt_.max_kick_trials) break;
+      if (!may_kick()) break;
       const Location loc = m_.locate(p, near);
       if (loc.kind != Location::Kind::kInTriangle) continue;
       const TriangleId t = loc.handle >> 2;
@@ -677,7 +692,7 @@ class Optimizer {
     std::size_t accepted = 0;
     for (const auto& [key, ia, ib] : edges) {
       (void)key;
-      if (kick_trials_ >= opt_.max_kick_trials) break;
+      if (!may_kick()) break;
       Handle h = handle_near(ia, m_.any_live_handle());
       if (h == kNone) continue;
       {
@@ -807,7 +822,7 @@ class Optimizer {
     std::size_t accepted = 0;
     for (const auto& [key, ia, ib] : edges) {
       (void)key;
-      if (kick_trials_ >= opt_.max_kick_trials) break;
+      if (!may_kick()) break;
       if (m_.vertex_kind[ia] == VertexKind::kRemoved || m_.vertex_kind[ib] == VertexKind::kRemoved) continue;
       const Point a = m_.points[ia], b = m_.points[ib];
       const Point q1{a.x + (b.x - a.x) / 3.0, a.y + (b.y - a.y) / 3.0};
@@ -886,7 +901,7 @@ class Optimizer {
     }
     std::size_t accepted = 0;
     for (const Candidate& cand : candidates) {
-      if (kick_trials_ >= opt_.max_kick_trials) break;
+      if (!may_kick()) break;
       // The subsegment a→b, if it still exists.
       Handle h = handle_near(cand.a, m_.any_live_handle());
       if (h == kNone) continue;
@@ -966,7 +981,7 @@ class Optimizer {
     std::vector<std::uint8_t> flags;
     for (VertexId v = first_free_; v < m_.points.size(); ++v) {
       if (m_.vertex_kind[v] != VertexKind::kSteinerOnSegment && m_.vertex_kind[v] != VertexKind::kSteiner) continue;
-      if (kick_trials_ >= opt_.max_kick_trials) break;
+      if (!may_kick()) break;
       const Handle h = handle_near(v, m_.any_live_handle());
       if (h == kNone || !star_of(m_, h, region_)) continue;  // star_of refuses ghosts
       const std::size_t d = region_.boundary.size();
@@ -1080,7 +1095,7 @@ class Optimizer {
     std::size_t accepted = 0;
     for (VertexId v = first_free_; v < m_.points.size(); ++v) {
       if (m_.vertex_kind[v] != VertexKind::kSteiner) continue;
-      if (kick_trials_ >= opt_.max_kick_trials) break;
+      if (!may_kick()) break;
       const Handle h = handle_near(v, m_.any_live_handle());
       if (h == kNone || !star_of(m_, h, region_) || !star_in_domain(region_)) continue;
       bool on_segment = false;
@@ -1435,6 +1450,7 @@ class Optimizer {
     const auto slots = static_cast<TriangleId>(m_.triangles.size());
     std::vector<TriangleId> tris;
     for (TriangleId t = 0; t < slots; ++t) {
+      if ((t & 1023u) == 0 && out_of_time()) break;
       if (!m_.in_domain(t) || !in_focus(m_.points[m_.triangles[t].v[0]])) continue;
       // Region 1: the triangle and its neighbours (a hexagon at most).
       tris.assign(1, t);
@@ -1472,6 +1488,7 @@ class Optimizer {
   Point focus_lo_{0.0, 0.0};
   Point focus_hi_{0.0, 0.0};
   std::size_t kick_trials_ = 0;
+  std::chrono::steady_clock::time_point deadline_;  // time_point::max(): no time budget
 };
 
 }  // namespace
@@ -1493,14 +1510,15 @@ bool exact_polish_mesh(Mesh& mesh, const OptimizeOptions& options) {
 
 OptimizeStats optimize(Mesh& mesh, const OptimizeOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
+  const auto deadline = detail::deadline_after(t0, options.time_budget_seconds);
   OptimizeStats stats;
   if (options.exact_polish && options.exact_polish_start) {
     // Two searches: from the mesh as given, and from the MWT of its vertices (another basin);
     // the lighter result is kept, so the polish never makes the result heavier.
     Mesh from_mwt = mesh;
     OptimizeStats from_mwt_stats;
-    Optimizer(mesh, options, stats).run(false);
-    if (Optimizer(from_mwt, options, from_mwt_stats).run(true)) {
+    Optimizer(mesh, options, stats, deadline).run(false);
+    if (Optimizer(from_mwt, options, from_mwt_stats, deadline).run(true)) {
       from_mwt_stats.exact_polish_tries += stats.exact_polish_tries;
       if (from_mwt_stats.weight_after < stats.weight_after) {
         mesh = std::move(from_mwt);
@@ -1512,7 +1530,7 @@ OptimizeStats optimize(Mesh& mesh, const OptimizeOptions& options) {
       stats.exact_polish_tries += from_mwt_stats.exact_polish_tries;
     }
   } else {
-    Optimizer(mesh, options, stats).run(false);
+    Optimizer(mesh, options, stats, deadline).run(false);
   }
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return stats;

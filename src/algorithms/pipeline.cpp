@@ -49,6 +49,19 @@ class Phase {
   Clock::time_point start_;
 };
 
+// What is left of TriangulateOptions::time_budget_seconds, counted from `start`, in seconds — never
+// 0, which would mean no budget — or -1 (none) without a budget.
+double budget_left(const TriangulateOptions& options, Clock::time_point start) {
+  if (!(options.time_budget_seconds > 0.0)) return -1.0;
+  const double used = std::chrono::duration<double>(Clock::now() - start).count();
+  return std::max(options.time_budget_seconds - used, 1e-9);
+}
+
+bool budget_spent(const TriangulateOptions& options, Clock::time_point start) {
+  return options.time_budget_seconds > 0.0 &&
+         std::chrono::duration<double>(Clock::now() - start).count() >= options.time_budget_seconds;
+}
+
 std::string plural(std::size_t n, const char* one, const char* many) {
   return std::to_string(n) + " " + (n == 1 ? one : many);
 }
@@ -95,11 +108,7 @@ void refine_phase(Mesh& mesh, const TriangulateOptions& options, Clock::time_poi
   refine_options.max_area = options.max_area;
   refine_options.max_steiner = options.max_steiner;
   refine_options.rule = options.steiner;
-  if (options.time_budget_seconds > 0.0) {
-    const double used = std::chrono::duration<double>(Clock::now() - start).count();
-    // Whatever is left of the budget, but never 0 (which would mean "no budget").
-    refine_options.time_budget_seconds = std::max(options.time_budget_seconds - used, 1e-9);
-  }
+  refine_options.time_budget_seconds = budget_left(options, start);
   Phase phase(report, "refine");
   const RefineStats stats = refine(mesh, refine_options);
   phase.finish();
@@ -117,10 +126,7 @@ void brh_phase(Mesh& mesh, const TriangulateOptions& options, Clock::time_point 
   brh.refine.max_area = options.max_area;
   brh.refine.max_steiner = options.max_steiner;
   brh.refine.rule = options.steiner;
-  if (options.time_budget_seconds > 0.0) {
-    const double used = std::chrono::duration<double>(Clock::now() - start).count();
-    brh.refine.time_budget_seconds = std::max(options.time_budget_seconds - used, 1e-9);
-  }
+  brh.refine.time_budget_seconds = budget_left(options, start);
   Phase phase(report, "brh");
   const BrhStats stats = bundle_removal(mesh, brh);
   phase.finish();
@@ -150,6 +156,10 @@ void flip_phase(Mesh& mesh, Report& report) {
 // iterated local search), improved by a partition crossover with the others. Since every search
 // only lowers the weight of its start, and the crossover is kept only if lighter, opt is never
 // heavier than BRH+EFH with the same parameters. Phase "optimize".
+// With a time budget (--time-limit), every refinement and search gets what is left of it; once it
+// has passed, the starts not yet made are skipped, every search stops where it is, and the stop
+// reason says "time budget" (the lightest mesh so far is returned; valid, but then no longer
+// bounded by BRH+EFH if the BRH start itself was cut short).
 Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::time_point start,
                     Report& report) {
   Mesh best = constrained_delaunay_phase(pslg, options, report);
@@ -160,24 +170,32 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
     Mesh mesh;
   };
   std::vector<Start> starts;
+  bool out_of_time = false;  // the budget has passed (a refinement or search was cut, or a step skipped)
+  const auto time_is_up = [&] {
+    out_of_time = out_of_time || budget_spent(options, start);
+    return out_of_time;
+  };
   {
     Mesh m = cdt;
     Report scratch;
     TriangulateOptions o = options;
     if (!(o.min_angle_deg > 0.0)) o.min_angle_deg = 20.0;
     brh_phase(m, o, start, scratch);
+    out_of_time = scratch.stop_reason == "time budget";
     flip_to_local_minimum(m);
     starts.push_back({"brh+efh", std::move(m)});
   }
   // Large inputs: the BRH start only (each start costs a refinement and a search).
-  if (pslg.points.size() <= 100000) {
+  if (pslg.points.size() <= 100000 && !time_is_up()) {
     for (const double angle : {5.0, 10.0, 15.0, 20.0}) {
+      if (time_is_up()) break;
       Mesh m = cdt;
       RefineOptions ro;
       ro.min_angle_deg = angle;
       ro.rule = options.steiner;
       ro.max_steiner = options.max_steiner;
-      refine(m, ro);
+      ro.time_budget_seconds = budget_left(options, start);
+      out_of_time |= refine(m, ro).stop_reason == "time budget";
       starts.push_back({"dr" + std::to_string(static_cast<int>(angle)), std::move(m)});
     }
     starts.push_back({"dt", cdt});
@@ -186,7 +204,7 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
     // They pay where the domain has strips between boundary chains (the coastlines: 0.1–0.5 points)
     // and cost a third more time; on point sets (Kuzmin2K, Ellipse, uniform points) they never
     // won by more than 0.001%, so point sets skip them.
-    if (!pslg.segments.empty()) {
+    if (!pslg.segments.empty() && !time_is_up()) {
       for (const auto& [name, seeds] : {std::pair{"dt+junctions", SeedPoints::kJunctionCircumcenters},
                                         std::pair{"dt+centroids", SeedPoints::kCentroids}}) {
         Mesh m = cdt;
@@ -203,7 +221,7 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
   // starts only, so the original starts get the same treatment and the polish never makes opt heavier.
   const std::size_t original_starts = starts.size();
   if (options.exact_polish) {
-    for (std::size_t i = 0; i < original_starts; ++i) {
+    for (std::size_t i = 0; i < original_starts && !time_is_up(); ++i) {
       Mesh m = starts[i].mesh;
       if (exact_polish_mesh(m, OptimizeOptions{})) starts.push_back({starts[i].name + "+mwt", std::move(m)});
     }
@@ -214,7 +232,10 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
   std::vector<double> local_weight;
   double lightest = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < starts.size(); ++i) {
-    local_weight.push_back(optimize(starts[i].mesh, local).weight_after);
+    local.time_budget_seconds = budget_left(options, start);
+    const OptimizeStats os = optimize(starts[i].mesh, local);
+    out_of_time |= os.out_of_time;
+    local_weight.push_back(os.weight_after);
     if (i < original_starts) lightest = std::min(lightest, local_weight.back());
   }
   OptimizeOptions kicks;  // the whole-domain MWT was tried in the first pass
@@ -235,7 +256,9 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
       o.perturbation_trials = options.opt_trials != kDefaultOptTrials
                                   ? options.opt_trials
                                   : std::min<std::size_t>(600, 300000 / triangles);
+      o.time_budget_seconds = budget_left(options, start);
       os = optimize(s.mesh, o);
+      out_of_time |= os.out_of_time;
     } else {
       os.weight_before = os.weight_after = local_weight[i];
     }
@@ -256,13 +279,15 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
   // different local minima in different places), then the local search polishes the seams. Kept
   // only if lighter; no gain, no change.
   CrossoverStats crossed;
-  if (order.size() > 1) {
+  if (order.size() > 1 && !time_is_up()) {
     Mesh child = best;
     for (std::size_t k = 1; k < order.size(); ++k) {
       crossed.taken += partition_crossover(child, starts[order[k]].mesh).taken;
     }
     if (crossed.taken > 0) {
+      local.time_budget_seconds = budget_left(options, start);
       const OptimizeStats polished = optimize(child, local);
+      out_of_time |= polished.out_of_time;
       if (polished.weight_after < best_weight) {
         crossed.gain = best_weight - polished.weight_after;
         best_weight = polished.weight_after;
@@ -271,7 +296,7 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
     }
   }
   phase.finish();
-  report.stop_reason = "local minimum";
+  report.stop_reason = out_of_time ? "time budget" : "local minimum";
   report.extra["optimize"] = {{"start", best_name},
                               {"starts", tried},
                               {"rounds", best_stats.rounds},

@@ -157,8 +157,8 @@ void register_triangulate(CLI::App& app, Action& action) {
   sub->add_flag("--strict", args->strict, "Refuse crossing segments instead of splitting them");
   sub->add_flag("--bundle", args->bundle, "Add the exact bundle number to the report");
   sub->add_option("--time-limit", args->time_limit,
-                  "Stop refining (dr, brh, opt's brh start) after about this many seconds in all; the mesh is "
-                  "still valid and the report's stop_reason says \"time budget\"")
+                  "Stop dr, brh and opt after about this many seconds in all (opt: its refinements and "
+                  "searches); the mesh is still valid and the report's stop_reason says \"time budget\"")
       ->type_name("SECONDS")
       ->check(number_above(0.0));
   sub->add_flag("--exact-polish", args->exact_polish,
