@@ -990,8 +990,8 @@ TEST(Bundle, FlatHullCircumdisksAreCountedExactly) {
 // The local path of in_k_bundle copies only a region of the mesh around the queries (and gives up
 // for a larger region or DT(V) when a flood would leave it or a Delaunay triangle it needs is not
 // one of DT(V)). Long thin triangles whose circumdisks reach far along a strip (points on a thin
-// ellipse; two rows of points far apart) and a few queries: the answers still equal
-// per_triangle[t] >= k.
+// ellipse; two rows of points far apart, on their lines or off them) and a few queries: the
+// answers still equal per_triangle[t] >= k.
 TEST(Bundle, InKBundleLocalRegionHandlesFarReachingDisks) {
   std::mt19937_64 rng(29);
   std::vector<std::pair<std::string, Mesh>> meshes;
@@ -1008,6 +1008,13 @@ TEST(Bundle, InKBundleLocalRegionHandlesFarReachingDisks) {
     strip.push_back({i + jitter(rng), 40.0});
   }
   meshes.emplace_back("two rows", delaunay(strip));
+  std::vector<Point> rows;  // two rows again, each point off its line by up to 0.05
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int i = 0; i < 500; ++i) {
+    rows.push_back({i + 0.4 * unit(rng), 0.05 * unit(rng)});
+    rows.push_back({i + 0.4 * unit(rng), 30.0 + 0.05 * unit(rng)});
+  }
+  meshes.emplace_back("two jittered rows", delaunay(rows));
   for (const auto& [name, m] : meshes) {
     SCOPED_TRACE(name);
     ASSERT_TRUE(validate(m).empty());
@@ -1029,6 +1036,22 @@ TEST(Bundle, InKBundleLocalRegionHandlesFarReachingDisks) {
           EXPECT_EQ(in[i] != 0, per.per_triangle[few[i]] >= k) << "k " << k << " triangle " << few[i] << " local "
                                                                  << stats.local;
         }
+      }
+    }
+    // Each query alone at its own bundle size and one more: the sharpest test of a local answer.
+    // On the jittered rows the Delaunay triangulation of the vertices near a query has triangles
+    // at the ends of the region whose circumdisks reach over the query and hold vertices outside
+    // the region; taken for empty disks, they meet one triangle too many (without in_k_bundle's
+    // check that the local triangles it uses are Delaunay in the whole mesh, 12 of its 80 probes
+    // answer yes at per-triangle value + 1).
+    for (int trial = 0; trial < 40; ++trial) {
+      const TriangleId q = in_domain[static_cast<std::size_t>(trial) * 7 % in_domain.size()];
+      for (const std::uint32_t k : {per.per_triangle[q], per.per_triangle[q] + 1}) {
+        if (k < 3) continue;
+        KBundleStats stats;
+        const std::vector<std::uint8_t> in = in_k_bundle(m, k, {q}, &stats, 1);
+        EXPECT_EQ(in.at(0) != 0, per.per_triangle[q] >= k) << "k " << k << " triangle " << q << " local "
+                                                             << stats.local;
       }
     }
   }
