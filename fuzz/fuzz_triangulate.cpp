@@ -177,10 +177,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if ((angle_byte & 0x10) != 0) options.max_area = 1.0 + (angle_byte >> 5);
   options.max_steiner = budget_byte % 48;
   options.time_budget_seconds = 2.0;  // a safety net; max_steiner is the real budget
-  // The time budget bounds refinement only: opt's iterated local search counts trials (it is
-  // deterministic), up to 600 per start by default — on a 64-vertex seed that was 6 s in a release
-  // build and over libFuzzer's 60 s per input under the sanitizers. A few trials reach every move
-  // and kick of the search; how many is up to the bytes.
+  // The time budget also stops opt's searches, but a run cut by it depends on the machine's speed:
+  // opt's iterated local search counts trials, up to 600 per start by default (on a 64-vertex
+  // seed 6 s in a release build, far past the budget under the sanitizers). A few trials reach
+  // every move and kick of the search, and mostly finish within the budget; how many is up to the
+  // bytes.
   options.opt_trials = budget_byte >> 6;
   // QTR's tree grows with the integral of 1/lfs², not with the input: four points, two of them 0.5
   // apart at one end of a hull 92 000 long, made 1.27M triangles (2.8 s in a release build; with
