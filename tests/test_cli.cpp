@@ -387,6 +387,30 @@ TEST(Cli, TimeLimitStopsRefinementWithAValidMesh) {
   }
 }
 
+// --max-steiner with opt bounds every start and search: at most that many Steiner points in the
+// mesh written (Plate has no crossing segments, so every Steiner point counts), and valid; opt
+// without it uses more.
+TEST(Cli, MaxSteinerBoundsOpt) {
+  Sandbox box;
+  const std::string input = data("Plate.poly");
+  const Outcome free = box.run({"triangulate", input, "-o", "f", "-q", "--method", "opt", "--opt-trials", "5",
+                                "--json", "f.json"});
+  ASSERT_EQ(free.exit_code, 0) << describe(free);
+  const auto jf = nlohmann::json::parse(box.get("f.json"));
+  for (const int budget : {0, 3}) {
+    SCOPED_TRACE(budget);
+    ASSERT_GT(jf.at("steiner").get<int>(), budget);
+    const Outcome r = box.run({"triangulate", input, "-o", "b", "-q", "--method", "opt", "--opt-trials", "5",
+                               "--max-steiner", std::to_string(budget), "--json", "b.json"});
+    ASSERT_EQ(r.exit_code, 0) << describe(r);
+    const auto jb = nlohmann::json::parse(box.get("b.json"));
+    EXPECT_EQ(jb.at("crossings").get<int>(), 0);
+    EXPECT_LE(jb.at("steiner").get<int>(), budget);
+    const Outcome check = box.run({"check", input, "b"});
+    EXPECT_EQ(check.exit_code, 0) << describe(check);
+  }
+}
+
 // --exact-polish (opt): accepted, reported, valid, and never heavier than opt without it.
 TEST(Cli, ExactPolishIsReportedValidAndNeverHeavier) {
   Sandbox box;

@@ -320,6 +320,44 @@ TEST(Optimize, TimeBudgetStopsTheSearchWithAValidMesh) {
   }
 }
 
+// OptimizeOptions::max_steiner: the search with every inserting move on (region stars, kicks,
+// pair kicks, edge and segment splits, perturbations) never holds more Steiner vertices than the
+// budget or the start had (removals still run, and insertions then refill up to the budget), from
+// the CDT (none) and from a refined start (some); valid, conforming, no heavier than the start,
+// deterministic. The budgets bind: in several cases the search without one inserts more.
+TEST(Optimize, SteinerBudgetBoundsTheInsertions) {
+  const auto steiner_count = [](const Mesh& m) { return measure(m).steiner; };
+  std::size_t binding = 0;
+  for (const char* name : {"Africa.poly", "Plate.poly"}) {
+    const Pslg g = io::read_input(std::string(MWST_DATA_DIR) + "/" + name);
+    for (const Mesh& start : {constrained_delaunay(g), refined_10_degrees(g)}) {
+      OptimizeOptions o;
+      o.perturbation_trials = 20;
+      o.kick_pairs = true;
+      Mesh free = start;
+      optimize(free, o);
+      for (const std::size_t budget : {std::size_t{0}, std::size_t{1}, std::size_t{4}}) {
+        SCOPED_TRACE(std::string(name) + " budget " + std::to_string(budget) + " start Steiner " +
+                     std::to_string(steiner_count(start)));
+        o.max_steiner = budget;
+        Mesh bounded = start, again = start;
+        const OptimizeStats stats = optimize(bounded, o);
+        EXPECT_LE(steiner_count(bounded), std::max(budget, steiner_count(start)));
+        if (steiner_count(start) <= budget && steiner_count(free) > budget) ++binding;
+        EXPECT_TRUE(validate(bounded).empty());
+        const CheckResult check = check_mesh(g, bounded);
+        EXPECT_TRUE(check.ok()) << (check.messages.empty() ? "" : check.messages.front());
+        EXPECT_LE(measure(bounded).weight_total, measure(start).weight_total);
+        EXPECT_EQ(stats.weight_after, measure(bounded).weight_total);
+        for (VertexId v = 0; v < g.points.size(); ++v) EXPECT_EQ(bounded.points[v], g.points[v]);
+        optimize(again, o);
+        expect_same_mesh(again, bounded, name);
+      }
+    }
+  }
+  EXPECT_GE(binding, 4u);
+}
+
 // The cluster polish (kick_neighbour_sweeps) and the pair kicks (kick_pairs), both off by
 // default: kicks run after the same local search and keep only lighter meshes, so the result is
 // never heavier than the search without kicks; valid, conforming, deterministic.

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 
 #include "mwst/mesh.hpp"
 
@@ -17,6 +18,10 @@ struct OptimizeOptions {
   // which every method keeps; one whose crossing segments merged looks like any Steiner point on
   // a straight chain of subsegments).
   std::size_t fixed_vertices = 0;
+  // Most Steiner vertices (kSteiner or kSteinerOnSegment, ids from fixed_vertices on) the mesh may
+  // hold: no move that inserts a vertex is tried beyond it (removals and the rest still are). A
+  // mesh given with more is never made to hold fewer by force.
+  std::size_t max_steiner = std::numeric_limits<std::size_t>::max();
   bool relocate = true;            // move Steiner vertices to the geometric median of neighbours
   bool remove = true;              // remove Steiner vertices whose star re-triangulates lighter
   bool insert = true;              // try Steiner points at the Fermat points of heavy triangles

@@ -362,6 +362,19 @@ class Optimizer {
   // May one more kick be tried (trial budget and time budget)?
   bool may_kick() { return kick_trials_ < opt_.max_kick_trials && !out_of_time(); }
 
+  // How many more Steiner vertices OptimizeOptions::max_steiner allows (a scan of the vertices,
+  // made only when there is a budget: the moves that insert call it once per trial, which copies
+  // the mesh anyway, or once per insertion about to be kept).
+  std::size_t steiner_room() const {
+    if (opt_.max_steiner == std::numeric_limits<std::size_t>::max()) return opt_.max_steiner;
+    std::size_t count = 0;
+    for (VertexId v = first_free_; v < m_.points.size(); ++v) {
+      const VertexKind kind = m_.vertex_kind[v];
+      count += kind == VertexKind::kSteiner || kind == VertexKind::kSteinerOnSegment;
+    }
+    return count >= opt_.max_steiner ? 0 : opt_.max_steiner - count;
+  }
+
   void kicks_and_search() {
     for (std::size_t pass = 0; pass < opt_.kick_passes && !out_of_time(); ++pass) {
       const std::size_t accepted =
@@ -408,7 +421,8 @@ class Optimizer {
       const Triangle& T = m_.triangles[t];
       const Point a = m_.points[T.v[0]], b = m_.points[T.v[1]], c = m_.points[T.v[2]];
       const Point centroid{(a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0};
-      const std::size_t count = 1 + static_cast<std::size_t>(rng() % 3);
+      const std::size_t count = std::min<std::size_t>(1 + static_cast<std::size_t>(rng() % 3), steiner_room());
+      if (count == 0) continue;
       saved = m_;
       double ignored = 0.0;
       std::size_t inserted = 0;
@@ -615,6 +629,7 @@ class Optimizer {
     if (!in_supported_range(p) || orient2d(a, b, p) <= 0 || orient2d(b, c, p) <= 0 || orient2d(c, a, p) <= 0) {
       return false;
     }
+    if (steiner_room() == 0) return false;
     backup_ = m_;
     const VertexId v = m_.add_vertex(p, VertexKind::kSteiner, 0);
     double delta = distance(p, a) + distance(p, b) + distance(p, c);
@@ -712,6 +727,7 @@ class Optimizer {
       // The triangle that must hold q strictly inside (or both, on the edge).
       if (side >= 0 && (orient2d(b, c, q) <= 0 || orient2d(c, a, q) <= 0)) continue;
       if (side <= 0 && (orient2d(a, d, q) <= 0 || orient2d(d, b, q) <= 0)) continue;
+      if (steiner_room() == 0) break;
       ++kick_trials_;
       backup_ = m_;
       const VertexId v = m_.add_vertex(q, VertexKind::kSteiner, 0);
@@ -827,6 +843,7 @@ class Optimizer {
       const Point a = m_.points[ia], b = m_.points[ib];
       const Point q1{a.x + (b.x - a.x) / 3.0, a.y + (b.y - a.y) / 3.0};
       const Point q2{a.x + 2.0 * (b.x - a.x) / 3.0, a.y + 2.0 * (b.y - a.y) / 3.0};
+      if (steiner_room() < 2) break;
       ++kick_trials_;
       backup_ = m_;
       double delta = 0.0;
@@ -940,6 +957,7 @@ class Optimizer {
         }
       }
       if (!found) continue;
+      if (steiner_room() == 0) break;
       ++kick_trials_;
       backup_ = m_;
       const std::size_t relocations = stats_.relocations;
@@ -1409,7 +1427,7 @@ class Optimizer {
       q = {snap_to_range(q.x), snap_to_range(q.y)};
       if (in_supported_range(q) && in_kernel(q, polygon_)) star_weight = spoke_sum(q, polygon_);
     }
-    if (star_weight < current && star_weight < mwt) {
+    if (star_weight < current && star_weight < mwt && steiner_room() > 0) {
       const VertexId v = m_.add_vertex(q, VertexKind::kSteiner, 0);
       vertex_handle_.push_back(kNone);
       std::vector<std::array<VertexId, 3>> star;

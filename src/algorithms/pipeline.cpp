@@ -165,6 +165,13 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
   Mesh best = constrained_delaunay_phase(pslg, options, report);
   const Mesh cdt = best;
   Phase phase(report, "optimize");
+  // --max-steiner bounds the Steiner points beyond the CDT's (its crossing points) in every start
+  // and every search; a mesh over it (a seeded start, a crossover) is not taken.
+  const std::size_t cdt_steiner = measure(cdt).steiner;
+  const auto within_steiner_budget = [&](const Mesh& m) {
+    const std::size_t steiner = measure(m).steiner;
+    return steiner <= cdt_steiner || steiner - cdt_steiner <= options.max_steiner;
+  };
   struct Start {
     std::string name;
     Mesh mesh;
@@ -209,7 +216,7 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
                                         std::pair{"dt+centroids", SeedPoints::kCentroids}}) {
         Mesh m = cdt;
         seed_steiner_points(m, seeds);
-        starts.push_back({name, std::move(m)});
+        if (within_steiner_budget(m)) starts.push_back({name, std::move(m)});
       }
     }
   }
@@ -229,6 +236,7 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
   OptimizeOptions local;
   local.kick_passes = 0;
   local.fixed_vertices = cdt.points.size();  // the input and the CDT's crossing points
+  local.max_steiner = options.max_steiner;
   std::vector<double> local_weight;
   double lightest = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < starts.size(); ++i) {
@@ -240,6 +248,7 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
   }
   OptimizeOptions kicks;  // the whole-domain MWT was tried in the first pass
   kicks.fixed_vertices = local.fixed_vertices;
+  kicks.max_steiner = local.max_steiner;
   kicks.max_exact_polygon = 0;
   kicks.max_exact_convex_polygon = 0;
   kicks.exact_polish = options.exact_polish;  // and after the search (optimize.hpp)
@@ -284,7 +293,7 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
     for (std::size_t k = 1; k < order.size(); ++k) {
       crossed.taken += partition_crossover(child, starts[order[k]].mesh).taken;
     }
-    if (crossed.taken > 0) {
+    if (crossed.taken > 0 && within_steiner_budget(child)) {
       local.time_budget_seconds = budget_left(options, start);
       const OptimizeStats polished = optimize(child, local);
       out_of_time |= polished.out_of_time;

@@ -151,7 +151,9 @@ void register_triangulate(CLI::App& app, Action& action) {
   sub->add_option("--max-area", args->max_area, "Refine triangles larger than this area")
       ->check(number_above(0.0));
   CLI::Option* max_steiner =
-      sub->add_option("--max-steiner", args->max_steiner, "Stop refining after this many Steiner points")
+      sub->add_option("--max-steiner", args->max_steiner,
+                      "Stop refining after this many Steiner points (opt: no start or search holds more, "
+                      "beyond the crossing points of the input's segments)")
           ->check(whole_number());
   sub->add_flag("--convex-hull", args->convex_hull, "Triangulate the whole convex hull (holes still carve)");
   sub->add_flag("--strict", args->strict, "Refuse crossing segments instead of splitting them");
