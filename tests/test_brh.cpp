@@ -120,6 +120,44 @@ TEST(Brh, PointSetWithManySkinnyTrianglesLeft) {
   expect_skinny_outside_k_bundles(m, o.min_angle_deg, o.bundle_k, stats.skinny_left);
 }
 
+// An area bound (RefineOptions::max_area, --max-area) holds for BRH as for DR: on a normal stop
+// no domain triangle is larger than it, whether skinny, in a bundle or neither; the mesh stays
+// Delaunay and BRH's own guarantee still holds. The bound binds: without it every data set here
+// keeps larger triangles (and at K above the CDT's bundle number BRH alone would split nothing).
+TEST(Brh, AreaBoundHolds) {
+  const auto largest = [](const Mesh& m) {
+    double a = 0.0;
+    for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+      if (!m.in_domain(t)) continue;
+      const auto& v = m.triangles[t].v;
+      a = std::max(a, signed_area(m.points[v[0]], m.points[v[1]], m.points[v[2]]));
+    }
+    return a;
+  };
+  for (const char* name : {"Africa.poly", "Superior.poly", "Random.poly"}) {
+    SCOPED_TRACE(name);
+    const Pslg g = io::read_input(std::string(MWST_DATA_DIR) + "/" + name);
+    const Mesh cdt = constrained_delaunay(g);
+    const double area = measure(cdt).area;
+    const double max_area = largest(cdt) / 4.0;
+    for (const std::size_t k : {std::size_t{0}, std::size_t{bundle_number(cdt).bundle_number + 1}}) {
+      BrhOptions o;
+      o.min_angle_deg = 20.0;
+      o.bundle_k = k != 0 ? k : default_bundle_k(o.min_angle_deg);
+      Mesh free = cdt, bounded = cdt;
+      bundle_removal(free, o);
+      o.refine.max_area = max_area;
+      const BrhStats stats = bundle_removal(bounded, o);
+      EXPECT_EQ(stats.stop_reason, "bound reached");
+      EXPECT_TRUE(validate(bounded, {.delaunay = true}).empty());
+      EXPECT_GT(largest(free), max_area);
+      EXPECT_LE(largest(bounded), max_area * (1.0 + 1e-12));  // (areas rounded two ways)
+      EXPECT_NEAR(measure(bounded).area, area, 1e-9 * area);
+      expect_skinny_outside_k_bundles(bounded, o.min_angle_deg, o.bundle_k, stats.skinny_left);
+    }
+  }
+}
+
 TEST(Brh, LargeKLeavesTheDelaunayTriangulation) {
   // With K above the bundle number of the CDT nothing is in a K-bundle: BRH changes nothing.
   const Pslg g = io::read_input(std::string(MWST_DATA_DIR) + "/Africa.poly");

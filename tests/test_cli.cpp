@@ -825,11 +825,14 @@ TEST(Cli, OptionsTheMethodDoesNotReadAreWarnedAbout) {
   ASSERT_EQ(r.exit_code, 0) << describe(r);
   EXPECT_EQ(r.err_lines(), (std::vector<std::string>{"mwst: warning: --bundle-k has no effect with --method dr",
                                                      "mwst: warning: --opt-trials has no effect with --method dr"}));
+  r = box.run({"triangulate", "in.poly", "--method", "opt", "--max-area", "1", "-o", "o"});
+  ASSERT_EQ(r.exit_code, 0) << describe(r);
+  EXPECT_EQ(r.err_lines(), (std::vector<std::string>{"mwst: warning: --max-area has no effect with --method opt"}));
   // What each method reads: no warning.
   for (const auto& args : std::vector<std::vector<std::string>>{
            {"--method", "dr", "--min-angle", "25", "--steiner", "circumcenter", "--max-area", "1", "--max-steiner", "5",
             "--time-limit", "10"},
-           {"--method", "brh", "--min-angle", "25", "--bundle-k", "9", "--max-steiner", "5"},
+           {"--method", "brh", "--min-angle", "25", "--bundle-k", "9", "--max-steiner", "5", "--max-area", "1"},
            {"--method", "opt", "--min-angle", "25", "--bundle-k", "9", "--opt-trials", "1", "--exact-polish"},
            {"--method", "qtr", "--flip", "--convex-hull", "--strict", "--bundle"}}) {
     std::vector<std::string> call = {"triangulate", "in.poly", "-o", "ok"};

@@ -37,7 +37,9 @@ struct BrhStats {
 // bundle.hpp: circumdisks, then pencil sweeps, only around the skinny triangles) marks the skinny
 // triangles in K-bundles; BRH stops when it marks none. Guarantees on a normal stop ("bound
 // reached"): every triangle left with an angle below A is in no K-bundle; when K ≥ ⌈4π/A⌉ + 3 the
-// mesh is K-bundle-free. Passes after the first are seeded (RefineOptions::seed_triangles) with
+// mesh is K-bundle-free. With refine.max_area > 0 every triangle larger than it is split as well
+// (a pass with the area bound alone comes first, and every pass tests the area of the triangles it
+// makes), so on a normal stop none is left. Passes after the first are seeded (RefineOptions::seed_triangles) with
 // the triangles the exact test marked, and the skinny list is updated, not recounted, between
 // them. From the second exact test on, a skinny triangle the last test found in no K-bundle is not
 // asked again while no triangle made since lies near it (its "reach", KBundleCache::reach: a

@@ -76,9 +76,9 @@ void check_options(const TriangulateOptions& options);
 
 // Does `method` read the option the command line spells `option` ("--min-angle", "--steiner",
 // "--bundle-k", "--max-area", "--max-steiner", "--time-limit", "--exact-polish", "--opt-trials")?
-// dt and qtr read none of them; dr the angle, rule and budgets; brh also --bundle-k; opt all (its
-// BRH and DR starts, its search). Options every method reads (--flip, --convex-hull, --strict,
-// --bundle) and names not listed: true.
+// dt and qtr read none of them; dr the angle, rule and budgets; brh also --bundle-k; opt all but
+// --max-area (its BRH and DR starts, its search). Options every method reads (--flip,
+// --convex-hull, --strict, --bundle) and names not listed: true.
 bool method_reads_option(Method method, std::string_view option);
 
 struct Report {

@@ -36,7 +36,8 @@ enum class RefineOrder { kShortestEdgeFirst, kWorstQualityFirst };
 inline constexpr double kOffCenterFactor = 0.90;
 
 // Decides whether a triangle is "bad" (to be split). The default (empty) is the angle test:
-// smallest angle below RefineOptions::min_angle_deg, or area above max_area.
+// smallest angle below RefineOptions::min_angle_deg. Either way a triangle whose area is above
+// RefineOptions::max_area is bad too.
 using BadTriangleTest = std::function<bool(const Mesh&, TriangleId)>;
 
 // Chooses the Steiner point of a bad triangle. The default (empty) is RefineOptions::rule.
@@ -51,7 +52,7 @@ struct RefineOptions {
   double offcenter_factor = kOffCenterFactor;
   Encroachment encroachment = Encroachment::kDiametralLens;
   RefineOrder order = RefineOrder::kShortestEdgeFirst;
-  BadTriangleTest is_bad;        // empty: the angle/area test
+  BadTriangleTest is_bad;        // empty: the angle test (the area bound applies either way)
   SteinerPointRule steiner_point;  // empty: circumcenter or off-center per `rule`
   // Seeded (incremental) refinement, for a mesh a previous refine() pass already refined (hull
   // edges marked, no encroached subsegment left) when only a few triangles are to be re-examined.

@@ -410,7 +410,26 @@ BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
     confirmed_skinny = skinny.size();
   };
   stats.stop_reason = "bound reached";
-  for (stats.rounds = 0; stats.rounds < options.max_rounds;) {
+  // An area bound (--max-area) splits every triangle larger than it, skinny or not, in a bundle or
+  // not: first one pass of the DR engine with the area bound alone over the whole mesh, then in
+  // every pass below (refine tests the area of each triangle a pass makes, whatever its is_bad).
+  bool stopped = false;
+  if (options.refine.max_area > 0.0) {
+    RefineOptions area = options.refine;
+    area.min_angle_deg = 0.0;
+    area.is_bad = {};
+    area.seed_triangles.clear();
+    const RefineStats rs = refine(mesh, area);
+    const std::size_t added = rs.steiner_inserted + rs.segment_splits;
+    stats.steiner_inserted += rs.steiner_inserted;
+    stats.segment_splits += rs.segment_splits;
+    if (steiner_budget != static_cast<std::size_t>(-1)) steiner_budget -= std::min(steiner_budget, added);
+    if (rs.stop_reason == "steiner budget" || rs.stop_reason == "time budget") {
+      stats.stop_reason = rs.stop_reason;
+      stopped = true;
+    }
+  }
+  for (stats.rounds = 0; !stopped && stats.rounds < options.max_rounds;) {
     if (options.refine.time_budget_seconds > 0.0 &&
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >
             options.refine.time_budget_seconds) {

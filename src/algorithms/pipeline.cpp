@@ -187,6 +187,7 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
     Report scratch;
     TriangulateOptions o = options;
     if (!(o.min_angle_deg > 0.0)) o.min_angle_deg = 20.0;
+    o.max_area = -1.0;  // (see method_reads_option)
     brh_phase(m, o, start, scratch);
     out_of_time = scratch.stop_reason == "time budget";
     flip_to_local_minimum(m);
@@ -397,7 +398,9 @@ bool method_reads_option(Method method, std::string_view option) {
     case Method::kQtr: return false;
     case Method::kDr: return refinement;
     case Method::kBrh: return refinement || bundle_size;
-    case Method::kOpt: return true;
+    // The optimiser moves and removes Steiner points and flips edges with no regard to area, so it
+    // takes no area bound (its BRH start is not given one either).
+    case Method::kOpt: return option != "--max-area";
   }
   throw InternalError("method_reads_option: unknown method");
 }

@@ -321,7 +321,9 @@ bool Refiner::evaluate(TriangleId t, Eval& ev) {
     ev.size_bad = area > max_area_;
   }
   if (custom_test_) {
-    ev.bad = opt_.is_bad(m_, t);
+    // The area bound holds with a custom test too (bundle removal's --max-area); the test is
+    // called first, whatever the area, as its caller may record what it is asked.
+    ev.bad = opt_.is_bad(m_, t) || ev.size_bad;
   } else {
     ev.bad = ev.angle_bad || ev.size_bad;
   }
