@@ -301,6 +301,36 @@ TEST(Cdt, ManySegmentsThroughOnePoint) {
   EXPECT_EQ(test::subsegments(c.mesh).size(), 8u);
 }
 
+// Long segments crossing at tiny angles at large coordinates (found by fuzz_triangulate, reduced to
+// 7 points): three segments about 6e9 long between clusters near (2^32, 2^32) and (2^33, 2^33),
+// one of them given five times, cross at angles near 1e-9, where a rounded crossing point is off
+// by hundreds of units along the segments. Resolving a crossing at an existing vertex only when
+// the point lay within a few hundred ulps of it, the insertion made 2183 crossing points for these
+// 4 distinct segments, each new one crossing a chain it had just passed (and a 96-segment input of
+// the same kind passed a million crossings and was refused). A crossing whose subsegment ends
+// within rounding of the other piece's line is resolved at that end: at most one point per pair
+// of distinct segments. (The crossing points on the short segment are off it by rounding at 8.6e9,
+// far beyond check_cdt's tolerance relative to its length of 28: the production checker, whose
+// tolerance is relative to the coordinates, judges them; before, `mwst triangulate --convex-hull`
+// wrote a mesh in which `mwst check` found 483 subsegments on no input segment.)
+TEST(Cdt, LongSegmentsCrossingAtTinyAnglesMakeFewPoints) {
+  Pslg g;
+  g.is_poly = true;
+  g.points = {{8590196736.0, 8590196736.0},   {8590196736.25, 8590196764.5}, {8590196763.75, 8590196764.5},
+              {8590196744.0, 8590196749.5},   {4295229467.75, 4295229468.5}, {4295229453.25, 4295229454.25},
+              {4295229451.5, 4295229453.0}};
+  g.segments = {{1, 0, 1}, {3, 4, 1}, {5, 2, 1}, {2, 6, 1}, {5, 2, 1}, {5, 2, 1}, {5, 2, 1}, {5, 2, 1}};
+  for (const bool convex_hull : {true, false}) {
+    SCOPED_TRACE(convex_hull ? "convex hull" : "carved");
+    const Cdt c = run(g, {.strict = false, .convex_hull = convex_hull});
+    const auto problems = validate(c.mesh, {.delaunay = true});
+    EXPECT_TRUE(problems.empty()) << joined(problems);
+    const CheckResult check = test::check_mesh(g, c.mesh, {.delaunay = true});
+    EXPECT_TRUE(check.ok()) << (check.messages.empty() ? "" : check.messages.front());
+    EXPECT_LE(c.stats.crossings, 6u);
+  }
+}
+
 // ---- fans at tiny angles --------------------------------------------------------------------------
 
 class CdtFan : public ::testing::TestWithParam<double> {};

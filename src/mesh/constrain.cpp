@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <unordered_map>
 
 #include "mwst/delaunay.hpp"
@@ -353,7 +354,10 @@ class SegmentInserter {
       throw InputError(pslg_.source, p.id < pslg_.segment_lines.size() ? pslg_.segment_lines[p.id] : 0,
                        describe(p.id) + " crosses " + describe(other_id));
     }
-    if (++stats_.crossings > kMaxCrossings + 4 * pslg_.segments.size()) {
+    // (Resolutions at an existing vertex make none, so they are capped apart: a cycle of them
+    // would otherwise never end.)
+    if (++stats_.crossings > kMaxCrossings + 4 * pslg_.segments.size() ||
+        ++resolutions_ > 4 * (kMaxCrossings + 4 * pslg_.segments.size())) {
       throw InputError(pslg_.source, 0, "too many segment crossings to resolve");
     }
     const std::int32_t other_marker = m_.marker(crossed);
@@ -361,18 +365,36 @@ class SegmentInserter {
     auto queue = [&](VertexId u, VertexId w, std::int32_t marker, std::uint32_t id) {
       if (u != w) pending_.push_back({u, w, marker, id});
     };
-    // A crossing point within a few hundred ulps of an endpoint of either piece is that endpoint.
-    // Otherwise nearly coincident chains (a segment given twice, overlapping near-collinear
-    // segments) make each rounded crossing point cross the other chain again, one ulp further on.
+    // An endpoint of either piece that lies within a few hundred ulps of the crossing point, or of
+    // the other piece's line (between its ends), is where the two cross: the crossing is resolved
+    // there, with no new vertex. Otherwise nearly coincident chains (a segment given twice,
+    // overlapping near-collinear segments) make each rounded crossing point cross the other chain
+    // again, one ulp further on; and where long segments cross at a tiny angle θ the rounded point
+    // is off by rounding/θ along them (6e9 long, θ ≈ 1e-9: hundreds of units), so that each new
+    // point made a new crossing with the chains it had just passed (7 points and 4 distinct
+    // segments of a fuzzed input took 2183 crossing points), while the points already made lie
+    // within rounding of those chains' lines.
     const Point& pf = m_.points[from];
     const Point& pb = m_.points[p.b];
-    const double scale = std::max({std::fabs(x.x), std::fabs(x.y), distance(pf, pb),
-                                   distance(m_.points[c], m_.points[d])});
-    double nearest = 256.0 * 0x1p-52 * scale;
+    const Point& pc = m_.points[c];
+    const Point& pd = m_.points[d];
+    const double scale = std::max({std::fabs(x.x), std::fabs(x.y), distance(pf, pb), distance(pc, pd)});
+    const double tolerance = 256.0 * 0x1p-52 * scale;
+    // Is w within the tolerance of the line through u and v, and strictly between u and v along it?
+    const auto on_line = [&](const Point& w, const Point& u, const Point& v) {
+      const double ux = v.x - u.x, uy = v.y - u.y, wx = w.x - u.x, wy = w.y - u.y;
+      const double length = std::hypot(ux, uy);
+      const double along = ux * wx + uy * wy;
+      return along > 0.0 && along < length * length && std::fabs(ux * wy - uy * wx) <= tolerance * length;
+    };
+    double nearest = std::numeric_limits<double>::infinity();
     VertexId snap = kNone;
     for (const VertexId w : {c, d, from, p.b}) {
       const double dist = distance(x, m_.points[w]);
-      if (dist <= nearest) {
+      const bool is_end_of_crossed = w == c || w == d;
+      const bool near = dist <= tolerance ||
+                        (is_end_of_crossed ? on_line(m_.points[w], pf, pb) : on_line(m_.points[w], pc, pd));
+      if (near && dist < nearest) {
         nearest = dist;
         snap = w;
       }
@@ -419,6 +441,7 @@ class SegmentInserter {
   }
 
   static constexpr std::size_t kMaxCrossings = 1u << 20;
+  std::size_t resolutions_ = 0;  // crossings resolved, at new vertices or existing ones
   Mesh& m_;
   const Pslg& pslg_;
   const ConstrainOptions& options_;
