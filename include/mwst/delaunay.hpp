@@ -34,7 +34,9 @@ struct ConstrainStats {
   std::size_t split_by_vertex = 0;   // segments split at a vertex lying inside them
   std::size_t crossings = 0;         // crossing points inserted (new Steiner vertices)
   std::size_t overlaps = 0;          // collinear overlapping segments merged (and repeated segments)
-  std::size_t snapped = 0;           // crossings within rounding of an existing vertex, resolved there
+  std::size_t snapped = 0;           // crossings resolved at an existing vertex: one within rounding
+                                     // of the crossing point, or an end of one piece within rounding
+                                     // of the other's line
   std::vector<std::string> warnings; // e.g. hole seeds outside the domain or on a segment
   double seconds_delaunay = 0.0;
   double seconds_segments = 0.0;
