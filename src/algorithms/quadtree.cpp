@@ -1673,7 +1673,8 @@ class Builder {
   struct EmitSink;
   void emit_cells(const PreparedChunk& in, std::uint32_t end, Triangle* tris, TriangleId first, Handle* bound,
                   std::uint32_t first_bound, VertexId centre_first, EmitSink& sink);
-  std::pair<std::uint32_t, std::uint32_t> side_range(std::uint32_t k, unsigned side) const;
+  struct CellSide;
+  CellSide cell_side(std::uint32_t k, unsigned side) const;
   void link_cell(const std::vector<Point>& points, Triangle* tris, const Handle* bound, std::uint32_t k,
                  EmitSink& sink) const;
   void close_border(Mesh& mesh);
@@ -1790,14 +1791,19 @@ class Builder {
   std::size_t subsegment_count_ = 0;
   // Final ids and the cells' boundary edges.
   SpareVector<VertexId> final_id_{SpareAllocator<VertexId>(&spare_)};
-  // Per leaf: its first boundary edge in bound_, and the polygon indices of its BR, TR, TL corners
-  // and its number of boundary edges (8 bits each); together, so that a neighbour's sides cost one
-  // miss, and each leaf's entry is written by the thread that writes the leaf alone.
+  // Per leaf, where its boundary edges are; together, so that a neighbour's sides cost one miss,
+  // and each leaf's entry is written by the thread that writes the leaf alone:
+  //  - a table cell: begin = kTableCell | its first triangle, sides = its case-table mask (its
+  //    edges follow from the table, PlainCell::edge: nothing is stored for two thirds of the
+  //    leaves, about 135 MB fewer bytes written at a million points);
+  //  - a warped or cut cell: begin = its first boundary edge in bound_, sides = the polygon
+  //    indices of its BR, TR, TL corners and its number of boundary edges (8 bits each).
   struct CellBound {
     std::uint32_t begin, sides;
   };
+  static constexpr std::uint32_t kTableCell = 0x80000000u;
   SpareArray<CellBound> cell_bound_;
-  std::vector<Handle> bound_;               // boundary edge handles, in polygon order
+  std::vector<Handle> bound_;               // warped and cut cells' boundary edge handles, in polygon order
   struct Outer {
     double position;  // along the root's border, counter-clockwise from its lower-left corner
     Handle handle;
@@ -2235,7 +2241,8 @@ struct PlainCell {
   std::uint8_t tri[6][3];       // polygon positions, counter-clockwise
   std::int8_t boundary[6][3];   // polygon edge index or -1
   std::uint8_t twin[6][3];      // 3·triangle + edge across, for inner edges
-  std::uint32_t sides = 0;      // polygon positions of BR, TR, TL (8 bits each; CellBound::sides)
+  std::uint32_t sides = 0;      // polygon positions of BR, TR, TL (8 bits each)
+  std::uint8_t edge[8];         // polygon edge → 3·triangle + edge on it
 };
 
 const std::array<PlainCell, 16>& plain_cells() {
@@ -2263,7 +2270,10 @@ const std::array<PlainCell, 16>& plain_cells() {
         for (unsigned e = 0; e < 3; ++e) {
           const unsigned from = c.tri[i][next3(e)], to = c.tri[i][prev3(e)];
           c.boundary[i][e] = (to == (from + 1u) % c.size) ? static_cast<std::int8_t>(from) : std::int8_t{-1};
-          if (c.boundary[i][e] >= 0) continue;
+          if (c.boundary[i][e] >= 0) {
+            c.edge[from] = static_cast<std::uint8_t>(3 * i + e);
+            continue;
+          }
           for (unsigned j = 0; j < c.count; ++j) {
             for (unsigned f = 0; f < 3; ++f) {
               if (c.tri[j][next3(f)] == to && c.tri[j][prev3(f)] == from) c.twin[i][e] = static_cast<std::uint8_t>(3 * j + f);
@@ -2597,7 +2607,8 @@ void Builder::prepare_cells(const Mesh& mesh, PreparedChunk& out, std::uint32_t 
 }
 
 // Writes the prepared cells of leaves [in.begin, end) at their places: triangles from `first`
-// (tris points at triangle 0), boundary edges from `first_bound` (bound points at bound_[0]),
+// (tris points at triangle 0), the warped and cut cells' boundary edges from `first_bound` (bound
+// points at bound_[0]; a table cell's follow from the table, see CellBound),
 // centres numbered from centre_first; the centres, segment edges and counts go to `sink`.
 void Builder::emit_cells(const PreparedChunk& in, std::uint32_t end, Triangle* tris, TriangleId first,
                          Handle* bound, std::uint32_t first_bound, VertexId centre_first, EmitSink& sink) {
@@ -2616,17 +2627,12 @@ void Builder::emit_cells(const PreparedChunk& in, std::uint32_t end, Triangle* t
                     final_id_[loop[c.slots[c.tri[i][2]]]]},
                    {kNone, kNone, kNone}};
         for (unsigned e = 0; e < 3; ++e) {
-          if (c.boundary[i][e] >= 0) {
-            cell_bound[c.boundary[i][e]] = make_handle(first + i, e);
-          } else {
-            t.n[e] = make_handle(first + c.twin[i][e] / 3u, c.twin[i][e] % 3u);
-          }
+          if (c.boundary[i][e] < 0) t.n[e] = make_handle(first + c.twin[i][e] / 3u, c.twin[i][e] % 3u);
         }
         out[i] = t;
       }
-      cell_bound_[k] = {first_bound, c.sides | (std::uint32_t{c.size} << 24)};
+      cell_bound_[k] = {kTableCell | first, kind};
       first += c.count;
-      first_bound += c.size;
       ++sink.table_cells;
       continue;
     }
@@ -2688,8 +2694,9 @@ void Builder::triangulate_cells(Mesh& mesh) {
   const unsigned threads = leaf_count < threaded_leaves_ || chunks < 2 ? 1u : 2u;
   if (!cell_bound_) cell_bound_ = make_spare_array<CellBound>(spare_, leaves_.size());  // (emit_cells())
   centre_base_ = mesh.points.size();
-  // Room (address space only until written) past what the cells need, about 2.5 triangles and 4.5
-  // boundary edges per leaf, so that the two threads can extend the arrays in place.
+  // Room (address space only until written) past what the cells need, about 2.5 triangles per leaf
+  // and 6 boundary edges per warped or cut leaf, so that the two threads can extend the arrays in
+  // place.
   const std::size_t triangle_room = std::max(mesh.triangles.capacity(), leaves_.size() * 4);
 
   auto attempt = [&](unsigned thread_count) {
@@ -2754,7 +2761,6 @@ void Builder::triangulate_cells(Mesh& mesh) {
           const std::uint8_t kind = chunk.kind[k - begin];
           if (kind != kSpecialCell) {
             tri_count += plain[kind].count;
-            bound_count += plain[kind].size;
           } else {
             tri_count += chunk.special[j].tri_count;
             bound_count += chunk.special[j].bound_count;
@@ -2776,7 +2782,8 @@ void Builder::triangulate_cells(Mesh& mesh) {
         tri_end += tri_count;
         bound_end += bound_count;
         centre_end += centre_count;
-        if (tri_end >= kInfinite / 4 || bound_end >= kNone) throw RouteFailure{"too many triangles"};
+        // (Below kTableCell, which marks triangle ids in cell_bound_.)
+        if (tri_end >= kInfinite / 4 || bound_end >= kTableCell) throw RouteFailure{"too many triangles"};
         mesh.triangles.resize(tri_end);
         bound_.resize(bound_end);
         if (alone) {
@@ -2863,12 +2870,29 @@ void Builder::triangulate_cells(Mesh& mesh) {
   leaf_shape_.reset();
 }
 
-// Edges of leaf k on side `side` (0 bottom, 1 right, 2 top, 3 left), as a range in bound_.
-std::pair<std::uint32_t, std::uint32_t> Builder::side_range(std::uint32_t k, unsigned side) const {
-  const std::uint32_t begin = cell_bound_[k].begin;
-  const std::uint32_t s = cell_bound_[k].sides;
+// The edges of a leaf on one side: its polygon edges [begin, end), read from the case table (a
+// table cell) or from bound_ (a warped or cut cell).
+struct Builder::CellSide {
+  std::uint32_t begin = 0, end = 0;
+  std::uint32_t base = 0;               // a table cell's first triangle, else its first entry in bound_
+  const std::uint8_t* table = nullptr;  // a table cell's PlainCell::edge
+  Handle edge(const Handle* bound, std::uint32_t q) const {
+    if (table != nullptr) return make_handle(base + table[q] / 3u, table[q] % 3u);
+    return bound[base + q];
+  }
+};
+
+// Edges of leaf k on side `side` (0 bottom, 1 right, 2 top, 3 left).
+Builder::CellSide Builder::cell_side(std::uint32_t k, unsigned side) const {
+  const CellBound b = cell_bound_[k];
+  if ((b.begin & kTableCell) != 0) {
+    const PlainCell& c = plain_cells()[b.sides];
+    const std::uint32_t at[5] = {0, c.sides & 0xFFu, (c.sides >> 8) & 0xFFu, (c.sides >> 16) & 0xFFu, c.size};
+    return {at[side], at[side + 1], b.begin & ~kTableCell, c.edge};
+  }
+  const std::uint32_t s = b.sides;
   const std::uint32_t at[5] = {0, s & 0xFFu, (s >> 8) & 0xFFu, (s >> 16) & 0xFFu, s >> 24};
-  return {begin + at[side], begin + at[side + 1]};
+  return {at[side], at[side + 1], b.begin, nullptr};
 }
 
 // Links the bottom and left sides of leaf k to the leaves across them, which come earlier in
@@ -2894,10 +2918,11 @@ void Builder::link_cell(const std::vector<Point>& points, Triangle* tris, const 
   std::uint32_t across[2];
   for (unsigned side = 0; side < 4; ++side) {
     const bool border = ((shape >> (8 + side)) & 1u) != 0;
-    const auto [begin, end] = side_range(k, side);
+    const CellSide own = cell_side(k, side);
     if (border) {
-      for (std::uint32_t q = begin; q < end; ++q) {
-        sink.outer.push_back({perimeter(points[org(bound[q])], side), bound[q]});
+      for (std::uint32_t q = own.begin; q < own.end; ++q) {
+        const Handle h = own.edge(bound, q);
+        sink.outer.push_back({perimeter(points[org(h)], side), h});
       }
       continue;
     }
@@ -2928,16 +2953,16 @@ void Builder::link_cell(const std::vector<Point>& points, Triangle* tris, const 
       count = 1;
     }
     const unsigned opposite = side == 3 ? 1u : 2u;
-    for (std::uint32_t q = begin; q < end; ++q) {
-      const Handle h = bound[q];
+    for (std::uint32_t q = own.begin; q < own.end; ++q) {
+      const Handle h = own.edge(bound, q);
       const VertexId from = org(h), to = dest(h);
       bool linked = false;
       for (std::size_t c = 0; c < count && !linked; ++c) {
         const std::uint32_t other = ordinals ? across[c] : leaf_of(across[c]);
         if (other == kNone || other >= k) throw RouteFailure{"unbalanced quadtree"};
-        const auto [ob, oe] = side_range(other, opposite);
-        for (std::uint32_t p = ob; p < oe; ++p) {
-          const Handle g = bound[p];
+        const CellSide across_side = cell_side(other, opposite);
+        for (std::uint32_t p = across_side.begin; p < across_side.end; ++p) {
+          const Handle g = across_side.edge(bound, p);
           if (org(g) == to && dest(g) == from) {
             tris[h >> 2].n[h & 3] = g;
             tris[g >> 2].n[g & 3] = h;
@@ -3067,8 +3092,8 @@ Mesh Builder::run(const std::vector<Point>& holes) {
   // clears each page on its first write), by a helper thread while warp() and segments_pass() run
   // on this one, which leaves the second core idle otherwise (small trees: in line); this thread
   // joins the touching of the cells' arrays when it is done. Only pages the mesh surely uses (at
-  // least 4 boundary edges and 2 triangles per cell) are touched, and every element is written
-  // later, so the output does not depend on it.
+  // least 2 triangles per cell; the warped and cut cells' boundary edges fault in as written) are
+  // touched, and every element is written later, so the output does not depend on it.
   Mesh mesh;
   const Mesh& base = in_.vertices_only;
   const std::size_t leaf_count = leaves_.size();
@@ -3094,7 +3119,6 @@ Mesh Builder::run(const std::vector<Point>& holes) {
     reserve_room(bound_, leaf_count * 6);
     reserve_room(mesh.triangles, leaf_count * 4);
     if (!spare_.lent(cell_bound_.get())) cell_pages.add(cell_bound_.get(), leaf_count * sizeof(CellBound));
-    cell_pages.add(bound_.data(), leaf_count * 4 * sizeof(Handle));
     cell_pages.add(mesh.triangles.data(), leaf_count * 2 * sizeof(Triangle));
   };
   // The helper's stage: 1 when the vertex arrays are ready (it then does the cells' arrays while
