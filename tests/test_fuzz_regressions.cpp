@@ -7,6 +7,7 @@
 // write_mesh() would write.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -193,6 +194,46 @@ TEST(FuzzRegressions, OptKeepsCrossingPointsOnAStraightChain) {
   Mesh mesh;
   triangulate(pslg, options, &mesh);
   expect_checked(pslg, mesh);
+}
+
+// Found by fuzz_triangulate (every method with --convex-hull): 96 points near the line y = x,
+// about 3.5e15 from the origin, with segments among them. The convex hull is a sliver, and the
+// part of it the segments do not enclose is below the checker's area tolerance (1e-8 of the
+// area), so the checker took the carved domain for the mesh's, and rejected the hull mesh ("edge
+// 8-1 ... lies on the domain boundary but has triangles on both sides"). The meshes were right;
+// the checker now also tries the other domain when the one the area picked fails. The same shape,
+// small: a square whose top side has a notch 1e-10 deep.
+TEST(FuzzRegressions, CheckerTellsTheHullFromACarvedDomainASliverSmaller) {
+  Pslg pslg;
+  pslg.is_poly = true;
+  pslg.points = {{0, 0}, {1, 0}, {1, 1}, {0.5, 1 - 1e-10}, {0, 1}};
+  pslg.point_markers.assign(pslg.points.size(), 0);
+  pslg.segments = {{0, 1, 1}, {1, 2, 1}, {2, 3, 1}, {3, 4, 1}, {4, 0, 1}};
+  for (const bool hull : {false, true}) {
+    TriangulateOptions options;
+    options.method = Method::kDt;
+    options.convex_hull = hull;
+    Mesh mesh;
+    triangulate(pslg, options, &mesh);
+    EXPECT_EQ(mesh.domain_triangle_count(), hull ? 4u : 3u);
+    const CheckResult check = check_mesh(pslg, mesh);
+    EXPECT_TRUE(check.ok()) << (check.messages.empty() ? "" : check.messages.front());
+    EXPECT_EQ(check.convex_hull, hull);
+    // Still strict: without one of its triangles the mesh covers neither domain.
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    for (TriangleId t = 0; t < mesh.triangles.size(); ++t) {
+      if (mesh.in_domain(t)) triangles.push_back(mesh.triangles[t].v);
+    }
+    for (std::size_t drop = 0; drop < triangles.size(); ++drop) {
+      std::vector<std::array<std::uint32_t, 3>> fewer = triangles;
+      fewer.erase(fewer.begin() + static_cast<std::ptrdiff_t>(drop));
+      // (The hull mesh without its sliver triangle, the one on the notch, is the carved mesh.)
+      std::array<std::uint32_t, 3> corners = triangles[drop];
+      std::sort(corners.begin(), corners.end());
+      const bool sliver = hull && corners == std::array<std::uint32_t, 3>{2, 3, 4};
+      EXPECT_EQ(check_triangulation(pslg, mesh.points, fewer, {}).ok(), sliver) << "without triangle " << drop;
+    }
+  }
 }
 
 }  // namespace
