@@ -14,9 +14,9 @@
 // enclose minus the holes, or — when the mesh covers more, as with --convex-hull or for a point
 // set — the convex hull minus the holes. The mesh's area picks one; where the two differ by less
 // than the area tolerance (a sliver), a mesh that fails against the one picked is checked against
-// the other as well, and passes if it triangulates that one. Vertices the mesh puts on a segment (refinement) or at a
-// crossing are rounded points; they count as on the segment when within 1e-12 of the segment's
-// coordinate magnitude of its line (exactly collinear points always do). Where that tolerance
+// the other as well, and passes if it triangulates that one. Vertices the mesh puts on a segment
+// (refinement) or at a crossing are rounded points; they count as on the segment when within
+// 1e-12 of the segment's coordinate magnitude of its line (exactly collinear points always do). Where that tolerance
 // cannot tell two pieces apart (a wedge thinner than it near its apex), the mesh's own boundary
 // edges and listed subsegments say which piece a vertex is on: each piece is first followed along
 // them, then, if that fails, along any mesh edges near its line. Mesh vertices and triangles are
