@@ -236,4 +236,34 @@ TEST(FuzzRegressions, CheckerTellsTheHullFromACarvedDomainASliverSmaller) {
   }
 }
 
+// Found by fuzz_triangulate (OPT, --convex-hull, circumcenters, 20°, at most 34 Steiner points):
+// duplicate points at (0, 0) and at (2^-16, 2^-16) beside a hull edge 16.75 long on x = 0. The
+// refinement put a cluster of Steiner points on that edge within 1e-20 of each other near
+// y = 2^-16. The checker ordered the vertices along the edge by the rounded parameter t, which
+// is the same for all of them, so it saw the boundary chain stall ("the domain boundary edge from
+// input vertex 10 (0, 16.75) to input vertex 8 (0, 0) is not a chain of mesh edges") and then
+// reported gaps. The mesh was right; the checker now orders them by the edge's dominant coordinate,
+// exactly.
+TEST(FuzzRegressions, CheckerOrdersAClusterOfPointsOnALongEdge) {
+  Pslg pslg;
+  pslg.is_poly = true;
+  const double e = 1.52587890625e-05;  // 2^-16
+  pslg.points = {{27.500015258789062, 25.000015258789062}, {e, e}, {e, e}, {e, e},
+                 {30.500015258789062, 12.750015258789062}, {0.2500152587890625, 8.0000152587890625},
+                 {e, e}, {0, 0}, {0, 0}, {0, 16.75}, {0, 0}, {11.25, 26.75}, {0, 0}};
+  pslg.point_markers.assign(pslg.points.size(), 0);
+  pslg.holes = {{-0.1249847412109375, -0.1249847412109375}};
+  TriangulateOptions options;
+  options.method = Method::kOpt;
+  options.flip = true;
+  options.convex_hull = true;
+  options.steiner = SteinerRule::kCircumcenter;
+  options.min_angle_deg = 20.0;
+  options.max_steiner = 34;
+  options.opt_trials = 1;
+  Mesh mesh;
+  triangulate(pslg, options, &mesh);
+  expect_checked(pslg, mesh);
+}
+
 }  // namespace

@@ -82,6 +82,22 @@ constexpr double kAreaTolerance = 1e-8;     // relative difference of mesh and d
 constexpr double kTurnTolerance = 1e-6;     // degrees around a vertex
 constexpr double kAngleTolerance = 1e-9;    // degrees, for --min-angle
 
+// Position along the piece a → b: the coordinate in which the piece runs furthest, signed to grow
+// from a to b. It orders the vertices along the piece exactly, where the parameter
+// t = (q − a)·(b − a) / |b − a|² does not: t rounds to one value for vertices a few ulps apart on a
+// long piece (refinement can put a cluster of Steiner points within 1e-20 of each other 16 units
+// along a hull edge), so a chain through them would seem to stall.
+struct AlongPiece {
+  bool by_x = true;
+  double sign = 1.0;
+  AlongPiece(const Point& a, const Point& b) {
+    const double dx = b.x - a.x, dy = b.y - a.y;
+    by_x = std::fabs(dx) >= std::fabs(dy);
+    sign = (by_x ? dx : dy) >= 0.0 ? 1.0 : -1.0;
+  }
+  double operator()(const Point& q) const { return sign * (by_x ? q.x : q.y); }
+};
+
 // Which domain the mesh is checked against: chosen by area (the carved domain, or the convex hull
 // minus the holes when only that one's area agrees), or one of the two.
 enum class Domain { kByArea, kCarved, kHull };
@@ -319,18 +335,19 @@ class Checker {
     if (u == kNone || v == kNone) return false;
     const Point& a = p_[u];
     const Point& b = p_[v];
-    const double dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
+    const AlongPiece along(a, b);
+    const double s_end = along(b);
     for (std::uint32_t i = guide_start_[u]; i < guide_start_[u + 1]; ++i) {
       path_.assign(1, u);
       std::uint32_t previous = u, cur = guide_[i];
-      double t_cur = 0.0;
+      double s_cur = along(a);
       while (cur != v) {
         if (junction_[cur] || guide_start_[cur + 1] - guide_start_[cur] != 2) break;
         const Point& q = p_[cur];
-        const double t = ((q.x - a.x) * dx + (q.y - a.y) * dy) / len2;
-        if (!(t > t_cur && t < 1.0) || !near_line(a, b, q)) break;  // t rises: the path cannot loop
+        const double s = along(q);
+        if (!(s > s_cur && s < s_end) || !near_line(a, b, q)) break;  // s rises: the path cannot loop
         path_.push_back(cur);
-        t_cur = t;
+        s_cur = s;
         const std::uint32_t first = guide_[guide_start_[cur]];
         const std::uint32_t next = first == previous ? guide_[guide_start_[cur] + 1] : first;
         previous = cur;
@@ -351,12 +368,13 @@ class Checker {
     if (u == kNone || v == kNone) return false;  // already reported as a missing vertex
     const Point& a = p_[u];
     const Point& b = p_[v];
-    const double dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
+    const AlongPiece along(a, b);
+    const double s_end = along(b);
     std::uint32_t cur = u;
-    double t_cur = 0.0;
+    double s_cur = along(a);
     while (cur != v) {
       std::uint32_t next = kNone;
-      double t_next = 1.0;
+      double s_next = s_end;
       for (std::uint32_t i = adj_start_[cur]; i < adj_start_[cur + 1]; ++i) {
         const std::uint32_t w = adj_[i];
         if (w == v) {
@@ -364,10 +382,10 @@ class Checker {
           break;
         }
         const Point& q = p_[w];
-        const double t = ((q.x - a.x) * dx + (q.y - a.y) * dy) / len2;
-        if (t > t_cur && t < t_next && near_line(a, b, q)) {
+        const double s = along(q);
+        if (s > s_cur && s < s_next && near_line(a, b, q)) {
           next = w;
-          t_next = t;
+          s_next = s;
         }
       }
       if (next == kNone) {
@@ -377,7 +395,7 @@ class Checker {
         return false;
       }
       mark_chain_edge(cur, next, kind);
-      t_cur = next == v ? 1.0 : t_next;
+      s_cur = next == v ? s_end : s_next;
       cur = next;
     }
     return true;
