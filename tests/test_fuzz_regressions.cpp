@@ -266,4 +266,48 @@ TEST(FuzzRegressions, CheckerOrdersAClusterOfPointsOnALongEdge) {
   expect_checked(pslg, mesh);
 }
 
+// Found by fuzz_triangulate (OPT, --convex-hull, --flip, circumcenters, no angle bound, area 7,
+// at most 27 Steiner points): four points about 4.2e14 from the origin, far down the diagonal from
+// a cluster of small ones, so the convex hull is a needle. validate() rejected OPT's mesh:
+// "convex hull is not convex at vertex 53". A Steiner vertex on a hull edge slid along the line
+// through its segment neighbours, which are rounded points off the true hull line, and the hull
+// turned reflex there. Fixed in optimize.cpp: a slide on the hull keeps the hull convex at the
+// vertex and at its two hull neighbours. (The degenerate segments are the harness's; they are
+// ignored.)
+TEST(FuzzRegressions, OptKeepsTheConvexHullOfANeedleConvex) {
+  Pslg pslg;
+  pslg.is_poly = true;
+  pslg.points = {
+      {-422212465065976, -422212465065953.75}, {-422212465065958.5, -422212465065956.25},
+      {-422212465065956.75, -422212465065959.75}, {-422212465065969.5, -422212465065976},
+      {25.25, 28.5}, {21, 24.75}, {27, 25.5}, {11.5, 28}, {25.25000000000043, 28.500000000000114},
+      {27.75, 28.5}, {18.75, 8}, {27.75, 25.25}, {24.25, 27}, {25.25, 28.5}, {10.5, 24.25},
+      {12.25, 13.75}, {13.5, 12.25}, {12, -9.25}, {8, 30.25}, {25.5, 27.75}, {27.25, 24.25},
+      {14.5, 8}, {25.250000000000387, 28.500000000000345}, {14.5, 8}, {24.75, 29}, {26.25, 24.25},
+      {28.5, 27.5}, {27, 25.5}, {11.5, 11.5}, {12.75, 14.25}, {12, 12.25}, {12, 11.5}, {12.5, 12},
+      {14.25, 14}, {-9.25, -9.25}, {26.25, 27.5}, {25.25, 28.5}, {26.25, 27.75}, {17, 28.75},
+      {17.5, 29.5}, {8, 29.75}, {29, 28.5}, {0, 0}};
+  pslg.point_markers.assign(pslg.points.size(), 0);
+  pslg.segments = {
+      {1, 2, 2}, {7, 6, 4}, {5, 2, 1}, {7, 2, 2}, {5, 0, 2}, {2, 7, 2}, {11, 2, 2}, {10, 0, 1},
+      {9, 9, 4}, {9, 9, 4}, {9, 9, 4}, {9, 9, 4}, {9, 9, 4}, {9, 9, 2}, {9, 9, 4}, {3, 1, 4},
+      {15, 2, 1}, {3, 3, 4}, {3, 3, 4}, {9, 5, 4}, {10, 14, 2}, {15, 15, 1}, {15, 15, 4},
+      {15, 11, 4}, {9, 9, 4}, {9, 9, 4}, {9, 9, 4}, {9, 9, 4}, {9, 9, 4}, {9, 9, 4}, {9, 9, 4},
+      {9, 9, 4}, {9, 9, 4}, {9, 9, 4}, {9, 9, 4}, {9, 9, 4}, {9, 9, 4}, {9, 9, 4}, {9, 9, 4},
+      {9, 9, 4}, {9, 1, 4}, {12, 7, 4}};
+  pslg.holes = {{24.375, 25.375}, {28.875, 8.125}};
+  TriangulateOptions options;
+  options.method = Method::kOpt;
+  options.flip = true;
+  options.convex_hull = true;
+  options.steiner = SteinerRule::kCircumcenter;
+  options.min_angle_deg = 0.0;
+  options.max_area = 7.0;
+  options.max_steiner = 27;
+  options.opt_trials = 3;
+  Mesh mesh;
+  triangulate(pslg, options, &mesh);
+  expect_checked(pslg, mesh);
+}
+
 }  // namespace

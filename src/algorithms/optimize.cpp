@@ -1255,11 +1255,31 @@ class Optimizer {
     return false;
   }
 
+  // The hull vertex after the origin of `out` (its ghost triangle reads (org, after, ∞)) or before
+  // it ((before, org, ∞)), the order in which mesh.hpp reads hull edges; kNone if it is not on the
+  // hull.
+  VertexId hull_neighbour(Handle out, bool after) const {
+    Handle s = out;
+    std::size_t guard = 0;
+    do {
+      if (m_.is_ghost(s >> 2)) {
+        if (after && m_.apex(s) == kInfinite) return m_.dest(s);
+        if (!after && m_.dest(s) == kInfinite) return m_.apex(s);
+      }
+      s = m_.onext(s);
+    } while (s != out && ++guard < 4096);
+    return kNone;
+  }
+
   // A Steiner vertex on a segment slides along the line through its two segment neighbours, to
   // the point of the open subsegment that minimises its in-domain spokes (a convex function of
   // the position: golden-section search), as far as every finite triangle around it stays
-  // counter-clockwise. Works on hull segments too (the ghost triangles around v only need q to
-  // stay on the hull line, which it does).
+  // counter-clockwise. On the convex hull the hull must also stay convex at v and at its two hull
+  // neighbours. Staying on the line through the segment neighbours does not ensure that: those
+  // are rounded points, the true hull line bends at them by an ulp, and the hull neighbours need
+  // not be the segment neighbours at all where refinement folded thin outside triangles onto the
+  // hull (refine.cpp, restore_hull). (Found by fuzz_triangulate, --convex-hull: a slide turned a
+  // hull vertex reflex.)
   bool try_slide(VertexId v) {
     const Handle h = handle_of(v);
     if (h == kNone) return false;
@@ -1267,13 +1287,20 @@ class Optimizer {
     int count = 0;
     slide_spokes_.clear();
     slide_triangles_.clear();
+    Handle hull_before = kNone, hull_after = kNone;
     Handle s = h;
     std::size_t guard = 0;
     do {
       const TriangleId t = s >> 2;
       if (m_.is_dead(t)) return false;
       const VertexId u = m_.dest(s);
-      if (!m_.is_ghost(t)) slide_triangles_.push_back({u, m_.apex(s)});  // triangle (v, u, apex)
+      if (!m_.is_ghost(t)) {
+        slide_triangles_.push_back({u, m_.apex(s)});  // triangle (v, u, apex)
+      } else if (m_.apex(s) == kInfinite) {
+        hull_after = m_.lnext(s);  // u → ∞: an edge out of the hull vertex after v
+      } else if (u == kInfinite) {
+        hull_before = m_.lprev(s);  // apex → v: an edge out of the hull vertex before v
+      }
       if (u != kInfinite) {
         if (m_.is_segment(s)) {
           if (count < 2) ends[count] = u;
@@ -1286,11 +1313,27 @@ class Optimizer {
     } while (s != h && ++guard < 4096);
     if (s != h || count != 2) return false;
     const Point a = m_.points[ends[0]], b = m_.points[ends[1]];
+    // On the hull: the hull reads before2 → hull_prev → v → hull_next → after2, and no hull vertex may be
+    // strictly left of the hull edge into it (mesh.hpp's convexity, which validate() checks).
+    const bool on_hull = hull_before != kNone || hull_after != kNone;
+    if (on_hull && (hull_before == kNone || hull_after == kNone)) return false;
+    const VertexId hull_prev = on_hull ? m_.org(hull_before) : kNone, hull_next = on_hull ? m_.org(hull_after) : kNone;
+    const VertexId before2 = on_hull ? hull_neighbour(hull_before, false) : kNone;
+    const VertexId after2 = on_hull ? hull_neighbour(hull_after, true) : kNone;
+    if (on_hull && (before2 == kNone || after2 == kNone)) return false;
     auto weight_at = [&](const Point& p) { return spoke_sum(p, slide_spokes_); };
     auto valid_at = [&](const Point& q) {
       if (!in_supported_range(q) || orient2d(a, b, q) != 0) return false;
       for (const auto& [u, w] : slide_triangles_) {
         if (orient2d(q, m_.points[u], m_.points[w]) <= 0) return false;
+      }
+      if (on_hull) {
+        const Point& p_before = m_.points[hull_prev];
+        const Point& p_after = m_.points[hull_next];
+        if (orient2d(m_.points[before2], p_before, q) > 0 || orient2d(p_before, q, p_after) > 0 ||
+            orient2d(q, p_after, m_.points[after2]) > 0) {
+          return false;
+        }
       }
       return true;
     };
