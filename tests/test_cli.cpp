@@ -757,7 +757,7 @@ TEST(Cli, JsonReportHasTheDocumentedKeys) {
   ASSERT_EQ(r.exit_code, 0) << describe(r);
   const auto j = nlohmann::json::parse(box.get("r.json"));
   for (const char* key : {"vertices", "triangles", "steiner", "weight_total", "weight_boundary", "weight_interior",
-                          "min_angle", "max_angle", "seconds", "stop_reason", "input", "method", "parameters",
+                          "min_angle", "max_angle", "max_triangle_area", "seconds", "stop_reason", "input", "method", "parameters",
                           "duplicates", "crossings", "warnings"}) {
     EXPECT_TRUE(j.contains(key)) << key;
   }
@@ -825,15 +825,16 @@ TEST(Cli, OptionsTheMethodDoesNotReadAreWarnedAbout) {
   ASSERT_EQ(r.exit_code, 0) << describe(r);
   EXPECT_EQ(r.err_lines(), (std::vector<std::string>{"mwst: warning: --bundle-k has no effect with --method dr",
                                                      "mwst: warning: --opt-trials has no effect with --method dr"}));
-  r = box.run({"triangulate", "in.poly", "--method", "opt", "--max-area", "1", "-o", "o"});
+  r = box.run({"triangulate", "in.poly", "--method", "dt", "--flip", "--max-area", "0.01", "-o", "o"});
   ASSERT_EQ(r.exit_code, 0) << describe(r);
-  EXPECT_EQ(r.err_lines(), (std::vector<std::string>{"mwst: warning: --max-area has no effect with --method opt"}));
+  EXPECT_EQ(r.err_lines(), (std::vector<std::string>{"mwst: warning: --max-area has no effect with --method dt"}));
   // What each method reads: no warning.
   for (const auto& args : std::vector<std::vector<std::string>>{
            {"--method", "dr", "--min-angle", "25", "--steiner", "circumcenter", "--max-area", "1", "--max-steiner", "5",
             "--time-limit", "10"},
            {"--method", "brh", "--min-angle", "25", "--bundle-k", "9", "--max-steiner", "5", "--max-area", "1"},
            {"--method", "opt", "--min-angle", "25", "--bundle-k", "9", "--opt-trials", "1", "--exact-polish"},
+           {"--method", "opt", "--max-area", "0.1", "--opt-trials", "1", "--flip"},
            {"--method", "qtr", "--flip", "--convex-hull", "--strict", "--bundle"}}) {
     std::vector<std::string> call = {"triangulate", "in.poly", "-o", "ok"};
     call.insert(call.end(), args.begin(), args.end());
@@ -844,6 +845,35 @@ TEST(Cli, OptionsTheMethodDoesNotReadAreWarnedAbout) {
   r = box.run({"triangulate", "in.poly", "--method", "dt", "--min-angle", "30", "--quiet", "-o", "quiet"});
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_TRUE(r.err.empty() && r.out.empty()) << describe(r);
+}
+
+// --max-area holds in what is written: after dr with --flip (EFH takes only flips that keep the
+// bound) and after opt (every start refined to it, no move of the search exceeds it). Checked on
+// the .ele/.node files and in the report's max_triangle_area; the check command accepts the mesh.
+TEST(Cli, AreaBoundHoldsAfterFlipsAndOpt) {
+  Sandbox box;
+  box.put("in.poly", kSquare + "4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n");
+  for (const std::vector<std::string>& method : {std::vector<std::string>{"--method", "dr", "--flip"},
+                                                 std::vector<std::string>{"--method", "opt", "--opt-trials", "5"},
+                                                 std::vector<std::string>{"--method", "brh", "--flip"}}) {
+    SCOPED_TRACE(method[1]);
+    std::vector<std::string> call = {"triangulate", "in.poly", "--max-area", "0.01", "--json", "r.json", "-o", "m"};
+    call.insert(call.end(), method.begin(), method.end());
+    const Outcome r = box.run(call);
+    ASSERT_EQ(r.exit_code, 0) << describe(r);
+    EXPECT_TRUE(r.err.empty()) << describe(r);
+    const auto j = nlohmann::json::parse(box.get("r.json"));
+    EXPECT_LE(j["max_triangle_area"].get<double>(), 0.01 * (1.0 + 1e-12));
+    const mwst::io::MeshFiles mesh = mwst::io::read_mesh(box.path("m"));
+    ASSERT_GE(mesh.triangles.size(), 100u);  // 1 / 0.01, at least
+    double largest = 0.0;
+    for (const auto& t : mesh.triangles) {
+      largest = std::max(largest, mwst::signed_area(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]));
+    }
+    EXPECT_LE(largest, 0.01 * (1.0 + 1e-12));
+    EXPECT_NEAR(j["max_triangle_area"].get<double>(), largest, 1e-12);
+    EXPECT_EQ(box.run({"check", "in.poly", "m"}).exit_code, 0);
+  }
 }
 
 // ---- 6. default prefix -------------------------------------------------------------------------

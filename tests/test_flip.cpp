@@ -10,6 +10,7 @@
 #include "mwst/flip.hpp"
 #include "mwst/io.hpp"
 #include "mwst/metrics.hpp"
+#include "mwst/refine.hpp"
 #include "test_helpers.hpp"
 
 namespace mwst {
@@ -93,4 +94,37 @@ INSTANTIATE_TEST_SUITE_P(DataSets, FlipOnDataSet, ::testing::ValuesIn(data_sets(
                          });
 
 }  // namespace
+// With an area bound (--max-area after dr, brh or opt), EFH takes only the flips that make no
+// triangle larger than it. A flip keeps its quadrilateral but not its halves' areas: on a mesh
+// refined to the bound, unbounded flips leave triangles over it (checked below, so the test can
+// fail), bounded flips none; the result is locally minimal among the allowed flips and lighter.
+TEST(Flip, AreaBoundHolds) {
+  for (const char* name : {"Superior.poly", "Africa.poly"}) {
+    SCOPED_TRACE(name);
+    Mesh cdt = constrained_delaunay(io::read_input(std::string(MWST_DATA_DIR) + "/" + name));
+    const double max_area = measure(cdt).max_triangle_area / 50.0;
+    RefineOptions ro;
+    ro.min_angle_deg = 0.0;
+    ro.max_area = max_area;
+    refine(cdt, ro);
+    ASSERT_LE(measure(cdt).max_triangle_area, max_area * (1.0 + 1e-12));
+    Mesh free = cdt, bounded = cdt;
+    flip_to_local_minimum(free);
+    EXPECT_GT(measure(free).max_triangle_area, max_area * 1.01);
+    const FlipStats stats = flip_to_local_minimum(bounded, max_area);
+    EXPECT_GT(stats.flips, 0u);
+    EXPECT_TRUE(validate(bounded).empty());
+    EXPECT_LE(measure(bounded).max_triangle_area, max_area * (1.0 + 1e-12));
+    for (TriangleId t = 0; t < bounded.triangles.size(); ++t) {
+      if (!bounded.in_domain(t)) continue;
+      const auto& v = bounded.triangles[t].v;
+      EXPECT_LE(signed_area(bounded.points[v[0]], bounded.points[v[1]], bounded.points[v[2]]), max_area);
+    }
+    EXPECT_EQ(count_weight_reducing_flips(bounded, max_area), 0u);
+    EXPECT_GT(count_weight_reducing_flips(bounded), 0u);
+    EXPECT_LT(measure(bounded).weight_total, measure(cdt).weight_total);
+    EXPECT_EQ(test::domain_subsegments(bounded), test::domain_subsegments(cdt));
+  }
+}
+
 }  // namespace mwst

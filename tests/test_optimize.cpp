@@ -358,6 +358,42 @@ TEST(Optimize, SteinerBudgetBoundsTheInsertions) {
   EXPECT_GE(binding, 4u);
 }
 
+// OptimizeOptions::max_area: from a start refined to the bound, no move of the search (flips,
+// relocations, slides, removals, regions, kicks, perturbations) makes a triangle larger than it.
+// Without the bound the search does (checked, so the test can fail), and with it the mesh is
+// still valid, conforming and no heavier than the start.
+TEST(Optimize, AreaBoundHolds) {
+  for (const char* name : {"Africa.poly", "Plate.poly"}) {
+    SCOPED_TRACE(name);
+    const Pslg g = io::read_input(std::string(MWST_DATA_DIR) + "/" + name);
+    Mesh start = constrained_delaunay(g);
+    const double max_area = measure(start).max_triangle_area / 20.0;
+    RefineOptions r;
+    r.min_angle_deg = 0.0;
+    r.max_area = max_area;
+    refine(start, r);
+    ASSERT_LE(measure(start).max_triangle_area, max_area * (1.0 + 1e-12));
+    OptimizeOptions o;
+    o.perturbation_trials = 20;
+    o.kick_pairs = true;
+    Mesh free = start;
+    optimize(free, o);
+    EXPECT_GT(measure(free).max_triangle_area, max_area * 1.01);
+    o.max_area = max_area;
+    Mesh bounded = start;
+    optimize(bounded, o);
+    for (TriangleId t = 0; t < bounded.triangles.size(); ++t) {
+      if (!bounded.in_domain(t)) continue;
+      const auto& v = bounded.triangles[t].v;
+      EXPECT_LE(signed_area(bounded.points[v[0]], bounded.points[v[1]], bounded.points[v[2]]), max_area);
+    }
+    EXPECT_TRUE(validate(bounded).empty());
+    const CheckResult check = check_mesh(g, bounded);
+    EXPECT_TRUE(check.ok()) << (check.messages.empty() ? "" : check.messages.front());
+    EXPECT_LT(measure(bounded).weight_total, measure(start).weight_total);
+  }
+}
+
 // The cluster polish (kick_neighbour_sweeps) and the pair kicks (kick_pairs), both off by
 // default: kicks run after the same local search and keep only lighter meshes, so the result is
 // never heavier than the search without kicks; valid, conforming, deterministic.

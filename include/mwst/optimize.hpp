@@ -22,6 +22,11 @@ struct OptimizeOptions {
   // hold: no move that inserts a vertex is tried beyond it (removals and the rest still are). A
   // mesh given with more is never made to hold fewer by force.
   std::size_t max_steiner = std::numeric_limits<std::size_t>::max();
+  // Area bound (--max-area; ≤ 0: none): no move makes a domain triangle larger than this
+  // (signed_area, rounded) — flips, relocations, slides, removals and re-triangulated regions are
+  // refused when one of their new triangles would be; insertions only split triangles. A mesh
+  // given with larger triangles keeps them until a move replaces them by smaller ones.
+  double max_area = -1.0;
   bool relocate = true;            // move Steiner vertices to the geometric median of neighbours
   bool remove = true;              // remove Steiner vertices whose star re-triangulates lighter
   bool insert = true;              // try Steiner points at the Fermat points of heavy triangles

@@ -94,6 +94,7 @@ struct Report {
   double weight_interior = 0.0;
   double min_angle = 0.0;        // degrees, over domain triangles
   double max_angle = 0.0;
+  double max_triangle_area = 0.0;  // the largest domain triangle's area (what --max-area bounds)
   // Wall-clock seconds of each phase, in the order the phases ran.
   std::vector<std::pair<std::string, double>> seconds;
   std::string stop_reason;       // refinement methods only (see RefineStats::stop_reason)
@@ -114,9 +115,9 @@ struct Report {
 Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* out = nullptr);
 
 // The JSON report: input, method, parameters, vertices, triangles, steiner, weight_total,
-// weight_boundary, weight_interior, min_angle, max_angle, seconds (an object phase → seconds,
-// plus "total"), stop_reason (refinement methods), duplicates, crossings, warnings, and the keys
-// of Report::extra.
+// weight_boundary, weight_interior, min_angle, max_angle, max_triangle_area, seconds (an object
+// phase → seconds, plus "total"), stop_reason (refinement methods), duplicates, crossings,
+// warnings, and the keys of Report::extra.
 nlohmann::json to_json(const Report& report);
 
 }  // namespace mwst

@@ -56,29 +56,31 @@ double gain_ratio(const Mesh& m, Handle h) {
 
 }  // namespace
 
-bool is_weight_reducing_flip(const Mesh& m, Handle h) {
+bool is_weight_reducing_flip(const Mesh& m, Handle h, double max_area) {
   if (!flippable(m, h)) return false;
   const Point& a = m.points[m.org(h)];
   const Point& b = m.points[m.dest(h)];
   const Point& c = m.points[m.apex(h)];
   const Point& d = m.points[m.apex(m.sym(h))];
-  return compare_squared_lengths(c, d, a, b) < 0;
+  if (compare_squared_lengths(c, d, a, b) >= 0) return false;
+  // The new triangles (c, a, d) and (d, b, c) under the area bound.
+  return !(max_area > 0.0) || (signed_area(c, a, d) <= max_area && signed_area(d, b, c) <= max_area);
 }
 
-std::size_t count_weight_reducing_flips(const Mesh& m) {
+std::size_t count_weight_reducing_flips(const Mesh& m, double max_area) {
   std::size_t count = 0;
   for (TriangleId t = 0; t < m.triangles.size(); ++t) {
     if (!m.in_domain(t)) continue;
     for (unsigned e = 0; e < 3; ++e) {
       const Handle h = make_handle(t, e);
       if ((m.sym(h) >> 2) < t) continue;  // each edge once
-      if (is_weight_reducing_flip(m, h)) ++count;
+      if (is_weight_reducing_flip(m, h, max_area)) ++count;
     }
   }
   return count;
 }
 
-FlipStats flip_to_local_minimum(Mesh& m) {
+FlipStats flip_to_local_minimum(Mesh& m, double max_area) {
   const auto t0 = std::chrono::steady_clock::now();
   FlipStats stats;
   stats.weight_before = measure(m).weight_total;
@@ -88,7 +90,7 @@ FlipStats flip_to_local_minimum(Mesh& m) {
     for (unsigned e = 0; e < 3; ++e) {
       const Handle h = make_handle(t, e);
       if ((m.sym(h) >> 2) < t) continue;
-      if (is_weight_reducing_flip(m, h)) storage.push_back({gain_ratio(m, h), h});
+      if (is_weight_reducing_flip(m, h, max_area)) storage.push_back({gain_ratio(m, h), h});
     }
   }
   std::priority_queue<Candidate> heap(std::less<Candidate>(), std::move(storage));
@@ -96,7 +98,7 @@ FlipStats flip_to_local_minimum(Mesh& m) {
     const Candidate top = heap.top();
     heap.pop();
     // The entry may be stale: the edge may have changed since it was pushed.
-    if (!is_weight_reducing_flip(m, top.edge)) continue;
+    if (!is_weight_reducing_flip(m, top.edge, max_area)) continue;
     const double ratio = gain_ratio(m, top.edge);
     if (ratio != top.ratio) {
       heap.push({ratio, top.edge});
@@ -106,7 +108,7 @@ FlipStats flip_to_local_minimum(Mesh& m) {
     ++stats.flips;
     const Handle other = m.sym(diag);
     for (const Handle h : {Mesh::lnext(diag), Mesh::lprev(diag), Mesh::lnext(other), Mesh::lprev(other)}) {
-      if (is_weight_reducing_flip(m, h)) heap.push({gain_ratio(m, h), h});
+      if (is_weight_reducing_flip(m, h, max_area)) heap.push({gain_ratio(m, h), h});
     }
   }
   stats.weight_after = measure(m).weight_total;

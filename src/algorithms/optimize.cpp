@@ -527,7 +527,7 @@ class Optimizer {
   // perturbation can change.
   void focused_flips() {
     if (!focused_) {
-      stats_.flips += flip_to_local_minimum(m_).flips;
+      stats_.flips += flip_to_local_minimum(m_, opt_.max_area).flips;
       return;
     }
     for (TriangleId t = 0; t < m_.triangles.size(); ++t) {
@@ -548,7 +548,7 @@ class Optimizer {
     while (!flip_stack_.empty()) {
       const Handle h = flip_stack_.back();
       flip_stack_.pop_back();
-      if (m_.is_dead(h >> 2) || !is_weight_reducing_flip(m_, h)) continue;
+      if (m_.is_dead(h >> 2) || !is_weight_reducing_flip(m_, h, opt_.max_area)) continue;
       const double before = edge_length(h);
       const Handle diag = m_.flip(h);
       delta += edge_length(diag) - before;
@@ -597,7 +597,7 @@ class Optimizer {
       bool moved = false;
       for (int halving = 0; halving < 30 && !moved; ++halving) {
         q = {snap_to_range(q.x), snap_to_range(q.y)};
-        if (in_supported_range(q) && in_kernel(q, polygon_)) {
+        if (in_supported_range(q) && in_kernel(q, polygon_) && star_within_area(q, polygon_)) {
           const double after = spoke_sum(q, polygon_);
           if (after < before) {
             m_.points[v] = q;
@@ -1056,7 +1056,8 @@ class Optimizer {
         const auto chain_edge_is_segment = [&](std::size_t i) {
           return i + 1 == ids.size() ? true : region_.segment[(from + i) % d] != 0;
         };
-        if (!std::isfinite(diagonals) || spans_straight_angle(m_, ids, chain_edge_is_segment, local_)) {
+        if (!std::isfinite(diagonals) || spans_straight_angle(m_, ids, chain_edge_is_segment, local_) ||
+            (inside && !within_area(polygon_, local_))) {
           ok = false;
           break;
         }
@@ -1130,7 +1131,7 @@ class Optimizer {
       for (const VertexId u : region_.boundary) polygon_.push_back(m_.points[u]);
       local_.clear();
       const double diagonals = polygon_mwt(polygon_, &local_);
-      if (!std::isfinite(diagonals) || region_sliver(local_)) {
+      if (!std::isfinite(diagonals) || region_sliver(local_) || !within_area(polygon_, local_)) {
         continue;
       }
       ++kick_trials_;
@@ -1220,7 +1221,7 @@ class Optimizer {
     const double diagonals = polygon_mwt(polygon_, &local_);
     const double spokes = spoke_sum(m_.points[v], polygon_);
     if (!(diagonals < spokes * (1.0 - 1e-12))) return false;
-    if (region_sliver(local_)) return false;
+    if (region_sliver(local_) || !within_area(polygon_, local_)) return false;
     std::vector<std::array<VertexId, 3>> tris;
     for (const auto& tri : local_) {
       tris.push_back({region_.boundary[tri[0]], region_.boundary[tri[1]], region_.boundary[tri[2]]});
@@ -1244,7 +1245,8 @@ class Optimizer {
     Point q = geometric_median(p, polygon_);
     for (int halving = 0; halving < 40; ++halving) {
       q = {snap_to_range(q.x), snap_to_range(q.y)};
-      if (in_supported_range(q) && in_kernel(q, polygon_) && spoke_sum(q, polygon_) < before) {
+      if (in_supported_range(q) && in_kernel(q, polygon_) && star_within_area(q, polygon_) &&
+          spoke_sum(q, polygon_) < before) {
         m_.points[v] = q;
         ++stats_.relocations;
         return true;
@@ -1287,6 +1289,7 @@ class Optimizer {
     int count = 0;
     slide_spokes_.clear();
     slide_triangles_.clear();
+    slide_domain_triangles_.clear();
     Handle hull_before = kNone, hull_after = kNone;
     Handle s = h;
     std::size_t guard = 0;
@@ -1296,6 +1299,7 @@ class Optimizer {
       const VertexId u = m_.dest(s);
       if (!m_.is_ghost(t)) {
         slide_triangles_.push_back({u, m_.apex(s)});  // triangle (v, u, apex)
+        if (m_.in_domain(t)) slide_domain_triangles_.push_back({u, m_.apex(s)});
       } else if (m_.apex(s) == kInfinite) {
         hull_after = m_.lnext(s);  // u → ∞: an edge out of the hull vertex after v
       } else if (u == kInfinite) {
@@ -1326,6 +1330,9 @@ class Optimizer {
       if (!in_supported_range(q) || orient2d(a, b, q) != 0) return false;
       for (const auto& [u, w] : slide_triangles_) {
         if (orient2d(q, m_.points[u], m_.points[w]) <= 0) return false;
+      }
+      for (const auto& [u, w] : slide_domain_triangles_) {
+        if (!area_allows(q, m_.points[u], m_.points[w])) return false;
       }
       if (on_hull) {
         const Point& p_before = m_.points[hull_prev];
@@ -1433,6 +1440,29 @@ class Optimizer {
   // Re-triangulates the region (no interior vertex) by whichever is lightest: its minimum weight
   // triangulation (a many-edge flip), or a star from a new Steiner vertex at the geometric median
   // of its corners. Returns true if the region changed.
+  // OptimizeOptions::max_area: may a move make triangle (a, b, c) (counter-clockwise)?
+  bool area_allows(const Point& a, const Point& b, const Point& c) const {
+    return !(opt_.max_area > 0.0) || signed_area(a, b, c) <= opt_.max_area;
+  }
+
+  // ... every triangle of a triangulation (local indices) of `polygon`?
+  bool within_area(const std::vector<Point>& polygon, const std::vector<std::array<std::uint32_t, 3>>& tris) const {
+    if (!(opt_.max_area > 0.0)) return true;
+    for (const auto& t : tris) {
+      if (!area_allows(polygon[t[0]], polygon[t[1]], polygon[t[2]])) return false;
+    }
+    return true;
+  }
+
+  // ... every triangle of the star from q to the closed polygon (q, polygon[i], polygon[i + 1])?
+  bool star_within_area(const Point& q, const std::vector<Point>& polygon) const {
+    if (!(opt_.max_area > 0.0)) return true;
+    for (std::size_t i = 0; i < polygon.size(); ++i) {
+      if (!area_allows(q, polygon[i], polygon[(i + 1) % polygon.size()])) return false;
+    }
+    return true;
+  }
+
   // spans_straight_angle for a triangulation of region_'s boundary polygon.
   bool region_sliver(const std::vector<std::array<std::uint32_t, 3>>& tris) const {
     return spans_straight_angle(m_, region_.boundary, [this](std::size_t i) { return region_.segment[i] != 0; },
@@ -1468,7 +1498,9 @@ class Optimizer {
       centroid.y /= static_cast<double>(polygon_.size());
       q = geometric_median(centroid, polygon_);
       q = {snap_to_range(q.x), snap_to_range(q.y)};
-      if (in_supported_range(q) && in_kernel(q, polygon_)) star_weight = spoke_sum(q, polygon_);
+      if (in_supported_range(q) && in_kernel(q, polygon_) && star_within_area(q, polygon_)) {
+        star_weight = spoke_sum(q, polygon_);
+      }
     }
     if (star_weight < current && star_weight < mwt && steiner_room() > 0) {
       const VertexId v = m_.add_vertex(q, VertexKind::kSteiner, 0);
@@ -1482,7 +1514,7 @@ class Optimizer {
       ++stats_.insertions;
       return true;
     }
-    if (mwt < current && !region_sliver(local_)) {
+    if (mwt < current && !region_sliver(local_) && within_area(polygon_, local_)) {
       std::vector<std::array<VertexId, 3>> tris_new;
       for (const auto& tri : local_) {
         tris_new.push_back({region_.boundary[tri[0]], region_.boundary[tri[1]], region_.boundary[tri[2]]});
@@ -1543,6 +1575,7 @@ class Optimizer {
   std::vector<Handle> flip_stack_;
   std::vector<Point> slide_spokes_;
   std::vector<std::pair<VertexId, VertexId>> slide_triangles_;
+  std::vector<std::pair<VertexId, VertexId>> slide_domain_triangles_;  // those in the domain
   std::vector<VertexId> neighbours_;
   std::vector<double> cumulative_;  // perimeter prefix sums (perturbation_search)
   bool focused_ = false;  // local_search visits only what lies in [focus_lo_, focus_hi_]
@@ -1565,6 +1598,15 @@ bool exact_polish_mesh(Mesh& mesh, const OptimizeOptions& options) {
   const double weight = measure(mesh).weight_total;
   MwtResult mwt = exact_mwt(mesh, mwt_options);
   if (!mwt.solved || !(mwt.weight < weight - options.min_relative_gain * weight)) return false;
+  if (options.max_area > 0.0) {
+    for (TriangleId t = 0; t < mwt.mesh.triangles.size(); ++t) {
+      if (!mwt.mesh.in_domain(t)) continue;
+      const auto& v = mwt.mesh.triangles[t].v;
+      if (signed_area(mwt.mesh.points[v[0]], mwt.mesh.points[v[1]], mwt.mesh.points[v[2]]) > options.max_area) {
+        return false;
+      }
+    }
+  }
   mesh = std::move(mwt.mesh);
   return true;
 }

@@ -139,10 +139,12 @@ void brh_phase(Mesh& mesh, const TriangulateOptions& options, Clock::time_point 
                          {"skinny_left", stats.skinny_left}};
 }
 
-// Weight-reducing flips (EFH) after any method: phase "flip".
-void flip_phase(Mesh& mesh, Report& report) {
+// Weight-reducing flips (EFH) after any method: phase "flip". The area bound of a method that
+// reads it (dr, brh, opt) holds after the flips too: no flip makes a triangle larger than it.
+void flip_phase(Mesh& mesh, const TriangulateOptions& options, Report& report) {
   Phase phase(report, "flip");
-  const FlipStats stats = flip_to_local_minimum(mesh);
+  const double max_area = method_reads_option(options.method, "--max-area") ? options.max_area : -1.0;
+  const FlipStats stats = flip_to_local_minimum(mesh, max_area);
   phase.finish();
   report.extra["flip"] = {{"flips", stats.flips},
                           {"weight_before", stats.weight_before},
@@ -172,12 +174,27 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
     const std::size_t steiner = measure(m).steiner;
     return steiner <= cdt_steiner || steiner - cdt_steiner <= options.max_steiner;
   };
+  // With an area bound (--max-area), every start keeps it, as the search then does (OptimizeOptions::
+  // max_area): the refined starts get it, and the CDT and the seeded starts are refined to it with
+  // no angle bound (Delaunay refinement splitting only the triangles larger than the bound).
+  bool out_of_time = false;  // the budget has passed (a refinement or search was cut, or a step skipped)
+  const auto area_bounded = [&](Mesh m) {
+    if (options.max_area > 0.0) {
+      RefineOptions ro;
+      ro.min_angle_deg = 0.0;
+      ro.max_area = options.max_area;
+      ro.rule = options.steiner;
+      ro.max_steiner = options.max_steiner;
+      ro.time_budget_seconds = budget_left(options, start);
+      out_of_time |= refine(m, ro).stop_reason == "time budget";
+    }
+    return m;
+  };
   struct Start {
     std::string name;
     Mesh mesh;
   };
   std::vector<Start> starts;
-  bool out_of_time = false;  // the budget has passed (a refinement or search was cut, or a step skipped)
   const auto time_is_up = [&] {
     out_of_time = out_of_time || budget_spent(options, start);
     return out_of_time;
@@ -187,10 +204,9 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
     Report scratch;
     TriangulateOptions o = options;
     if (!(o.min_angle_deg > 0.0)) o.min_angle_deg = 20.0;
-    o.max_area = -1.0;  // (see method_reads_option)
     brh_phase(m, o, start, scratch);
     out_of_time = scratch.stop_reason == "time budget";
-    flip_to_local_minimum(m);
+    flip_to_local_minimum(m, options.max_area);
     starts.push_back({"brh+efh", std::move(m)});
   }
   // Large inputs: the BRH start only (each start costs a refinement and a search).
@@ -200,13 +216,14 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
       Mesh m = cdt;
       RefineOptions ro;
       ro.min_angle_deg = angle;
+      ro.max_area = options.max_area;
       ro.rule = options.steiner;
       ro.max_steiner = options.max_steiner;
       ro.time_budget_seconds = budget_left(options, start);
       out_of_time |= refine(m, ro).stop_reason == "time budget";
       starts.push_back({"dr" + std::to_string(static_cast<int>(angle)), std::move(m)});
     }
-    starts.push_back({"dt", cdt});
+    starts.push_back({"dt", area_bounded(cdt)});
     // Seeded starts (seed_steiner_points) for polygonal domains: the CDT with Steiner points where
     // its dual branches (an approximate medial axis), and with one at every triangle's centroid.
     // They pay where the domain has strips between boundary chains (the coastlines: 0.1–0.5 points)
@@ -217,6 +234,7 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
                                         std::pair{"dt+centroids", SeedPoints::kCentroids}}) {
         Mesh m = cdt;
         seed_steiner_points(m, seeds);
+        m = area_bounded(std::move(m));
         if (within_steiner_budget(m)) starts.push_back({name, std::move(m)});
       }
     }
@@ -231,13 +249,16 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
   if (options.exact_polish) {
     for (std::size_t i = 0; i < original_starts && !time_is_up(); ++i) {
       Mesh m = starts[i].mesh;
-      if (exact_polish_mesh(m, OptimizeOptions{})) starts.push_back({starts[i].name + "+mwt", std::move(m)});
+      OptimizeOptions polish;
+      polish.max_area = options.max_area;
+      if (exact_polish_mesh(m, polish)) starts.push_back({starts[i].name + "+mwt", std::move(m)});
     }
   }
   OptimizeOptions local;
   local.kick_passes = 0;
   local.fixed_vertices = cdt.points.size();  // the input and the CDT's crossing points
   local.max_steiner = options.max_steiner;
+  local.max_area = options.max_area;
   std::vector<double> local_weight;
   double lightest = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < starts.size(); ++i) {
@@ -250,6 +271,7 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
   OptimizeOptions kicks;  // the whole-domain MWT was tried in the first pass
   kicks.fixed_vertices = local.fixed_vertices;
   kicks.max_steiner = local.max_steiner;
+  kicks.max_area = local.max_area;
   kicks.max_exact_polygon = 0;
   kicks.max_exact_convex_polygon = 0;
   kicks.exact_polish = options.exact_polish;  // and after the search (optimize.hpp)
@@ -294,7 +316,13 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
     for (std::size_t k = 1; k < order.size(); ++k) {
       crossed.taken += partition_crossover(child, starts[order[k]].mesh).taken;
     }
-    if (crossed.taken > 0 && within_steiner_budget(child)) {
+    // (Pieces come from results that keep the area bound, but a start cut short by the budgets
+    // may hold larger triangles: a child with a triangle larger than the bound and than the
+    // lightest result's largest is not taken.)
+    const bool within_area = !(options.max_area > 0.0) ||
+                             measure(child).max_triangle_area <=
+                                 std::max(options.max_area, measure(best).max_triangle_area);
+    if (crossed.taken > 0 && within_steiner_budget(child) && within_area) {
       local.time_budget_seconds = budget_left(options, start);
       const OptimizeStats polished = optimize(child, local);
       out_of_time |= polished.out_of_time;
@@ -398,9 +426,7 @@ bool method_reads_option(Method method, std::string_view option) {
     case Method::kQtr: return false;
     case Method::kDr: return refinement;
     case Method::kBrh: return refinement || bundle_size;
-    // The optimiser moves and removes Steiner points and flips edges with no regard to area, so it
-    // takes no area bound (its BRH start is not given one either).
-    case Method::kOpt: return option != "--max-area";
+    case Method::kOpt: return true;
   }
   throw InternalError("method_reads_option: unknown method");
 }
@@ -465,7 +491,7 @@ Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* ou
       mesh = optimize_phase(pslg, options, start, report);
       break;
   }
-  if (options.flip) flip_phase(mesh, report);
+  if (options.flip) flip_phase(mesh, options, report);
   if (options.bundle) {
     // The exact bundle number of the result (mwst/bundle.hpp), with a witness disk.
     Phase bundle_phase(report, "bundle");
@@ -487,6 +513,7 @@ Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* ou
   report.weight_interior = metrics.weight_interior;
   report.min_angle = metrics.min_angle_deg;
   report.max_angle = metrics.max_angle_deg;
+  report.max_triangle_area = metrics.max_triangle_area;
   if (metrics.triangles == 0) {
     report.warnings.push_back("the domain is empty: the segments enclose no region outside the holes "
                               "(--convex-hull keeps the whole hull)");
@@ -532,6 +559,7 @@ nlohmann::json to_json(const Report& r) {
       {"weight_interior", r.weight_interior},
       {"min_angle", r.min_angle},
       {"max_angle", r.max_angle},
+      {"max_triangle_area", r.max_triangle_area},
       {"seconds", std::move(seconds)},
       {"duplicates", r.duplicates},
       {"crossings", r.crossings},

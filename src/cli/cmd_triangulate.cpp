@@ -148,7 +148,7 @@ void register_triangulate(CLI::App& app, Action& action) {
                   "BRH bundle size k >= 3 (default ceil(4*pi/alpha)+3 from --min-angle)")
       ->check(whole_number());
   sub->add_flag("--flip", args->flip, "Weight-reducing edge flips (EFH) after the method");
-  sub->add_option("--max-area", args->max_area, "Refine triangles larger than this area (dr, brh)")
+  sub->add_option("--max-area", args->max_area, "Refine triangles larger than this area (dr, brh, opt; --flip and opt's moves keep the bound)")
       ->check(number_above(0.0));
   CLI::Option* max_steiner =
       sub->add_option("--max-steiner", args->max_steiner,
