@@ -23,7 +23,7 @@ bool is_straight_corner(const Mesh& mesh, VertexId v, bool side1_is_segment, boo
 // True if edge h (between two domain triangles, not a subsegment) has a strictly convex
 // quadrilateral whose other diagonal is strictly shorter (exact comparison of squared lengths).
 // With max_area > 0 (an area bound, --max-area), also neither new triangle may be larger than
-// max_area (signed_area, rounded): a flip keeps its quadrilateral but not the areas of its two
+// max_area (triangle_area): a flip keeps its quadrilateral but not the areas of its two
 // halves, so without this EFH would undo what the refinement's area bound made.
 bool is_weight_reducing_flip(const Mesh& mesh, Handle h, double max_area = -1.0);
 

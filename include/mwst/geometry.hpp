@@ -128,4 +128,12 @@ Point segment_intersection(const Point& a, const Point& b, const Point& c, const
 // Signed area of triangle (a, b, c) (rounded; positive when counter-clockwise).
 double signed_area(const Point& a, const Point& b, const Point& c);
 
+// The area an area bound (--max-area) is tested and reported with: ½ (b − a) × (c − a) in plain
+// double arithmetic (a few ulps from signed_area's accurate rounding, and cheap). Refinement,
+// the flips, the optimiser and measure() all use this one, so a mesh that keeps the bound
+// reports a largest triangle within it.
+inline double triangle_area(const Point& a, const Point& b, const Point& c) {
+  return 0.5 * ((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x));
+}
+
 }  // namespace mwst

@@ -23,7 +23,7 @@ struct OptimizeOptions {
   // mesh given with more is never made to hold fewer by force.
   std::size_t max_steiner = std::numeric_limits<std::size_t>::max();
   // Area bound (--max-area; ≤ 0: none): no move makes a domain triangle larger than this
-  // (signed_area, rounded) — flips, relocations, slides, removals and re-triangulated regions are
+  // (triangle_area) — flips, relocations, slides, removals and re-triangulated regions are
   // refused when one of their new triangles would be; insertions only split triangles. A mesh
   // given with larger triangles keeps them until a move replaces them by smaller ones.
   double max_area = -1.0;

@@ -64,7 +64,7 @@ bool is_weight_reducing_flip(const Mesh& m, Handle h, double max_area) {
   const Point& d = m.points[m.apex(m.sym(h))];
   if (compare_squared_lengths(c, d, a, b) >= 0) return false;
   // The new triangles (c, a, d) and (d, b, c) under the area bound.
-  return !(max_area > 0.0) || (signed_area(c, a, d) <= max_area && signed_area(d, b, c) <= max_area);
+  return !(max_area > 0.0) || (triangle_area(c, a, d) <= max_area && triangle_area(d, b, c) <= max_area);
 }
 
 std::size_t count_weight_reducing_flips(const Mesh& m, double max_area) {

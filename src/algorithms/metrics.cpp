@@ -34,7 +34,7 @@ struct PartialMetrics {
   std::size_t triangles = 0;
   double weight_total = 0.0, weight_boundary = 0.0;
   double area2 = 0.0;  // twice the area
-  double max_area2 = 0.0;  // twice the largest triangle's area
+  double max_area = 0.0;  // the largest triangle's (triangle_area)
   // Angle extremes without a trigonometric call per triangle: a triangle's smallest angle is
   // opposite its shortest edge and is at most 60°, so it is atan(|cross| / dot) with dot > 0 and
   // the ratio is monotone in it; its largest angle is opposite its longest edge, and
@@ -113,9 +113,9 @@ PartialMetrics measure_range(const Mesh& mesh, TriangleId begin, TriangleId end)
     corner(largest, cross, dot);
     r.add_largest_corner(cross, dot);
     const Point& a = *p[0];
-    const double area2 = (p[1]->x - a.x) * (p[2]->y - a.y) - (p[1]->y - a.y) * (p[2]->x - a.x);
-    r.area2 += area2;
-    r.max_area2 = std::max(r.max_area2, area2);
+    const double area = triangle_area(a, *p[1], *p[2]);
+    r.area2 += 2.0 * area;
+    r.max_area = std::max(r.max_area, area);
   }
   return r;
 }
@@ -136,7 +136,7 @@ Metrics measure(const Mesh& mesh) {
     part.weight_total += second.weight_total;
     part.weight_boundary += second.weight_boundary;
     part.area2 += second.area2;
-    part.max_area2 = std::max(part.max_area2, second.max_area2);
+    part.max_area = std::max(part.max_area, second.max_area);
     part.min_tan = std::min(part.min_tan, second.min_tan);
     part.add_largest_corner(second.max_cross, second.max_dot);
   } else {
@@ -147,7 +147,7 @@ Metrics measure(const Mesh& mesh) {
   r.weight_total = part.weight_total;
   r.weight_boundary = part.weight_boundary;
   r.area = 0.5 * part.area2;
-  r.max_triangle_area = 0.5 * part.max_area2;
+  r.max_triangle_area = part.max_area;
   r.min_angle_deg = r.triangles == 0 ? 0.0 : std::atan(part.min_tan) * 180.0 / std::numbers::pi;
   r.max_angle_deg = r.triangles == 0 ? 0.0 : std::atan2(part.max_cross, part.max_dot) * 180.0 / std::numbers::pi;
   std::vector<char> used(mesh.points.size(), 0);

@@ -1442,7 +1442,7 @@ class Optimizer {
   // of its corners. Returns true if the region changed.
   // OptimizeOptions::max_area: may a move make triangle (a, b, c) (counter-clockwise)?
   bool area_allows(const Point& a, const Point& b, const Point& c) const {
-    return !(opt_.max_area > 0.0) || signed_area(a, b, c) <= opt_.max_area;
+    return !(opt_.max_area > 0.0) || triangle_area(a, b, c) <= opt_.max_area;
   }
 
   // ... every triangle of a triangulation (local indices) of `polygon`?
@@ -1602,7 +1602,7 @@ bool exact_polish_mesh(Mesh& mesh, const OptimizeOptions& options) {
     for (TriangleId t = 0; t < mwt.mesh.triangles.size(); ++t) {
       if (!mwt.mesh.in_domain(t)) continue;
       const auto& v = mwt.mesh.triangles[t].v;
-      if (signed_area(mwt.mesh.points[v[0]], mwt.mesh.points[v[1]], mwt.mesh.points[v[2]]) > options.max_area) {
+      if (triangle_area(mwt.mesh.points[v[0]], mwt.mesh.points[v[1]], mwt.mesh.points[v[2]]) > options.max_area) {
         return false;
       }
     }

@@ -317,8 +317,7 @@ bool Refiner::evaluate(TriangleId t, Eval& ev) {
   ev.angle_bad = alpha_ > 0.0 && cos2 > good_cos2_;
   ev.size_bad = false;
   if (max_area_ > 0.0) {
-    const double area = 0.5 * (abx * (-cay) - aby * (-cax));  // ½ (b−a)×(c−a)
-    ev.size_bad = area > max_area_;
+    ev.size_bad = triangle_area(a, b, c) > max_area_;
   }
   if (custom_test_) {
     // The area bound holds with a custom test too (bundle removal's --max-area); the test is
