@@ -129,11 +129,19 @@ Point segment_intersection(const Point& a, const Point& b, const Point& c, const
 double signed_area(const Point& a, const Point& b, const Point& c);
 
 // The area an area bound (--max-area) is tested and reported with: ½ (b − a) × (c − a) in plain
-// double arithmetic (a few ulps from signed_area's accurate rounding, and cheap). Refinement,
-// the flips, the optimiser and measure() all use this one, so a mesh that keeps the bound
-// reports a largest triangle within it.
+// double arithmetic (a few ulps from signed_area's accurate rounding, and cheap), taken from the
+// corner that is least in (x, y) order, so that it does not depend on which corner a caller
+// names first (a move checks a triangle in one rotation, measure() reads it in another).
+// Refinement, the flips, the optimiser and measure() all use this one, so a mesh that keeps the
+// bound reports a largest triangle within it.
 inline double triangle_area(const Point& a, const Point& b, const Point& c) {
-  return 0.5 * ((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x));
+  const auto less = [](const Point& p, const Point& q) { return p.x < q.x || (p.x == q.x && p.y < q.y); };
+  const auto area_from = [](const Point& p, const Point& q, const Point& r) {
+    return 0.5 * ((q.x - p.x) * (r.y - p.y) - (q.y - p.y) * (r.x - p.x));
+  };
+  if (less(a, b) && less(a, c)) return area_from(a, b, c);
+  if (less(b, c)) return area_from(b, c, a);
+  return area_from(c, a, b);
 }
 
 }  // namespace mwst
