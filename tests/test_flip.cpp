@@ -103,10 +103,7 @@ TEST(Flip, AreaBoundHolds) {
     SCOPED_TRACE(name);
     Mesh cdt = constrained_delaunay(io::read_input(std::string(MWST_DATA_DIR) + "/" + name));
     const double max_area = measure(cdt).max_triangle_area / 50.0;
-    RefineOptions ro;
-    ro.min_angle_deg = 0.0;
-    ro.max_area = max_area;
-    refine(cdt, ro);
+    test::refine_to_area(cdt, max_area);
     ASSERT_LE(measure(cdt).max_triangle_area, max_area);
     Mesh free = cdt, bounded = cdt;
     flip_to_local_minimum(free);

@@ -37,6 +37,7 @@
 #include "mwst/mesh.hpp"
 #include "mwst/metrics.hpp"
 #include "mwst/pslg.hpp"
+#include "mwst/refine.hpp"
 
 namespace mwst::test {
 
@@ -260,6 +261,15 @@ class ExactPlane {
   long shift_ = 0;
   mutable mpz_class adx_, ady_, bdx_, bdy_, cdx_, cdy_, lift_, cross_, det_;
 };
+
+// Delaunay refinement with an area bound and no angle bound: the triangles larger than max_area
+// are split (the start the area-bound tests give the flips and the optimiser).
+inline void refine_to_area(Mesh& m, double max_area) {
+  RefineOptions options;
+  options.min_angle_deg = 0.0;
+  options.max_area = max_area;
+  refine(m, options);
+}
 
 // ---- reading a mesh ----------------------------------------------------------------------------
 

@@ -368,10 +368,7 @@ TEST(Optimize, AreaBoundHolds) {
     const Pslg g = io::read_input(std::string(MWST_DATA_DIR) + "/" + name);
     Mesh start = constrained_delaunay(g);
     const double max_area = measure(start).max_triangle_area / 20.0;
-    RefineOptions r;
-    r.min_angle_deg = 0.0;
-    r.max_area = max_area;
-    refine(start, r);
+    test::refine_to_area(start, max_area);
     ASSERT_LE(measure(start).max_triangle_area, max_area);
     OptimizeOptions o;
     o.perturbation_trials = 20;
