@@ -33,7 +33,7 @@ namespace {
 struct PartialMetrics {
   std::size_t triangles = 0;
   double weight_total = 0.0, weight_boundary = 0.0;
-  double area2 = 0.0;  // twice the area
+  double area = 0.0;
   double max_area = 0.0;  // the largest triangle's (triangle_area)
   // Angle extremes without a trigonometric call per triangle: a triangle's smallest angle is
   // opposite its shortest edge and is at most 60°, so it is atan(|cross| / dot) with dot > 0 and
@@ -114,7 +114,7 @@ PartialMetrics measure_range(const Mesh& mesh, TriangleId begin, TriangleId end)
     r.add_largest_corner(cross, dot);
     const Point& a = *p[0];
     const double area = triangle_area(a, *p[1], *p[2]);
-    r.area2 += 2.0 * area;
+    r.area += area;
     r.max_area = std::max(r.max_area, area);
   }
   return r;
@@ -135,7 +135,7 @@ Metrics measure(const Mesh& mesh) {
     part.triangles += second.triangles;
     part.weight_total += second.weight_total;
     part.weight_boundary += second.weight_boundary;
-    part.area2 += second.area2;
+    part.area += second.area;
     part.max_area = std::max(part.max_area, second.max_area);
     part.min_tan = std::min(part.min_tan, second.min_tan);
     part.add_largest_corner(second.max_cross, second.max_dot);
@@ -146,7 +146,7 @@ Metrics measure(const Mesh& mesh) {
   r.triangles = part.triangles;
   r.weight_total = part.weight_total;
   r.weight_boundary = part.weight_boundary;
-  r.area = 0.5 * part.area2;
+  r.area = part.area;
   r.max_triangle_area = part.max_area;
   r.min_angle_deg = r.triangles == 0 ? 0.0 : std::atan(part.min_tan) * 180.0 / std::numbers::pi;
   r.max_angle_deg = r.triangles == 0 ? 0.0 : std::atan2(part.max_cross, part.max_dot) * 180.0 / std::numbers::pi;

@@ -1257,22 +1257,6 @@ class Optimizer {
     return false;
   }
 
-  // The hull vertex after the origin of `out` (its ghost triangle reads (org, after, ∞)) or before
-  // it ((before, org, ∞)), the order in which mesh.hpp reads hull edges; kNone if it is not on the
-  // hull.
-  VertexId hull_neighbour(Handle out, bool after) const {
-    Handle s = out;
-    std::size_t guard = 0;
-    do {
-      if (m_.is_ghost(s >> 2)) {
-        if (after && m_.apex(s) == kInfinite) return m_.dest(s);
-        if (!after && m_.dest(s) == kInfinite) return m_.apex(s);
-      }
-      s = m_.onext(s);
-    } while (s != out && ++guard < 4096);
-    return kNone;
-  }
-
   // A Steiner vertex on a segment slides along the line through its two segment neighbours, to
   // the point of the open subsegment that minimises its in-domain spokes (a convex function of
   // the position: golden-section search), as far as every finite triangle around it stays
@@ -1290,7 +1274,9 @@ class Optimizer {
     slide_spokes_.clear();
     slide_triangles_.clear();
     slide_domain_triangles_.clear();
-    Handle hull_before = kNone, hull_after = kNone;
+    // On the hull, the hull vertices around v in the order mesh.hpp reads hull edges:
+    // before2 → hull_prev → v → hull_next → after2.
+    VertexId before2 = kNone, hull_prev = kNone, hull_next = kNone, after2 = kNone;
     Handle s = h;
     std::size_t guard = 0;
     do {
@@ -1301,9 +1287,13 @@ class Optimizer {
         slide_triangles_.push_back({u, m_.apex(s)});  // triangle (v, u, apex)
         if (m_.in_domain(t)) slide_domain_triangles_.push_back({u, m_.apex(s)});
       } else if (m_.apex(s) == kInfinite) {
-        hull_after = m_.lnext(s);  // u → ∞: an edge out of the hull vertex after v
+        // The ghost (v, u, ∞); the next ghost (u, after2, ∞) lies across its edge u → ∞.
+        hull_next = u;
+        after2 = m_.apex(m_.sym(Mesh::lnext(s)));
       } else if (u == kInfinite) {
-        hull_before = m_.lprev(s);  // apex → v: an edge out of the hull vertex before v
+        // The ghost (hull_prev, v, ∞); the one before, (before2, hull_prev, ∞), lies across ∞ → hull_prev.
+        hull_prev = m_.apex(s);
+        before2 = m_.apex(m_.sym(Mesh::lnext(s)));
       }
       if (u != kInfinite) {
         if (m_.is_segment(s)) {
@@ -1317,14 +1307,13 @@ class Optimizer {
     } while (s != h && ++guard < 4096);
     if (s != h || count != 2) return false;
     const Point a = m_.points[ends[0]], b = m_.points[ends[1]];
-    // On the hull: the hull reads before2 → hull_prev → v → hull_next → after2, and no hull vertex may be
-    // strictly left of the hull edge into it (mesh.hpp's convexity, which validate() checks).
-    const bool on_hull = hull_before != kNone || hull_after != kNone;
-    if (on_hull && (hull_before == kNone || hull_after == kNone)) return false;
-    const VertexId hull_prev = on_hull ? m_.org(hull_before) : kNone, hull_next = on_hull ? m_.org(hull_after) : kNone;
-    const VertexId before2 = on_hull ? hull_neighbour(hull_before, false) : kNone;
-    const VertexId after2 = on_hull ? hull_neighbour(hull_after, true) : kNone;
-    if (on_hull && (before2 == kNone || after2 == kNone)) return false;
+    // On the hull no hull vertex may be strictly left of the hull edge into it (mesh.hpp's
+    // convexity, which validate() checks).
+    const bool on_hull = hull_prev != kNone || hull_next != kNone;
+    if (on_hull && (hull_prev == kNone || hull_next == kNone || before2 == kNone || after2 == kNone ||
+                    before2 == kInfinite || after2 == kInfinite)) {
+      return false;
+    }
     auto weight_at = [&](const Point& p) { return spoke_sum(p, slide_spokes_); };
     auto valid_at = [&](const Point& q) {
       if (!in_supported_range(q) || orient2d(a, b, q) != 0) return false;
