@@ -417,5 +417,36 @@ TEST(Optimize, ClusterPolishAndPairKicksNeverHurt) {
   }
 }
 
+// The search remembers the regions that failed (OptimizeOptions::remember_failed_regions) and
+// skips them while their triangles, corners and neighbours are unchanged: the meshes are the
+// same, move for move, as when every region is tried afresh, including with a Steiner budget
+// that starts full (a failure for want of room is not remembered: a removal may make room) and
+// with an area bound; and the memory is used (skips counted), so the comparison is not between
+// two identical runs. (Leaving the corners' coordinates out of the fingerprint fails it.)
+TEST(Optimize, RememberingFailedRegionsChangesNoResult) {
+  for (const char* name : {"Africa.poly", "Plate.poly", "Turkey.poly"}) {
+    SCOPED_TRACE(name);
+    const Pslg g = io::read_input(std::string(MWST_DATA_DIR) + "/" + name);
+    const Mesh start = refined_10_degrees(g);
+    for (int variant = 0; variant < 3; ++variant) {
+      SCOPED_TRACE(variant);
+      OptimizeOptions o;
+      o.perturbation_trials = 30;
+      if (variant == 1) o.max_steiner = start.points.size() - g.points.size();
+      if (variant == 2) o.max_area = measure(start).max_triangle_area;
+      Mesh remembered = start, fresh = start;
+      const OptimizeStats with_memory = optimize(remembered, o);
+      o.remember_failed_regions = false;
+      const OptimizeStats without = optimize(fresh, o);
+      EXPECT_GT(with_memory.region_tries_skipped, 0u);
+      EXPECT_EQ(without.region_tries_skipped, 0u);
+      expect_same_mesh(remembered, fresh, name);
+      EXPECT_EQ(with_memory.insertions, without.insertions);
+      EXPECT_EQ(with_memory.region_retriangulations, without.region_retriangulations);
+      EXPECT_EQ(with_memory.perturbations, without.perturbations);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace mwst

@@ -64,6 +64,11 @@ struct OptimizeOptions {
   // valid and no heavier than given, but where it stopped depends on the machine's speed: only
   // the size budgets above give the same result on every run.
   double time_budget_seconds = -1.0;
+  // Testing: with false, every region the local search looks at is tried afresh, even one whose
+  // triangles, corners and neighbours are exactly as when it last failed (the search remembers
+  // those by fingerprint and skips them; OptimizeStats::region_tries_skipped). The result is the
+  // same either way; only the time differs.
+  bool remember_failed_regions = true;
 };
 
 struct OptimizeStats {
@@ -72,6 +77,7 @@ struct OptimizeStats {
   std::size_t removals = 0;
   std::size_t insertions = 0;
   std::size_t region_retriangulations = 0;  // small regions re-triangulated by their MWT
+  std::size_t region_tries_skipped = 0;     // regions not retried: unchanged since they failed
   std::size_t flips = 0;
   std::size_t kick_insertions = 0;  // trial insertions kept after their local re-optimisation
   std::size_t kick_removals = 0;    // trial removals kept

@@ -41,6 +41,8 @@
 #include "mwst/optimize.hpp"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -111,9 +113,14 @@ double polygon_mwt(const std::vector<Point>& P, std::vector<std::array<std::uint
   const std::size_t d = P.size();
   constexpr double kInf = std::numeric_limits<double>::infinity();
   if (d < 3) return kInf;
+  // Scratch kept between calls (the optimiser calls this for every small region it tries, and
+  // three allocations per call were a sizeable part of its time).
+  thread_local std::vector<char> valid;
+  thread_local std::vector<double> W, length;
+  thread_local std::vector<std::uint32_t> choice;
   // valid[i][j]: the chord ij is a polygon edge or a diagonal lying inside the polygon. In a
   // strictly convex polygon every chord is (O(d) test instead of O(d³)).
-  std::vector<char> valid(d * d, 0);
+  valid.assign(d * d, 0);
   for (std::size_t i = 0; i < d; ++i) {
     valid[i * d + (i + 1) % d] = valid[((i + 1) % d) * d + i] = 1;
   }
@@ -135,12 +142,18 @@ double polygon_mwt(const std::vector<Point>& P, std::vector<std::array<std::uint
   }
   // W[i][j]: lightest triangulation of the sub-polygon i..j (diagonal weights only, chord ij
   // excluded); choice[i][j] the apex k of the triangle on chord ij.
-  std::vector<double> W(d * d, kInf);
-  std::vector<std::uint32_t> choice(d * d, 0);
+  W.assign(d * d, kInf);
+  choice.assign(d * d, 0);
   for (std::size_t i = 0; i + 1 < d; ++i) W[i * d + i + 1] = 0.0;
-  auto chord = [&](std::size_t i, std::size_t j) {
-    return (j == i + 1 || (i == 0 && j == d - 1)) ? 0.0 : distance(P[i], P[j]);
-  };
+  // length[i][j] (i < j): the weight chord ij adds, 0 for a polygon edge; computed once per chord
+  // rather than once per triangle of the recurrence that uses it.
+  length.resize(d * d);
+  for (std::size_t i = 0; i < d; ++i) {
+    for (std::size_t j = i + 1; j < d; ++j) {
+      length[i * d + j] = (j == i + 1 || (i == 0 && j == d - 1) || !valid[i * d + j]) ? 0.0 : distance(P[i], P[j]);
+    }
+  }
+  auto chord = [&](std::size_t i, std::size_t j) { return length[i * d + j]; };
   for (std::size_t gap = 2; gap < d; ++gap) {
     for (std::size_t i = 0; i + gap < d; ++i) {
       const std::size_t j = i + gap;
@@ -1387,8 +1400,9 @@ class Optimizer {
     std::sort(member_.begin(), member_.end());
     if (std::adjacent_find(member_.begin(), member_.end()) != member_.end()) return false;
     auto inside = [&](TriangleId t) { return std::binary_search(member_.begin(), member_.end(), t); };
-    // Boundary edges, then chain them by their origin.
-    std::unordered_map<VertexId, Handle> from;
+    // Boundary edges by their origin (sorted: a repeated origin means the boundary is not
+    // simple), then chained from origin to origin.
+    boundary_from_.clear();
     double interior = 0.0;
     for (const TriangleId t : tris) {
       for (unsigned e = 0; e < 3; ++e) {
@@ -1399,25 +1413,28 @@ class Optimizer {
           interior += 0.5 * distance(m_.points[m_.org(h)], m_.points[m_.dest(h)]);
           continue;
         }
-        if (!from.emplace(m_.org(h), h).second) return false;  // vertex repeated: not simple
+        boundary_from_.emplace_back(m_.org(h), h);
       }
     }
-    region_interior_weight_ = interior;
-    if (from.empty()) return false;
-    // Start from the smallest origin for determinism.
-    VertexId smallest = kInfinite;
-    for (const auto& [v, hh] : from) {
-      (void)hh;
-      smallest = std::min(smallest, v);
+    if (boundary_from_.empty()) return false;
+    std::sort(boundary_from_.begin(), boundary_from_.end());
+    for (std::size_t i = 1; i < boundary_from_.size(); ++i) {
+      if (boundary_from_[i].first == boundary_from_[i - 1].first) return false;  // vertex repeated
     }
-    Handle h = from.at(smallest);
-    for (std::size_t i = 0; i < from.size(); ++i) {
+    region_interior_weight_ = interior;
+    auto edge_from = [&](VertexId v) -> const std::pair<VertexId, Handle>* {
+      const auto at = std::lower_bound(boundary_from_.begin(), boundary_from_.end(), std::pair<VertexId, Handle>(v, 0));
+      return at != boundary_from_.end() && at->first == v ? &*at : nullptr;
+    };
+    // Start from the smallest origin for determinism.
+    Handle h = boundary_from_.front().second;
+    for (std::size_t i = 0; i < boundary_from_.size(); ++i) {
       r.boundary.push_back(m_.org(h));
       r.outer.push_back(m_.sym(h));
       r.segment.push_back(m_.is_segment(h) ? 1 : 0);
       r.marker.push_back(m_.marker(h));
-      const auto next = from.find(m_.dest(h));
-      if (next == from.end()) return false;
+      const auto* next = edge_from(m_.dest(h));
+      if (next == nullptr) return false;
       h = next->second;
     }
     if (m_.org(h) != r.boundary.front()) return false;  // more than one boundary cycle
@@ -1458,7 +1475,68 @@ class Optimizer {
                                 tris);
   }
 
+  // A failed try_region() changes nothing, and what it decided was a function of what it read:
+  // the triangles given (slots, in order), their corners, neighbour handles and flags, their
+  // corners' points and kinds, and allow_star. The local search retries every region near a
+  // change, in every round and every perturbation trial, and most of them have not changed since
+  // they last failed, so such failures are remembered by a 128-bit fingerprint of that input and
+  // not tried again. A lossy cache (one fingerprint per slot, the newest kept): forgetting only
+  // costs a retry, and a match needs all 128 bits, so the results are those of trying every time.
+  using RegionFingerprint = std::array<std::uint64_t, 2>;
+  RegionFingerprint region_fingerprint(const std::vector<TriangleId>& tris, bool allow_star) const {
+    std::uint64_t h1 = 0x9E3779B97F4A7C15ull ^ tris.size(), h2 = 0xC2B2AE3D27D4EB4Full + (allow_star ? 1u : 0u);
+    const auto mix = [&](std::uint64_t w) {
+      h1 = std::rotl((h1 ^ w) * 0x87C37B91114253D5ull, 31) * 0x4CF5AD432745937Full;
+      h2 = std::rotl((h2 + w) * 0xFF51AFD7ED558CCDull, 29) ^ (h2 >> 17);
+      h2 *= 0xC4CEB9FE1A85EC53ull;
+    };
+    for (const TriangleId t : tris) {
+      const Triangle& T = m_.triangles[t];
+      mix(t | std::uint64_t{m_.flags[t]} << 32);
+      for (unsigned k = 0; k < 3; ++k) {
+        const VertexId v = T.v[k];
+        mix(v | std::uint64_t{T.n[k]} << 32);
+        if (v == kInfinite) continue;
+        mix(std::bit_cast<std::uint64_t>(m_.points[v].x));
+        mix(std::bit_cast<std::uint64_t>(m_.points[v].y) ^ static_cast<std::uint64_t>(m_.vertex_kind[v]));
+      }
+    }
+    const auto finish = [](std::uint64_t h) {
+      h ^= h >> 33;
+      h *= 0xFF51AFD7ED558CCDull;
+      h ^= h >> 33;
+      h *= 0xC4CEB9FE1A85EC53ull;
+      return h ^ (h >> 33);
+    };
+    return {finish(h1), finish(h2) | 1u};  // (never {0, 0}, the empty slot)
+  }
+  RegionFingerprint* failed_region_slot(const RegionFingerprint& f) {
+    if (failed_regions_.empty()) {
+      // About 32 slots per triangle (each triangle starts several regions, and the mesh around it
+      // keeps changing), a power of two between 2^14 and 2^21 (256 KiB to 32 MiB).
+      const std::size_t want = std::clamp<std::size_t>(32 * m_.triangles.size(), std::size_t{1} << 14, std::size_t{1} << 21);
+      failed_regions_.assign(std::bit_ceil(want), RegionFingerprint{0, 0});
+    }
+    return &failed_regions_[f[0] & (failed_regions_.size() - 1)];
+  }
+
   bool try_region(const std::vector<TriangleId>& tris, bool allow_star = true) {
+    bool depends_on_room = false;  // a failure for want of Steiner room is not remembered
+    if (!opt_.remember_failed_regions) return try_region_once(tris, allow_star, depends_on_room);
+    const RegionFingerprint fingerprint = region_fingerprint(tris, allow_star);
+    RegionFingerprint* const slot = failed_region_slot(fingerprint);
+    if (*slot == fingerprint) {
+      ++stats_.region_tries_skipped;
+      return false;
+    }
+    if (!try_region_once(tris, allow_star, depends_on_room)) {
+      if (!depends_on_room) *slot = fingerprint;
+      return false;
+    }
+    return true;
+  }
+
+  bool try_region_once(const std::vector<TriangleId>& tris, bool allow_star, bool& depends_on_room) {
     if (!region_from(tris, region_)) return false;
     polygon_.clear();
     Point centroid{0.0, 0.0};
@@ -1491,7 +1569,9 @@ class Optimizer {
         star_weight = spoke_sum(q, polygon_);
       }
     }
-    if (star_weight < current && star_weight < mwt && steiner_room() > 0) {
+    const bool star_wins = star_weight < current && star_weight < mwt;
+    if (star_wins && steiner_room() == 0) depends_on_room = true;
+    if (star_wins && !depends_on_room) {
       const VertexId v = m_.add_vertex(q, VertexKind::kSteiner, 0);
       vertex_handle_.push_back(kNone);
       std::vector<std::array<VertexId, 3>> star;
@@ -1559,6 +1639,8 @@ class Optimizer {
   std::vector<Point> polygon_;
   std::vector<std::array<std::uint32_t, 3>> local_;
   std::vector<TriangleId> member_;
+  std::vector<std::pair<VertexId, Handle>> boundary_from_;  // region_from(): boundary edges by origin
+  std::vector<std::array<std::uint64_t, 2>> failed_regions_;  // try_region(): fingerprints of failures
   double region_interior_weight_ = 0.0;
   Mesh backup_;
   std::vector<Handle> flip_stack_;

@@ -347,6 +347,7 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
                               {"removals", best_stats.removals},
                               {"insertions", best_stats.insertions},
                               {"region_retriangulations", best_stats.region_retriangulations},
+                              {"region_tries_skipped", best_stats.region_tries_skipped},
                               {"kick_insertions", best_stats.kick_insertions},
                               {"kick_removals", best_stats.kick_removals},
                               {"perturbations", best_stats.perturbations},
