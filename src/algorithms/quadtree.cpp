@@ -336,6 +336,7 @@ struct CleanInput {
   std::vector<VertexId> vertices;        // feature vertices (every vertex that is not a duplicate)
   std::vector<FeatureSegment> segments;  // subsegments of the clean graph, then hull edges
   double domain_area = 0.0;              // of the input's domain (in floating point)
+  std::vector<Point> hole_seeds;         // where to carve the holes (see clean_graph())
 };
 
 // A PSLG with segments: its CDT resolves duplicates, vertices on segments and crossings; the
@@ -373,6 +374,33 @@ CleanInput clean_graph(const Pslg& pslg, const QuadtreeOptions& options, Quadtre
       const std::uint64_t key = (std::uint64_t{std::min(u, w)} << 32) | std::max(u, w);
       seen.emplace_back(key, cdt.marker(h));
     }
+  }
+  // The holes are carved from the faces the CDT carved them from. A seed is a point of a face of
+  // the segments' arrangement, but the clean segments are pieces between rounded crossing points,
+  // and a seed on (or within rounding of) an input segment's line can lie on a piece in one mesh
+  // and beside it in another: a seed exactly on such a line was beside the CDT's piece, and so
+  // carved a face there, while the quadtree put a corner exactly on the line at the seed, which
+  // made its carve ignore it (fuzz input; the domains then differed). So each seed the CDT
+  // carved from is replaced by the centroid of its CDT triangle, a point well inside the same
+  // face; the seeds the CDT ignored (on a segment or vertex, outside the hull, out of range) are
+  // dropped — the CDT has warned about them.
+  for (const Point& p : pslg.holes) {
+    if (!in_supported_range(p)) continue;
+    const Location loc = cdt.locate(p);
+    if (loc.kind == Location::Kind::kOnVertex ||
+        (loc.kind == Location::Kind::kOnEdge && cdt.is_segment(loc.handle))) {
+      continue;
+    }
+    TriangleId t = loc.handle >> 2;
+    if (cdt.is_ghost(t)) {
+      if (loc.kind != Location::Kind::kOnEdge || cdt.is_ghost(cdt.sym(loc.handle) >> 2)) continue;
+      t = cdt.sym(loc.handle) >> 2;  // on a hull edge: the triangle inside (as carve() takes it)
+    }
+    const Triangle& T = cdt.triangles[t];
+    const Point &a = cdt.points[T.v[0]], &b = cdt.points[T.v[1]], &c = cdt.points[T.v[2]];
+    const Point g{(a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0};
+    const bool inside = orient2d(a, b, g) > 0 && orient2d(b, c, g) > 0 && orient2d(c, a, g) > 0;
+    in.hole_seeds.push_back(inside ? g : p);
   }
   std::sort(seen.begin(), seen.end());
   for (std::size_t i = 0; i < seen.size(); ++i) {
@@ -3323,7 +3351,7 @@ Mesh quadtree_refinement(const Pslg& pslg, const QuadtreeOptions& options, Quadt
   stats.seconds_input = seconds_since(t0);
   bool any_real_segment = false;
   for (const FeatureSegment& s : in.segments) any_real_segment = any_real_segment || !s.hull_only;
-  const std::vector<Point> holes = any_real_segment ? pslg.holes : std::vector<Point>{};
+  const std::vector<Point> holes = any_real_segment ? in.hole_seeds : std::vector<Point>{};
 
   Mesh mesh;
   std::vector<Point> extra;
