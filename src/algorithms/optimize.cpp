@@ -1485,10 +1485,10 @@ class Optimizer {
   using RegionFingerprint = std::array<std::uint64_t, 2>;
   RegionFingerprint region_fingerprint(const std::vector<TriangleId>& tris, bool allow_star) const {
     std::uint64_t h1 = 0x9E3779B97F4A7C15ull ^ tris.size(), h2 = 0xC2B2AE3D27D4EB4Full + (allow_star ? 1u : 0u);
+    // Two independent multiply-rotate chains (one multiplication per word each), finished below.
     const auto mix = [&](std::uint64_t w) {
-      h1 = std::rotl((h1 ^ w) * 0x87C37B91114253D5ull, 31) * 0x4CF5AD432745937Full;
-      h2 = std::rotl((h2 + w) * 0xFF51AFD7ED558CCDull, 29) ^ (h2 >> 17);
-      h2 *= 0xC4CEB9FE1A85EC53ull;
+      h1 = std::rotl(h1 ^ w, 27) * 0x87C37B91114253D5ull;
+      h2 = std::rotl(h2 + w, 31) * 0x4CF5AD432745937Full;
     };
     for (const TriangleId t : tris) {
       const Triangle& T = m_.triangles[t];
@@ -1525,7 +1525,7 @@ class Optimizer {
     if (!opt_.remember_failed_regions) return try_region_once(tris, allow_star, depends_on_room);
     const RegionFingerprint fingerprint = region_fingerprint(tris, allow_star);
     RegionFingerprint* const slot = failed_region_slot(fingerprint);
-    if (*slot == fingerprint) {
+    if ((*slot)[0] == fingerprint[0] && (*slot)[1] == fingerprint[1]) {
       ++stats_.region_tries_skipped;
       return false;
     }
