@@ -26,9 +26,11 @@
 //    neighbour look-ups.
 //  - Memory: the kernel clears each page on its first touch, and at a million points that is a
 //    large part of the run, so dead arrays are reused rather than freed and new ones taken: the
-//    grid positions become the mesh's points in place (Builder::run()), and the tree's dead
-//    blocks and hints and the vertex ownership arrays are lent to the arrays made after them
-//    (SpareRoom; about 0.6 GB of 3.6 GB of fresh pages at a million uniform points).
+//    tree's nodes live in the storage that becomes the mesh's triangle array, and the triangles
+//    are written over them (NodeArray), the grid positions become the mesh's points in place
+//    (Builder::run()), and the tree's dead list blocks and hints and the vertex ownership arrays
+//    are lent to the arrays made after them (SpareRoom). At a million uniform points the run
+//    touches 2.3 GB of fresh pages (it was 2.8 GB before the nodes moved into the triangles).
 //  - Cells are triangulated in chunks of leaves in Morton order, their triangles placed by prefix
 //    sums in that order, and each cell links its left and bottom sides to the cells across them
 //    (found by the look-ups that numbered the vertices) soon after it is written: those come
@@ -75,6 +77,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <exception>
 #include <limits>
 #include <memory>
@@ -607,6 +610,55 @@ struct Box {
   double x1, y1, x2, y2;
 };
 
+// The tree's nodes, kept in the address range that becomes the mesh's triangle array. The nodes
+// are the largest array of the run (40 bytes per node, 1.3 nodes per leaf) and are dead once the
+// Builder has read what it needs from them, just before the cells' triangles (2.4 per leaf, 24
+// bytes each) are written: so they live in the capacity of a std::vector<Triangle> that the
+// Builder hands to the mesh (Tree::give_node_storage()), and the triangles are written over pages
+// the nodes already touched (the kernel clears each page of fresh memory on its first touch,
+// which at a million points is a large part of the run). New elements of resize() are left
+// unwritten, as with UninitializedAllocator: the arrays are sized up front for finish()'s lanes.
+class NodeArray {
+ public:
+  static_assert(std::is_trivially_copyable_v<Node> && alignof(Node) <= alignof(std::max_align_t));
+  std::size_t size() const { return size_; }
+  std::size_t capacity() const { return capacity_; }
+  Node* data() { return data_; }
+  const Node* data() const { return data_; }
+  Node& operator[](std::size_t i) { return data_[i]; }
+  const Node& operator[](std::size_t i) const { return data_[i]; }
+  void clear() { size_ = 0; }
+  void reserve(std::size_t n) {
+    if (n <= capacity_) return;
+    std::vector<Triangle> grown;
+    grown.reserve((n * sizeof(Node) + sizeof(Triangle) - 1) / sizeof(Triangle));
+    // The storage is raw room for nodes (the vector holds no Triangle until the mesh takes it).
+    Node* const moved = reinterpret_cast<Node*>(grown.data());
+    if (size_ > 0) std::memcpy(static_cast<void*>(moved), data_, size_ * sizeof(Node));
+    storage_ = std::move(grown);
+    data_ = moved;
+    capacity_ = storage_.capacity() * sizeof(Triangle) / sizeof(Node);
+  }
+  void resize(std::size_t n) {
+    if (n > capacity_) reserve(std::max(n, capacity_ / 2 * 3));
+    size_ = n;
+  }
+  void push_back(const Node& node) {
+    if (size_ == capacity_) reserve(std::max<std::size_t>(64, capacity_ * 2));
+    std::memcpy(static_cast<void*>(data_ + size_), &node, sizeof(Node));
+    ++size_;
+  }
+  // The storage, as an empty triangle array with its capacity: the nodes stay readable where they
+  // are until that array is written (or freed), and the tree no longer owns them.
+  std::vector<Triangle> give_storage() { return std::move(storage_); }
+
+ private:
+  std::vector<Triangle> storage_;  // size 0: only its capacity is used
+  Node* data_ = nullptr;
+  std::size_t size_ = 0, capacity_ = 0;
+};
+void reserve_room(NodeArray& v, std::size_t n) { v.reserve(n); }
+
 class Tree {
  public:
   // build(): a frontier cell and its list of features in the level's pool.
@@ -834,9 +886,11 @@ class Tree {
     nodes.clear();
     // Room for what a uniform point set needs, so that the big arrays are not copied while they
     // grow: finish() sizes them to three times what this build makes (about 7 nodes and 7 list
-    // entries per point) for its lanes' blocks. Unused room is never touched.
+    // entries per point) for its lanes' blocks. Unused room is never touched. The nodes get a
+    // little more, 1200 bytes per feature: their storage becomes the mesh's triangle array, which
+    // the cells want with room for 4 triangles (96 bytes) per leaf, 11.6 leaves per point.
     const std::size_t feature_count = rank_id_.size() + in_.segments.size();
-    reserve_room(nodes, 24 * feature_count + 256);
+    reserve_room(nodes, 30 * feature_count + 256);
     reserve_room(hint_, 24 * feature_count + 256);
     reserve_room(features, 30 * feature_count + 64);
     nodes.push_back(Node{});
@@ -1574,7 +1628,8 @@ class Tree {
 
   // After finish(): the east lane's old block (written while the lane ran, moved down by
   // join_lanes()) is dead where it lies past the arrays' final ends; the tree never grows after
-  // finish(), so those pages of the arrays' capacity are lent (about 150 MB at a million points).
+  // finish(), so those pages of the arrays' capacity are lent (the lists' and the hints'; the
+  // nodes' storage becomes the mesh's triangle array, see NodeArray).
   void lend_dead_room(SpareRoom& room) {
     const auto lend_tail = [&](auto& array, std::pair<std::size_t, std::size_t> block) {
       const std::size_t begin = std::max(block.first, array.size());
@@ -1582,7 +1637,6 @@ class Tree {
         room.lend(array.data() + begin, (block.second - begin) * sizeof(array[0]));
       }
     };
-    lend_tail(nodes, east_node_block_);
     lend_tail(features, east_feature_block_);
     // (The hints' dead block usually follows their live part: lent with it, as one region.)
     if (east_node_block_.first > hint_.size()) lend_tail(hint_, east_node_block_);
@@ -1596,6 +1650,10 @@ class Tree {
     room.lend(hint_.data(), end * sizeof(hint_[0]));
     hints_lent_ = true;
   }
+
+  // The nodes' storage, for the mesh's triangles (NodeArray::give_storage()): the nodes may still
+  // be read until the first triangle is written, and not after.
+  std::vector<Triangle> give_node_storage() { return nodes.give_storage(); }
 
   unsigned max_level() const { return max_level_; }
   // Leaves (1 + 3 per split: nodes come in fours) and the deepest level of any node.
@@ -1619,7 +1677,7 @@ class Tree {
   }
   unsigned deepest() const { return deepest_; }
 
-  std::vector<Node, UninitializedAllocator<Node>> nodes;
+  NodeArray nodes;
   std::vector<std::uint32_t, UninitializedAllocator<std::uint32_t>> features;  // the leaves' lists
 
  private:
@@ -1660,7 +1718,11 @@ class Builder {
   Mesh run(const std::vector<Point>& holes);
 
   // Free corners for the fallback (grid vertices not near a feature); valid after number_vertices().
-  std::vector<Point> fallback_points() const;
+  // `tree` is the Builder's tree or, once its nodes are given away, the same tree built again.
+  std::vector<Point> fallback_points(const Tree& tree) const;
+  // Did run() give the tree's nodes' storage to the mesh (NodeArray)? The nodes are then gone:
+  // overwritten by the triangles, or freed with the mesh when the route failed.
+  bool nodes_given_away() const { return nodes_given_away_; }
 
  private:
   using Tri = std::array<std::uint32_t, 3>;
@@ -1849,6 +1911,7 @@ class Builder {
   std::size_t centre_base_ = 0;                            // first centre's vertex id
   std::vector<Point> centre_points_;                       // centres in leaf order
   std::size_t threaded_leaves_ = threads_from(options_, 65536);  // leaves for two threads
+  bool nodes_given_away_ = false;                          // see nodes_given_away()
   // For a pass over the leaves [.., end) that looks up neighbours in directions d0 and d1 of leaf
   // k: fetches the node and hints of the leaf 16 on, and the nodes those hints name for the leaf
   // 8 on (Tree::prefetch_node, prefetch_hinted).
@@ -1911,8 +1974,11 @@ void Builder::number_vertices() {
         out = first;
         return true;
       };
+      // Otherwise the node across, or the first child of a split one (link_cell() reads no node:
+      // the nodes' storage is the triangle array it writes, see NodeArray).
+      const auto node_across = [&](std::uint32_t b) { return b != kNone && !tree_.is_leaf(b) ? tree_.nodes[b].child : b; };
       unsigned across = 0;
-      std::uint32_t west = w, south = s;
+      std::uint32_t west = node_across(w), south = node_across(s);
       if (leaf_across(w, kOwnLeftMid, 1, 2, west)) across |= 1u;
       if (leaf_across(s, kOwnBottomMid, 2, 1, south)) across |= 2u;
       west_south_[k] = {west, south};
@@ -2967,7 +3033,7 @@ void Builder::link_cell(const std::vector<Point>& points, Triangle* tris, const 
       across[1] = r + (side == 3 ? 2u : 1u);
       count = split ? 2 : 1;
     } else if (split) {  // two leaves
-      const std::uint32_t c = tree_.nodes[r].child;
+      const std::uint32_t c = r;  // the split cell's first child (number_vertices())
       if (side == 3) {
         across[0] = c + 1;  // east column of the finer neighbour
         across[1] = c + 3;
@@ -3123,6 +3189,10 @@ Mesh Builder::run(const std::vector<Point>& holes) {
   // least 2 triangles per cell; the warped and cut cells' boundary edges fault in as written) are
   // touched, and every element is written later, so the output does not depend on it.
   Mesh mesh;
+  // The triangles are written over the nodes (NodeArray): the mesh owns their storage from here,
+  // and they are read until triangulate_cells() starts.
+  mesh.triangles = tree_.give_node_storage();
+  nodes_given_away_ = true;
   const Mesh& base = in_.vertices_only;
   const std::size_t leaf_count = leaves_.size();
   const std::size_t grid_room = gpos_.capacity();  // grid vertices and crossing points
@@ -3145,9 +3215,12 @@ Mesh Builder::run(const std::vector<Point>& holes) {
   auto allocate_cells = [&] {
     cell_bound_ = make_spare_array<CellBound>(spare_, leaf_count);
     reserve_room(bound_, leaf_count * 6);
-    reserve_room(mesh.triangles, leaf_count * 4);
     if (!spare_.lent(cell_bound_.get())) cell_pages.add(cell_bound_.get(), leaf_count * sizeof(CellBound));
-    cell_pages.add(mesh.triangles.data(), leaf_count * 2 * sizeof(Triangle));
+    // (Not grown here: that would free the nodes, which warp() and segments_pass() are reading;
+    // triangulate_cells() grows the array if the nodes' storage is too small.)
+    if (mesh.triangles.capacity() >= leaf_count * 4) {
+      cell_pages.add(mesh.triangles.data(), leaf_count * 2 * sizeof(Triangle));
+    }
   };
   // The helper's stage: 1 when the vertex arrays are ready (it then does the cells' arrays while
   // the ids below are given), 2 when the cells' arrays are allocated (their pages are then touched
@@ -3264,6 +3337,16 @@ Mesh Builder::run(const std::vector<Point>& holes) {
     for (std::size_t g = 0; g < final_id_.size(); ++g) gpos_[g] = mesh.points[final_id_[g]];
     throw;
   }
+  // The pages of the triangle array's room that the nodes touched past the last triangle (the
+  // east lane's old block) go back to the system: the room's contents are unspecified, and a
+  // later write there gets a fresh page.
+  {
+    static const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
+    const auto used = reinterpret_cast<std::uintptr_t>(mesh.triangles.data() + mesh.triangles.size());
+    const auto room = reinterpret_cast<std::uintptr_t>(mesh.triangles.data() + mesh.triangles.capacity());
+    const std::uintptr_t first = (used + page - 1) / page * page, last = room / page * page;
+    if (first < last) ::madvise(reinterpret_cast<void*>(first), last - first, MADV_DONTNEED);
+  }
   stats_.seconds_mesh = seconds_since(t0);
   const auto t1 = Clock::now();
   // Carve as the CDT does: flood from the root's border and from the hole seeds across every edge
@@ -3281,22 +3364,22 @@ Mesh Builder::run(const std::vector<Point>& holes) {
   return mesh;
 }
 
-std::vector<Point> Builder::fallback_points() const {
+std::vector<Point> Builder::fallback_points(const Tree& tree) const {
   // Grid corners away from every feature: at least a quarter of their smallest leaf from it.
   std::vector<Point> out;
-  if (!loops_ || glevel_.size() != grid_count_) return out;
+  if (!loops_ || glevel_.size() != grid_count_ || tree.nodes.size() != tree_.nodes.size()) return out;
   std::vector<char> near(grid_count_, 0);
   for (std::uint32_t k = 0; k < leaves_.size(); ++k) {
-    const Node& n = tree_.nodes[leaves_[k]];
+    const Node& n = tree.nodes[leaves_[k]];
     for (unsigned slot = 0; slot < 8; ++slot) {
       const std::uint32_t g = loops_[8 * std::size_t{k} + slot];
       if (g == kNone || near[g]) continue;
-      const double r = 0.25 * tree_.cell_size(glevel_[g]);
+      const double r = 0.25 * tree.cell_size(glevel_[g]);
       const Point& p = gpos_[g];
       const Box b{p.x - r, p.y - r, p.x + r, p.y + r};
       for (std::uint32_t i = 0; i < n.feat_count && !near[g]; ++i) {
-        const std::uint32_t f = tree_.features[n.feat_begin + i];
-        if (tree_.meets(f, b)) near[g] = 1;
+        const std::uint32_t f = tree.features[n.feat_begin + i];
+        if (tree.meets(f, b)) near[g] = 1;
       }
     }
   }
@@ -3375,6 +3458,16 @@ Mesh quadtree_refinement(const Pslg& pslg, const QuadtreeOptions& options, Quadt
       }
     }
     Builder builder(in, options, stats, tree);
+    // The free corners for the fallback read the tree's nodes; once those went with the mesh
+    // (NodeArray), from the same tree built again (the build is deterministic).
+    const auto corners = [&] {
+      if (!builder.nodes_given_away()) return builder.fallback_points(tree);
+      QuadtreeStats scratch;
+      Tree again(in, options, scratch);
+      again.build();
+      again.finish();
+      return builder.fallback_points(again);
+    };
     try {
       if (options.force_fallback) throw RouteFailure{"forced by the options"};
       if (stats.unresolved > 0) {
@@ -3385,13 +3478,13 @@ Mesh quadtree_refinement(const Pslg& pslg, const QuadtreeOptions& options, Quadt
     } catch (const RouteFailure& failure) {
       stats.fallback = true;
       stats.fallback_reason = failure.reason;
-      if (failure.corners_usable) extra = builder.fallback_points();
+      if (failure.corners_usable) extra = corners();
     } catch (const InternalError& error) {
       // A broken invariant on the quadtree route (a bug; the tests assert no fallback on their
       // inputs): the user still gets a valid mesh, with a warning naming the invariant.
       stats.fallback = true;
       stats.fallback_reason = std::string("internal error: ") + error.what();
-      extra = builder.fallback_points();
+      extra = corners();
     }
   } catch (const RouteFailure& failure) {  // from the tree: its time until it gave up
     stats.fallback = true;
