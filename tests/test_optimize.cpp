@@ -448,5 +448,38 @@ TEST(Optimize, RememberingFailedRegionsChangesNoResult) {
   }
 }
 
+// Kicks are undone by the mesh's trial journal (Mesh::begin_trial), not by a copy: the meshes and
+// the counts of kept moves are the same as with a copy per trial (undo_trials_by_copy), with every
+// kind of kick on (insertions, edge splits, segment insertions and removals, removals, pairs,
+// the cluster polish), a Steiner budget and an area bound; and kicks were tried and rejected, so
+// undoing was exercised.
+TEST(Optimize, KicksUndoneByTheJournalAsByACopy) {
+  for (const char* name : {"Africa.poly", "Plate.poly", "Turkey.poly"}) {
+    SCOPED_TRACE(name);
+    const Pslg g = io::read_input(std::string(MWST_DATA_DIR) + "/" + name);
+    const Mesh start = refined_10_degrees(g);
+    for (int variant = 0; variant < 3; ++variant) {
+      SCOPED_TRACE(variant);
+      OptimizeOptions o;
+      o.kick_pairs = true;
+      o.kick_neighbour_sweeps = 2;
+      o.perturbation_trials = 10;
+      if (variant == 1) o.max_steiner = start.points.size() - g.points.size() + 2;
+      if (variant == 2) o.max_area = measure(start).max_triangle_area;
+      Mesh journal = start, copied = start;
+      const OptimizeStats by_journal = optimize(journal, o);
+      o.undo_trials_by_copy = true;
+      const OptimizeStats by_copy = optimize(copied, o);
+      expect_same_mesh(journal, copied, name);
+      EXPECT_EQ(journal.flags, copied.flags);
+      EXPECT_EQ(journal.segment_marker, copied.segment_marker);
+      EXPECT_EQ(by_journal.kick_insertions, by_copy.kick_insertions);
+      EXPECT_EQ(by_journal.kick_removals, by_copy.kick_removals);
+      EXPECT_EQ(by_journal.weight_after, by_copy.weight_after);
+      EXPECT_TRUE(validate(journal).empty());
+    }
+  }
+}
+
 }  // namespace
 }  // namespace mwst

@@ -177,10 +177,55 @@ class Mesh {
   void kill_triangle(TriangleId t);
   void clear_free_slots() { free_slots_.clear(); }
 
+  // ---- trials --------------------------------------------------------------------------------
+  // A trial move that is kept only if it pays (the optimiser's kicks) is undone in time
+  // proportional to what it changed, not by copying the mesh: between begin_trial() and
+  // commit_trial() or undo_trial(), the local operations above (flip, splits, segment marks,
+  // new and killed slots, added vertices, insert_vertex, locate's walk state) save what they are
+  // about to change, and undo_trial() puts the mesh back as it was at begin_trial(). A caller that
+  // writes the public arrays directly during a trial announces it first: save_triangle(t) before
+  // writing triangles[t], flags[t] or t's segment markers, save_vertex(v) before writing points[v],
+  // vertex_kind[v] or vertex_marker[v]. No compact() inside a trial.
+  void begin_trial();
+  void commit_trial();
+  void undo_trial();
+  bool in_trial() const { return trial_.open; }
+  void save_triangle(TriangleId t) {
+    if (trial_.open && t < trial_.triangles) save_triangle_slot(t);
+  }
+  void save_vertex(VertexId v) {
+    if (trial_.open && v < trial_.points) trial_.vertices.push_back({v, points[v], vertex_kind[v], vertex_marker[v]});
+  }
+
  private:
+  struct SavedTriangle {
+    TriangleId t;
+    Triangle triangle;
+    std::uint8_t flags;
+    bool has_markers;
+    std::array<std::int32_t, 3> markers;
+  };
+  struct SavedVertex {
+    VertexId v;
+    Point point;
+    VertexKind kind;
+    std::int32_t marker;
+  };
+  struct Trial {
+    bool open = false;
+    std::size_t triangles = 0, points = 0, segment_markers = 0;
+    std::size_t free_low = 0;  // the free list's smallest size during the trial (below it: untouched)
+    std::uint32_t walk_rng = 0;
+    std::vector<SavedTriangle> saved;
+    std::vector<SavedVertex> vertices;
+    std::vector<TriangleId> popped_free_slots;  // the free list's entries from free_low up, as taken
+  };
+  void save_triangle_slot(TriangleId t);
+
   std::vector<TriangleId> free_slots_;
   std::vector<Handle> flip_stack_;  // scratch for insert_vertex (no allocation per insertion)
   mutable std::uint32_t walk_rng_ = 0x9E3779B9u;  // deterministic stochastic-walk state
+  Trial trial_;
 };
 
 // Drops dead triangle slots and removed vertices (VertexKind::kRemoved), renumbering both.

@@ -69,6 +69,9 @@ struct OptimizeOptions {
   // those by fingerprint and skips them; OptimizeStats::region_tries_skipped). The result is the
   // same either way; only the time differs.
   bool remember_failed_regions = true;
+  // Testing: with true, a kick that is not kept is undone by restoring a copy of the mesh made
+  // before it, instead of by the mesh's trial journal (Mesh::begin_trial). Same result, slower.
+  bool undo_trials_by_copy = false;
 };
 
 struct OptimizeStats {

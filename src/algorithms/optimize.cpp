@@ -230,6 +230,9 @@ struct Region {
 // `flags`, when given, holds each new triangle's flag (kOutside or 0) instead of r.outside_flag.
 void replace_region(Mesh& m, const Region& r, const std::vector<std::array<VertexId, 3>>& tris,
                     const std::vector<std::uint8_t>* flags = nullptr) {
+  // (In a trial the slots and their outer neighbours are saved first: written directly below.)
+  for (const TriangleId t : r.triangles) m.save_triangle(t);
+  for (const Handle o : r.outer) m.save_triangle(o >> 2);
   std::vector<TriangleId> slots = r.triangles;
   while (slots.size() < tris.size()) slots.push_back(m.new_triangle());
   for (std::size_t i = tris.size(); i < slots.size(); ++i) m.kill_triangle(slots[i]);
@@ -370,6 +373,28 @@ class Optimizer {
       stats_.out_of_time = true;
     }
     return stats_.out_of_time;
+  }
+
+  // A kick is a trial: begun, then kept or undone (Mesh::begin_trial(): a journal of what the
+  // trial changes, undone in time proportional to it; a copy of the mesh per trial made the kicks
+  // quadratic, 42 % of opt's time on a 54 000-triangle mesh). OptimizeOptions::undo_trials_by_copy
+  // (testing) copies instead.
+  void begin_trial() {
+    if (opt_.undo_trials_by_copy) {
+      backup_ = m_;
+    } else {
+      m_.begin_trial();
+    }
+  }
+  void keep_trial() {
+    if (!opt_.undo_trials_by_copy) m_.commit_trial();
+  }
+  void undo_trial() {
+    if (opt_.undo_trials_by_copy) {
+      m_ = backup_;
+    } else {
+      m_.undo_trial();
+    }
   }
 
   // May one more kick be tried (trial budget and time budget)?
@@ -613,6 +638,7 @@ class Optimizer {
         if (in_supported_range(q) && in_kernel(q, polygon_) && star_within_area(q, polygon_)) {
           const double after = spoke_sum(q, polygon_);
           if (after < before) {
+            m_.save_vertex(v);
             m_.points[v] = q;
             delta += after - before;
             moved = true;
@@ -643,17 +669,18 @@ class Optimizer {
       return false;
     }
     if (steiner_room() == 0) return false;
-    backup_ = m_;
+    begin_trial();
     const VertexId v = m_.add_vertex(p, VertexKind::kSteiner, 0);
     double delta = distance(p, a) + distance(p, b) + distance(p, c);
     const auto opposite = m_.split_triangle(t, v);
     delta += polish_vertex(v, opposite[0]);
     if (!(delta < -opt_.kick_min_relative_gain * weight)) delta += polish_neighbours(v);
     if (delta < -opt_.kick_min_relative_gain * weight) {
+      keep_trial();
       ++stats_.kick_insertions;
       return true;
     }
-    m_ = backup_;
+    undo_trial();
     return false;
   }
 
@@ -742,7 +769,7 @@ class Optimizer {
       if (side <= 0 && (orient2d(a, d, q) <= 0 || orient2d(d, b, q) <= 0)) continue;
       if (steiner_room() == 0) break;
       ++kick_trials_;
-      backup_ = m_;
+      begin_trial();
       const VertexId v = m_.add_vertex(q, VertexKind::kSteiner, 0);
       double delta = distance(q, a) + distance(q, b);
       Handle near = kNone;
@@ -759,10 +786,11 @@ class Optimizer {
       delta += polish_vertex(v, near);
       if (!(delta < -opt_.kick_min_relative_gain * weight)) delta += polish_neighbours(v);
       if (delta < -opt_.kick_min_relative_gain * weight) {
+        keep_trial();
         ++stats_.kick_insertions;
         ++accepted;
       } else {
-        m_ = backup_;
+        undo_trial();
       }
     }
     return accepted;
@@ -858,12 +886,12 @@ class Optimizer {
       const Point q2{a.x + 2.0 * (b.x - a.x) / 3.0, a.y + 2.0 * (b.y - a.y) / 3.0};
       if (steiner_room() < 2) break;
       ++kick_trials_;
-      backup_ = m_;
+      begin_trial();
       double delta = 0.0;
       const VertexId v1 = insert_free_point(q1, delta);
       const VertexId v2 = v1 == kInfinite ? kInfinite : insert_free_point(q2, delta);
       if (v2 == kInfinite) {
-        m_ = backup_;
+        undo_trial();
         continue;
       }
       for (int sweep = 0; sweep < 3; ++sweep) {
@@ -875,11 +903,12 @@ class Optimizer {
       delta += polish_neighbours(v1);
       delta += polish_neighbours(v2);
       if (delta < -opt_.kick_min_relative_gain * weight) {
+        keep_trial();
         stats_.kick_insertions += 2;
         ++stats_.kick_pairs;
         ++accepted;
       } else {
-        m_ = backup_;
+        undo_trial();
       }
     }
     return accepted;
@@ -972,7 +1001,7 @@ class Optimizer {
       if (!found) continue;
       if (steiner_room() == 0) break;
       ++kick_trials_;
-      backup_ = m_;
+      begin_trial();
       const std::size_t relocations = stats_.relocations;
       const VertexId v = m_.add_vertex(q, VertexKind::kSteinerOnSegment, m_.marker(h));
       vertex_handle_.resize(m_.points.size(), kNone);
@@ -989,11 +1018,12 @@ class Optimizer {
       }
       const double now = measure(m_).weight_total;
       if (now < weight * (1.0 - opt_.kick_min_relative_gain)) {
+        keep_trial();
         weight = now;
         ++stats_.kick_insertions;
         ++accepted;
       } else {
-        m_ = backup_;
+        undo_trial();
         stats_.relocations = relocations;
       }
     }
@@ -1086,7 +1116,7 @@ class Optimizer {
       }
       if (!ok) continue;
       ++kick_trials_;
-      backup_ = m_;
+      begin_trial();
       replace_region(m_, region_, tris, &flags);
       // The merged segment ab.
       Handle ab = handle_near(a, m_.any_live_handle());
@@ -1099,7 +1129,7 @@ class Optimizer {
         }
       }
       if (ab == kNone || m_.dest(ab) != b) {
-        m_ = backup_;
+        undo_trial();
         continue;
       }
       m_.set_segment(ab, marker);
@@ -1109,11 +1139,12 @@ class Optimizer {
       }
       delta += local_flips();
       if (delta < -opt_.kick_min_relative_gain * weight) {
+        keep_trial();
         m_.vertex_kind[v] = VertexKind::kRemoved;
         ++stats_.kick_removals;
         ++accepted;
       } else {
-        m_ = backup_;
+        undo_trial();
       }
     }
     rebuild_vertex_handles();
@@ -1148,7 +1179,7 @@ class Optimizer {
         continue;
       }
       ++kick_trials_;
-      backup_ = m_;
+      begin_trial();
       double delta = diagonals - spoke_sum(m_.points[v], polygon_);
       std::vector<std::array<VertexId, 3>> tris;
       for (const auto& tri : local_) {
@@ -1162,11 +1193,12 @@ class Optimizer {
       }
       delta += local_flips();
       if (delta < -opt_.kick_min_relative_gain * weight) {
+        keep_trial();
         m_.vertex_kind[v] = VertexKind::kRemoved;
         ++stats_.kick_removals;
         ++accepted;
       } else {
-        m_ = backup_;
+        undo_trial();
       }
     }
     return accepted;
@@ -1241,6 +1273,7 @@ class Optimizer {
     }
     region_.outside_flag = 0;
     replace_region(m_, region_, tris);
+    m_.save_vertex(v);
     m_.vertex_kind[v] = VertexKind::kRemoved;
     vertex_handle_[v] = kNone;
     refresh_handles_after(region_);
@@ -1260,6 +1293,7 @@ class Optimizer {
       q = {snap_to_range(q.x), snap_to_range(q.y)};
       if (in_supported_range(q) && in_kernel(q, polygon_) && star_within_area(q, polygon_) &&
           spoke_sum(q, polygon_) < before) {
+        m_.save_vertex(v);
         m_.points[v] = q;
         ++stats_.relocations;
         return true;
@@ -1373,6 +1407,7 @@ class Optimizer {
     for (int halving = 0; halving < 40; ++halving) {
       q = {snap_to_range(q.x), snap_to_range(q.y)};
       if (valid_at(q) && weight_at(q) < before) {
+        m_.save_vertex(v);
         m_.points[v] = q;
         ++stats_.relocations;
         return true;

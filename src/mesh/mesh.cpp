@@ -22,9 +22,75 @@ std::int32_t Mesh::marker(Handle h) const {
   return segment_marker[3 * (h >> 2) + (h & 3)];
 }
 
+void Mesh::save_triangle_slot(TriangleId t) {
+  SavedTriangle saved{t, triangles[t], flags[t], false, {0, 0, 0}};
+  if (3 * std::size_t{t} + 2 < segment_marker.size()) {
+    saved.has_markers = true;
+    for (unsigned e = 0; e < 3; ++e) saved.markers[e] = segment_marker[3 * std::size_t{t} + e];
+  }
+  trial_.saved.push_back(saved);
+}
+
+void Mesh::begin_trial() {
+  if (trial_.open) throw InternalError("Mesh::begin_trial: a trial is already open");
+  trial_.open = true;
+  trial_.triangles = triangles.size();
+  trial_.points = points.size();
+  trial_.segment_markers = segment_marker.size();
+  trial_.free_low = free_slots_.size();
+  trial_.walk_rng = walk_rng_;
+  trial_.saved.clear();
+  trial_.vertices.clear();
+  trial_.popped_free_slots.clear();
+}
+
+void Mesh::commit_trial() {
+  trial_.open = false;
+  trial_.saved.clear();
+  trial_.vertices.clear();
+  trial_.popped_free_slots.clear();
+}
+
+void Mesh::undo_trial() {
+  if (!trial_.open) throw InternalError("Mesh::undo_trial: no trial is open");
+  trial_.open = false;
+  triangles.resize(trial_.triangles);
+  flags.resize(trial_.triangles);
+  segment_marker.resize(trial_.segment_markers);
+  points.resize(trial_.points);
+  vertex_kind.resize(trial_.points);
+  vertex_marker.resize(trial_.points);
+  // Latest first, so that a slot saved several times ends as it was first saved.
+  for (auto it = trial_.saved.rbegin(); it != trial_.saved.rend(); ++it) {
+    triangles[it->t] = it->triangle;
+    flags[it->t] = it->flags;
+    if (it->has_markers && 3 * std::size_t{it->t} + 2 < segment_marker.size()) {
+      for (unsigned e = 0; e < 3; ++e) segment_marker[3 * std::size_t{it->t} + e] = it->markers[e];
+    }
+  }
+  for (auto it = trial_.vertices.rbegin(); it != trial_.vertices.rend(); ++it) {
+    points[it->v] = it->point;
+    vertex_kind[it->v] = it->kind;
+    vertex_marker[it->v] = it->marker;
+  }
+  // The free list: below free_low it never changed; above it, its entries from the start were
+  // taken one by one from the top (popped_free_slots, top first), and whatever lies there now
+  // was pushed during the trial.
+  free_slots_.resize(trial_.free_low);
+  for (auto it = trial_.popped_free_slots.rbegin(); it != trial_.popped_free_slots.rend(); ++it) {
+    free_slots_.push_back(*it);
+  }
+  walk_rng_ = trial_.walk_rng;
+  trial_.saved.clear();
+  trial_.vertices.clear();
+  trial_.popped_free_slots.clear();
+}
+
 void Mesh::set_segment(Handle h, std::int32_t marker_value) {
   if (segment_marker.size() < 3 * triangles.size()) segment_marker.resize(3 * triangles.size(), 0);
   const Handle s = sym(h);
+  save_triangle(h >> 2);
+  save_triangle(s >> 2);
   flags[h >> 2] = static_cast<std::uint8_t>(flags[h >> 2] | (kSegmentEdge0 << (h & 3)));
   flags[s >> 2] = static_cast<std::uint8_t>(flags[s >> 2] | (kSegmentEdge0 << (s & 3)));
   segment_marker[3 * (h >> 2) + (h & 3)] = marker_value;
@@ -33,6 +99,8 @@ void Mesh::set_segment(Handle h, std::int32_t marker_value) {
 
 void Mesh::clear_segment(Handle h) {
   const Handle s = sym(h);
+  save_triangle(h >> 2);
+  save_triangle(s >> 2);
   flags[h >> 2] = static_cast<std::uint8_t>(flags[h >> 2] & ~(kSegmentEdge0 << (h & 3)));
   flags[s >> 2] = static_cast<std::uint8_t>(flags[s >> 2] & ~(kSegmentEdge0 << (s & 3)));
 }
@@ -49,6 +117,13 @@ TriangleId Mesh::new_triangle() {
   if (!free_slots_.empty()) {
     const TriangleId t = free_slots_.back();
     free_slots_.pop_back();
+    if (trial_.open) {
+      if (free_slots_.size() < trial_.free_low) {  // an entry from before the trial
+        trial_.free_low = free_slots_.size();
+        trial_.popped_free_slots.push_back(t);
+      }
+      save_triangle(t);
+    }
     flags[t] = 0;
     return t;
   }
@@ -60,6 +135,7 @@ TriangleId Mesh::new_triangle() {
 }
 
 void Mesh::kill_triangle(TriangleId t) {
+  save_triangle(t);
   flags[t] = kDead;
   triangles[t].v = {kNone, kNone, kNone};
   triangles[t].n = {kNone, kNone, kNone};
@@ -94,6 +170,9 @@ Handle Mesh::flip(Handle h) {
   const VertexId d = U.v[f];
   const Handle n_bc = T.n[e1];  // edge b→c, opposite a in T
   const Handle n_ad = U.n[f1];  // edge a→d, opposite b in U
+  if (trial_.open) {
+    for (const TriangleId w : {t, u, n_bc >> 2, n_ad >> 2}) save_triangle(w);
+  }
   const bool marked = (flags[t] | flags[u]) & 7;
   EdgeMark m_bc{}, m_ad{};
   if (marked) {
@@ -124,6 +203,9 @@ std::array<Handle, 3> Mesh::split_triangle(TriangleId t, VertexId p) {
   const VertexId a = T.v[0], b = T.v[1], c = T.v[2];
   const Handle n_a = T.n[0];  // edge b→c
   const Handle n_b = T.n[1];  // edge c→a
+  if (trial_.open) {
+    for (const TriangleId w : {t, n_a >> 2, n_b >> 2}) save_triangle(w);
+  }
   const bool marked = flags[t] & 7;
   EdgeMark m_a{}, m_b{};
   if (marked) {
@@ -164,6 +246,9 @@ std::array<Handle, 4> Mesh::split_edge(Handle h, VertexId p) {
   const VertexId d = U.v[f];
   const Handle n_bc = T.n[next3(e)];  // edge b→c (opposite a)
   const Handle n_ad = U.n[next3(f)];  // edge a→d (opposite b)
+  if (trial_.open) {
+    for (const TriangleId w : {t, u, n_bc >> 2, n_ad >> 2}) save_triangle(w);
+  }
   const EdgeMark m_h = read_mark(*this, h);
   const EdgeMark m_bc = read_mark(*this, make_handle(t, next3(e)));
   const EdgeMark m_ad = read_mark(*this, make_handle(u, next3(f)));
@@ -349,6 +434,7 @@ VertexId Mesh::insert_vertex(VertexId v, Handle start, Handle* hint) {
 namespace mwst {
 
 void compact(Mesh& m) {
+  if (m.in_trial()) throw InternalError("compact: a trial is open");
   // New vertex ids: every vertex except removed Steiner points, in order.
   std::vector<VertexId> new_vertex(m.points.size(), kNone);
   VertexId nv = 0;
