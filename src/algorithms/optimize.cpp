@@ -635,9 +635,9 @@ class Optimizer {
       bool moved = false;
       for (int halving = 0; halving < 30 && !moved; ++halving) {
         q = {snap_to_range(q.x), snap_to_range(q.y)};
-        if (in_supported_range(q) && in_kernel(q, polygon_) && star_within_area(q, polygon_)) {
+        if (in_supported_range(q)) {
           const double after = spoke_sum(q, polygon_);
-          if (after < before) {
+          if (after < before && in_kernel(q, polygon_) && star_within_area(q, polygon_)) {
             m_.save_vertex(v);
             m_.points[v] = q;
             delta += after - before;
@@ -1291,8 +1291,9 @@ class Optimizer {
     Point q = geometric_median(p, polygon_);
     for (int halving = 0; halving < 40; ++halving) {
       q = {snap_to_range(q.x), snap_to_range(q.y)};
-      if (in_supported_range(q) && in_kernel(q, polygon_) && star_within_area(q, polygon_) &&
-          spoke_sum(q, polygon_) < before) {
+      // (The cheap test first: in_kernel's margins cost a hypot per edge.)
+      if (in_supported_range(q) && spoke_sum(q, polygon_) < before && in_kernel(q, polygon_) &&
+          star_within_area(q, polygon_)) {
         m_.save_vertex(v);
         m_.points[v] = q;
         ++stats_.relocations;
@@ -1600,8 +1601,12 @@ class Optimizer {
       centroid.y /= static_cast<double>(polygon_.size());
       q = geometric_median(centroid, polygon_);
       q = {snap_to_range(q.x), snap_to_range(q.y)};
-      if (in_supported_range(q) && in_kernel(q, polygon_) && star_within_area(q, polygon_)) {
-        star_weight = spoke_sum(q, polygon_);
+      // (A star that cannot win is not tested for the kernel, whose margins cost a hypot per edge.)
+      if (in_supported_range(q)) {
+        const double spokes = spoke_sum(q, polygon_);
+        if (spokes < current && spokes < mwt && in_kernel(q, polygon_) && star_within_area(q, polygon_)) {
+          star_weight = spokes;
+        }
       }
     }
     const bool star_wins = star_weight < current && star_weight < mwt;
