@@ -621,6 +621,9 @@ struct Box {
 class NodeArray {
  public:
   static_assert(std::is_trivially_copyable_v<Node> && alignof(Node) <= alignof(std::max_align_t));
+  NodeArray() = default;
+  NodeArray(const NodeArray&) = delete;  // (a copy of the empty storage would alias the nodes)
+  NodeArray& operator=(const NodeArray&) = delete;
   std::size_t size() const { return size_; }
   std::size_t capacity() const { return capacity_; }
   Node* data() { return data_; }
