@@ -594,10 +594,16 @@ constexpr std::uint8_t kBalanced = 2;
 // that the mesh passes find these leaves without reading every list).
 constexpr std::uint8_t kHasSegment = 32;
 
+// Node::child of a leaf has this bit set (kNone has it too): the Builder numbers the leaves there
+// (Tree::number_leaves()), so a node's leaf ordinal is read from the node itself, with no array
+// indexed by node.
+constexpr std::uint32_t kLeafBit = 0x80000000u;
+
 struct Node {
   std::int64_t ix = 0, iy = 0;         // cell index at its level
   std::uint32_t parent = kNone;
-  std::uint32_t child = kNone;         // first of four consecutive children; kNone for a leaf
+  std::uint32_t child = kNone;         // first of four consecutive children; for a leaf kNone, and
+                                       // from Builder::number_vertices() on kLeafBit | its ordinal
   std::uint32_t feat_begin = 0;        // leaves: features meeting the closed B(C) in Tree::features
   std::uint32_t feat_count = 0;
   std::uint32_t vertex = kNone;        // leaves: the input vertex in the half-open cell, if any, as
@@ -1016,14 +1022,26 @@ class Tree {
       if (n.level <= l && (tx >> (l - n.level)) == n.ix && (ty >> (l - n.level)) == n.iy) break;
       a = n.parent;
     }
-    while (nodes[a].level < l && nodes[a].child != kNone) {
+    while (nodes[a].level < l && (nodes[a].child & kLeafBit) == 0) {
       const unsigned d = l - nodes[a].level - 1u;
       a = nodes[a].child + static_cast<std::uint32_t>(((tx >> d) & 1) + 2 * ((ty >> d) & 1));
     }
     return a;
   }
 
-  bool is_leaf(std::uint32_t a) const { return nodes[a].child == kNone; }
+  bool is_leaf(std::uint32_t a) const { return (nodes[a].child & kLeafBit) != 0; }
+  // The leaf ordinal of node a (after number_leaves()), kNone for an inner node.
+  std::uint32_t leaf_ordinal(std::uint32_t a) const {
+    const std::uint32_t c = nodes[a].child;
+    return (c & kLeafBit) != 0 ? c & ~kLeafBit : kNone;
+  }
+  // Writes each leaf's ordinal in Morton order into its child field (kLeafBit | k).
+  void number_leaves(const std::vector<std::uint32_t>& leaves, std::size_t threaded) {
+    if (nodes.size() >= kLeafBit || leaves.size() >= kLeafBit - 1) throw RouteFailure{"too many nodes"};
+    in_two_halves(leaves.size(), threaded, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t k = begin; k < end; ++k) nodes[leaves[k]].child = kLeafBit | static_cast<std::uint32_t>(k);
+    });
+  }
 
   // Edge directions: 0 east, 1 north, 2 west, 3 south.
   static constexpr int kDirX[4] = {1, 0, -1, 0};
@@ -1040,7 +1058,7 @@ class Tree {
     const Node& n = nodes[a];
     const unsigned l = n.level;
     const std::int64_t tx = n.ix + kDirX[d], ty = n.iy + kDirY[d];
-    while (nodes[h].level < l && nodes[h].child != kNone) {
+    while (nodes[h].level < l && (nodes[h].child & kLeafBit) == 0) {
       const unsigned shift = l - nodes[h].level - 1u;
       h = nodes[h].child + static_cast<std::uint32_t>(((tx >> shift) & 1) + 2 * ((ty >> shift) & 1));
     }
@@ -1279,7 +1297,7 @@ class Tree {
     const auto warp_corner_touches_a = [&](std::uint32_t b) {
       if (b == kNone) return false;
       const Node& m = nodes[b];
-      if (m.child != kNone || m.vertex == kNone || m.level != n.level) return false;
+      if ((m.child & kLeafBit) == 0 || m.vertex == kNone || m.level != n.level) return false;
       unsigned qx = 0, qy = 0;
       nearest_corner(m, rank_point_[m.vertex], qx, qy);
       const std::int64_t cx = m.ix + qx, cy = m.iy + qy;  // the corner, in grid lines of the level
@@ -1734,7 +1752,7 @@ class Builder {
     if (((own_mask_[k] >> bit) & 1u) == 0) throw RouteFailure{"a leaf lacks an expected vertex"};
     return own_base_[k] + bits_in_byte(static_cast<unsigned>(own_mask_[k] & ((1u << bit) - 1u)));
   }
-  std::uint32_t leaf_of(std::uint32_t node) const { return leaf_index_[node]; }
+  std::uint32_t leaf_of(std::uint32_t node) const { return tree_.leaf_ordinal(node); }
   // The leaf containing the point just north-east of the lower-left corner of node a's cell.
   std::uint32_t leaf_sw(std::uint32_t a) const {
     if (a == kNone) throw RouteFailure{"neighbour outside the root"};
@@ -1834,9 +1852,8 @@ class Builder {
   SpareRoom spare_;
 
   std::vector<std::uint32_t> leaves_;      // leaf ordinal → node, Morton order
-  // Per-leaf (and per-node) arrays that passes in two halves write in full are allocated without
-  // being filled first: the fill of a vector would touch all their pages on one thread.
-  SpareArray<std::uint32_t> leaf_index_;  // node → leaf ordinal (kNone for inner nodes)
+  // Per-leaf arrays that passes in two halves write in full are allocated without being filled
+  // first: the fill of a vector would touch all their pages on one thread.
   // Per leaf: the id of its first owned vertex, and which it owns (Own bits); one block, so that it
   // is lent as one region after build_loops().
   std::unique_ptr<std::byte[]> own_storage_;
@@ -1847,8 +1864,13 @@ class Builder {
   // Per leaf, for link_cell() (which then reads no node of its own): its level (bits 0–5), whether
   // the same-size cell west / south is split (bits 6, 7), which of its sides (bottom, right, top,
   // left: bits 8–11) lie on the root's border, and whether west_south_ holds the leaves across the
-  // west / south side as leaf ordinals rather than a node (bits 12, 13).
+  // west / south side as leaf ordinals rather than a place in split_across_ (bits 12, 13).
   SpareArray<std::uint16_t> leaf_shape_;
+  // Per half of the leaves (number_vertices()): the two leaf ordinals along the west or south side
+  // of a leaf whose same-size neighbour there is split into leaves that are not next to each other
+  // in Morton order; west_south_ holds the place here. The second half starts at split_half_.
+  std::array<std::vector<std::array<std::uint32_t, 2>>, 2> split_across_;
+  std::size_t split_half_ = 0;
   std::unique_ptr<std::uint32_t[]> loops_;  // 8 slots per leaf, kNone where absent (null until built)
   std::array<std::vector<std::uint32_t>, 2> near_segment_;  // leaves with a segment in their list (two
                                                              // halves, in order; build_loops())
@@ -1935,19 +1957,17 @@ void Builder::number_vertices() {
   // (The two largest borrowers first: the regions lent so far are the tree's dead blocks.)
   west_south_ = make_spare_array<std::array<std::uint32_t, 2>>(spare_, leaves_.size());
   leaf_shape_ = make_spare_array<std::uint16_t>(spare_, leaves_.size());
-  leaf_index_ = make_spare_array<std::uint32_t>(spare_, tree_.nodes.size());
-  in_two_halves(tree_.nodes.size(), threaded_leaves_, [&](std::size_t begin, std::size_t end) {
-    std::fill(leaf_index_.get() + begin, leaf_index_.get() + end, kNone);
-  });
-  in_two_halves(leaves_.size(), threaded_leaves_, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t k = begin; k < end; ++k) leaf_index_[leaves_[k]] = static_cast<std::uint32_t>(k);
-  });
+  tree_.number_leaves(leaves_, threaded_leaves_);
   own_storage_ = std::make_unique_for_overwrite<std::byte[]>(leaves_.size() * (sizeof(std::uint32_t) + 1));
   own_base_ = reinterpret_cast<std::uint32_t*>(own_storage_.get());
   own_mask_ = reinterpret_cast<std::uint8_t*>(own_storage_.get() + leaves_.size() * sizeof(std::uint32_t));
   // Which vertices each leaf owns (neighbour look-ups: two threads), then their ids by a prefix
   // sum in leaf order, then their positions (two threads).
+  split_half_ = leaves_.size();
   in_two_halves(leaves_.size(), threaded_leaves_, [&](std::size_t begin, std::size_t end) {
+    auto& split_pairs = split_across_[begin == 0 ? 0 : 1];
+    split_pairs.clear();
+    if (begin != 0) split_half_ = begin;
     for (std::size_t k = begin; k < end; ++k) {
       prefetch_neighbours(k, end, 2, 3);  // west, south
       const std::uint32_t a = leaves_[k];
@@ -1962,7 +1982,7 @@ void Builder::number_vertices() {
       // For link_cell(): the leaves across the west and south sides as leaf ordinals (bits 12, 13 of
       // the shape) when they are a leaf, or the two children of a split cell along the side that
       // follow each other as usual in Morton order (east column: SE, NE two apart; north row: NW,
-      // NE next to each other); otherwise the node, looked up there.
+      // NE next to each other).
       const auto leaf_across = [&](std::uint32_t b, unsigned own_bit, unsigned near_child, unsigned step,
                                    std::uint32_t& out) {
         if (b == kNone) return false;
@@ -1977,13 +1997,26 @@ void Builder::number_vertices() {
         out = first;
         return true;
       };
-      // Otherwise the node across, or the first child of a split one (link_cell() reads no node:
-      // the nodes' storage is the triangle array it writes, see NodeArray).
-      const auto node_across = [&](std::uint32_t b) { return b != kNone && !tree_.is_leaf(b) ? tree_.nodes[b].child : b; };
+      // Otherwise (a split cell whose two leaves along the side are not next to each other) the
+      // place of their two ordinals in this half's split_across_ (link_cell() reads no node: the
+      // nodes' storage is the triangle array it writes, see NodeArray).
+      const auto split_pair = [&](std::uint32_t b, unsigned near_child) {
+        const std::uint32_t c = tree_.nodes[b].child;
+        split_pairs.push_back({leaf_of(c + near_child), leaf_of(c + 3)});
+        return static_cast<std::uint32_t>(split_pairs.size() - 1);
+      };
       unsigned across = 0;
-      std::uint32_t west = node_across(w), south = node_across(s);
-      if (leaf_across(w, kOwnLeftMid, 1, 2, west)) across |= 1u;
-      if (leaf_across(s, kOwnBottomMid, 2, 1, south)) across |= 2u;
+      std::uint32_t west = kNone, south = kNone;
+      if (leaf_across(w, kOwnLeftMid, 1, 2, west)) {
+        across |= 1u;
+      } else if (w != kNone) {
+        west = split_pair(w, 1);
+      }
+      if (leaf_across(s, kOwnBottomMid, 2, 1, south)) {
+        across |= 2u;
+      } else if (s != kNone) {
+        south = split_pair(s, 2);
+      }
       west_south_[k] = {west, south};
       const bool top = n.iy + 1 == side, right = n.ix + 1 == side;
       if (top) mask |= 1u << kOwnUL;
@@ -3035,19 +3068,13 @@ void Builder::link_cell(const std::vector<Point>& points, Triangle* tris, const 
       across[0] = r;
       across[1] = r + (side == 3 ? 2u : 1u);
       count = split ? 2 : 1;
-    } else if (split) {  // two leaves
-      const std::uint32_t c = r;  // the split cell's first child (number_vertices())
-      if (side == 3) {
-        across[0] = c + 1;  // east column of the finer neighbour
-        across[1] = c + 3;
-      } else {
-        across[0] = c + 2;  // north row
-        across[1] = c + 3;
-      }
+    } else if (split) {  // two leaves, their ordinals in split_across_ (number_vertices())
+      const std::array<std::uint32_t, 2>& pair = split_across_[k < split_half_ ? 0 : 1][r];
+      across[0] = pair[0];
+      across[1] = pair[1];
       count = 2;
     } else {
-      across[0] = r;
-      count = 1;
+      throw RouteFailure{"no cell across a side off the root's border"};
     }
     const unsigned opposite = side == 3 ? 1u : 2u;
     for (std::uint32_t q = own.begin; q < own.end; ++q) {
@@ -3055,7 +3082,7 @@ void Builder::link_cell(const std::vector<Point>& points, Triangle* tris, const 
       const VertexId from = org(h), to = dest(h);
       bool linked = false;
       for (std::size_t c = 0; c < count && !linked; ++c) {
-        const std::uint32_t other = ordinals ? across[c] : leaf_of(across[c]);
+        const std::uint32_t other = across[c];
         if (other == kNone || other >= k) throw RouteFailure{"unbalanced quadtree"};
         const CellSide across_side = cell_side(other, opposite);
         for (std::uint32_t p = across_side.begin; p < across_side.end; ++p) {
