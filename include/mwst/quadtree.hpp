@@ -40,7 +40,9 @@
 //         Steiner point at its vertex average when that is better.
 //     The triangles of all leaves form one Mesh over the root square (ghost triangles on its
 //     border), the segment pieces are subsegments, and the mesh is carved to the domain exactly
-//     as the CDT carves (flood from the outside and from the hole seeds, stopped by segments).
+//     as the CDT carves (flood from the outside and from the hole seeds, stopped by segments;
+//     each seed is taken at the centroid of the CDT triangle it carved from, and the seeds the
+//     CDT ignored are dropped, so that a seed on a segment's line carves the same face in both).
 //     Input vertices are never moved and keep their ids; every input segment is a chain of
 //     subsegments (corners moved onto it and crossing points are rounded to double once).
 //
