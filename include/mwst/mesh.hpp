@@ -221,6 +221,7 @@ class Mesh {
     std::vector<TriangleId> popped_free_slots;  // the free list's entries from free_low up, as taken
   };
   void save_triangle_slot(TriangleId t);
+  void close_trial();  // open = false, journal cleared
 
   std::vector<TriangleId> free_slots_;
   std::vector<Handle> flip_stack_;  // scratch for insert_vertex (no allocation per insertion)

@@ -1454,8 +1454,9 @@ class Optimizer {
     }
     if (boundary_from_.empty()) return false;
     std::sort(boundary_from_.begin(), boundary_from_.end());
-    for (std::size_t i = 1; i < boundary_from_.size(); ++i) {
-      if (boundary_from_[i].first == boundary_from_[i - 1].first) return false;  // vertex repeated
+    const auto same_origin = [](const auto& x, const auto& y) { return x.first == y.first; };
+    if (std::adjacent_find(boundary_from_.begin(), boundary_from_.end(), same_origin) != boundary_from_.end()) {
+      return false;  // vertex repeated
     }
     region_interior_weight_ = interior;
     auto edge_from = [&](VertexId v) -> const std::pair<VertexId, Handle>* {
@@ -1609,7 +1610,7 @@ class Optimizer {
         }
       }
     }
-    const bool star_wins = star_weight < current && star_weight < mwt;
+    const bool star_wins = std::isfinite(star_weight);  // (only a winning star's weight is kept)
     if (star_wins && steiner_room() == 0) depends_on_room = true;
     if (star_wins && !depends_on_room) {
       const VertexId v = m_.add_vertex(q, VertexKind::kSteiner, 0);

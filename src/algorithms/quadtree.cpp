@@ -82,6 +82,7 @@
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -342,6 +343,17 @@ struct CleanInput {
   std::vector<Point> hole_seeds;         // where to carve the holes (see clean_graph())
 };
 
+// The centroid of finite triangle t of m, if it lies strictly inside t (exact orient2d; the
+// rounded centroid of a sliver can fall on or beyond an edge): a point of t well clear of its
+// edges, for a hole seed.
+std::optional<Point> inner_centroid(const Mesh& m, TriangleId t) {
+  const Triangle& T = m.triangles[t];
+  const Point &a = m.points[T.v[0]], &b = m.points[T.v[1]], &c = m.points[T.v[2]];
+  const Point g{(a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0};
+  if (orient2d(a, b, g) > 0 && orient2d(b, c, g) > 0 && orient2d(c, a, g) > 0) return g;
+  return std::nullopt;
+}
+
 // A PSLG with segments: its CDT resolves duplicates, vertices on segments and crossings; the
 // subsegments of the CDT are the clean segments.
 CleanInput clean_graph(const Pslg& pslg, const QuadtreeOptions& options, QuadtreeStats& stats) {
@@ -399,11 +411,7 @@ CleanInput clean_graph(const Pslg& pslg, const QuadtreeOptions& options, Quadtre
       if (loc.kind != Location::Kind::kOnEdge || cdt.is_ghost(cdt.sym(loc.handle) >> 2)) continue;
       t = cdt.sym(loc.handle) >> 2;  // on a hull edge: the triangle inside (as carve() takes it)
     }
-    const Triangle& T = cdt.triangles[t];
-    const Point &a = cdt.points[T.v[0]], &b = cdt.points[T.v[1]], &c = cdt.points[T.v[2]];
-    const Point g{(a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0};
-    const bool inside = orient2d(a, b, g) > 0 && orient2d(b, c, g) > 0 && orient2d(c, a, g) > 0;
-    in.hole_seeds.push_back(inside ? g : p);
+    in.hole_seeds.push_back(inner_centroid(cdt, t).value_or(p));
   }
   std::sort(seen.begin(), seen.end());
   for (std::size_t i = 0; i < seen.size(); ++i) {
@@ -1859,8 +1867,9 @@ class Builder {
   std::unique_ptr<std::byte[]> own_storage_;
   std::uint32_t* own_base_ = nullptr;
   std::uint8_t* own_mask_ = nullptr;
-  SpareArray<std::array<std::uint32_t, 2>> west_south_;  // per leaf: the same-size cells west,
-                                                                 // south (link_cell() reuses them)
+  // Per leaf, for link_cell(): what lies across its west and south sides, as leaf ordinals or as
+  // a place in split_across_ (leaf_shape_ bits 12, 13 say which).
+  SpareArray<std::array<std::uint32_t, 2>> west_south_;
   // Per leaf, for link_cell() (which then reads no node of its own): its level (bits 0–5), whether
   // the same-size cell west / south is split (bits 6, 7), which of its sides (bottom, right, top,
   // left: bits 8–11) lie on the root's border, and whether west_south_ holds the leaves across the
@@ -3193,11 +3202,8 @@ std::vector<Point> movable_seeds(const Mesh& mesh, const std::vector<Point>& hol
     do {
       const TriangleId t = h >> 2;
       if (!mesh.is_ghost(t)) {
-        const Triangle& T = mesh.triangles[t];
-        const Point &a = mesh.points[T.v[0]], &b = mesh.points[T.v[1]], &c = mesh.points[T.v[2]];
-        const Point g{(a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0};
-        if (orient2d(a, b, g) > 0 && orient2d(b, c, g) > 0 && orient2d(c, a, g) > 0) {
-          moved = g;
+        if (const std::optional<Point> g = inner_centroid(mesh, t)) {
+          moved = *g;
           break;
         }
       }

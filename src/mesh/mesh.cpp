@@ -38,22 +38,20 @@ void Mesh::begin_trial() {
   trial_.points = points.size();
   trial_.segment_markers = segment_marker.size();
   trial_.free_low = free_slots_.size();
-  trial_.walk_rng = walk_rng_;
-  trial_.saved.clear();
-  trial_.vertices.clear();
-  trial_.popped_free_slots.clear();
+  trial_.walk_rng = walk_rng_;  // (the journal is empty: close_trial() clears it)
 }
 
-void Mesh::commit_trial() {
+void Mesh::close_trial() {
   trial_.open = false;
   trial_.saved.clear();
   trial_.vertices.clear();
   trial_.popped_free_slots.clear();
 }
+
+void Mesh::commit_trial() { close_trial(); }
 
 void Mesh::undo_trial() {
   if (!trial_.open) throw InternalError("Mesh::undo_trial: no trial is open");
-  trial_.open = false;
   triangles.resize(trial_.triangles);
   flags.resize(trial_.triangles);
   segment_marker.resize(trial_.segment_markers);
@@ -81,9 +79,7 @@ void Mesh::undo_trial() {
     free_slots_.push_back(*it);
   }
   walk_rng_ = trial_.walk_rng;
-  trial_.saved.clear();
-  trial_.vertices.clear();
-  trial_.popped_free_slots.clear();
+  close_trial();
 }
 
 void Mesh::set_segment(Handle h, std::int32_t marker_value) {
