@@ -8,10 +8,10 @@
 //  - Nodes live in one vector; the four children of a node are consecutive (SW, SE, NW, NE, i.e.
 //    Morton order), each node knows its parent. A node is addressed by (level, ix, iy); the integer
 //    coordinates map to the plane through the root's corner and side 2^e, so every cell corner is
-//    the same double however it is reached. Each node keeps, per edge direction, a hint: a node
-//    covering its same-size neighbour cell, set from its parent's when it is created (or its
-//    sibling); nodes are never removed, so the neighbour is found by descending from the hint, a
-//    step or two, without climbing. Other cells are found by climbing to the first ancestor that
+//    the same double however it is reached. Each node has, per edge direction, a hint: a node
+//    covering its same-size neighbour cell when it was created, its sibling or its parent's
+//    neighbour (kept once per four siblings); nodes are never removed, so the neighbour is found
+//    by descending from the hint, a step or two, without climbing. Other cells are found by climbing to the first ancestor that
 //    covers the wanted cell and descending again (Samet), O(1) on average.
 //  - Each leaf keeps the list of features (vertices as their ranks in Morton order, whose points
 //    the tree copies in that order so that the lists are scanned with few cache misses, and
@@ -29,8 +29,9 @@
 //    tree's nodes live in the storage that becomes the mesh's triangle array, and the triangles
 //    are written over them (NodeArray), the grid positions become the mesh's points in place
 //    (Builder::run()), and the tree's dead list blocks and hints and the vertex ownership arrays
-//    are lent to the arrays made after them (SpareRoom). At a million uniform points the run
-//    touches 2.3 GB of fresh pages (it was 2.8 GB before the nodes moved into the triangles).
+//    are lent to the arrays made after them (SpareRoom); arrays indexed by grid vertex that few
+//    vertices use are bits and maps instead. At a million uniform points the run touches 2.0 GB
+//    of fresh pages (2.8 GB before the nodes moved into the triangles).
 //  - Cells are triangulated in chunks of leaves in Morton order, their triangles placed by prefix
 //    sums in that order, and each cell links its left and bottom sides to the cells across them
 //    (found by the look-ups that numbered the vertices) soon after it is written: those come
@@ -908,10 +909,10 @@ class Tree {
     // the cells want with room for 4 triangles (96 bytes) per leaf, 11.6 leaves per point.
     const std::size_t feature_count = rank_id_.size() + in_.segments.size();
     reserve_room(nodes, 30 * feature_count + 256);
-    reserve_room(hint_, 24 * feature_count + 256);
+    reserve_room(outer_hint_, 6 * feature_count + 64);
     reserve_room(features, 30 * feature_count + 64);
     nodes.push_back(Node{});
-    hint_.assign(1, {kNone, kNone, kNone, kNone});
+    outer_hint_.clear();
     std::vector<std::uint32_t> pool, next_pool;
     // A level's lists hold each vertex up to four times (its cell and the neighbours whose grown
     // cells reach it) and each segment once per cell along it.
@@ -953,7 +954,7 @@ class Tree {
       if (next_feature > std::numeric_limits<std::uint32_t>::max()) throw RouteFailure{"too many feature list entries"};
       refuse_beyond_leaf_limit(next_node);
       nodes.resize(next_node);
-      hint_.resize(next_node);
+      outer_hint_.resize(groups(next_node));
       features.resize(next_feature);
       // 3. Leaves and children (each half collects its children's lists, appended below in order).
       in_two_halves(count, threaded_items_, [&](std::size_t begin, std::size_t end) {
@@ -964,7 +965,9 @@ class Tree {
           // (A split reads the nodes its hints name, scattered over the level above: they are
           // fetched a few items ahead.)
           if (i + kLookAhead < end && splits[i + kLookAhead]) {
-            for (const std::uint32_t h : hint_[frontier[i + kLookAhead].node]) {
+            const std::uint32_t ahead = frontier[i + kLookAhead].node;
+            for (unsigned d = 0; d < 4; ++d) {
+              const std::uint32_t h = hint(ahead, d);
               if (h != kNone) __builtin_prefetch(&nodes[h]);
             }
           }
@@ -1055,13 +1058,29 @@ class Tree {
   static constexpr int kDirX[4] = {1, 0, -1, 0};
   static constexpr int kDirY[4] = {0, 1, 0, -1};
 
+  // Sibling groups among the first `node_count` nodes (after the root, nodes come in fours).
+  static std::size_t groups(std::size_t node_count) { return node_count == 0 ? 0 : (node_count - 1) / 4; }
+  // Node a's hint in direction d (see neighbour()): a node covering its same-size neighbour cell
+  // when a was made. Across a side inside the parent that is the sibling there (no memory read);
+  // across the parent's side, the parent's neighbour that way, kept once for the four siblings
+  // (outer_hint_: 4 bytes per node, against 16 for a hint per node and direction).
+  std::uint32_t hint(std::uint32_t a, unsigned d) const {
+    assert(!hints_lent_ && "a look-up after Builder::build_loops() lent the hints away");
+    if (a == 0) return kNone;
+    const std::uint32_t k = (a - 1) & 3u;  // position among the siblings: SW, SE, NW, NE
+    const std::uint32_t bit = (d & 1u) != 0 ? k >> 1 : k & 1u;  // north/south: row; east/west: column
+    const std::uint32_t step = (d & 1u) != 0 ? 2u : 1u;
+    if (d < 2 && bit == 0) return a + step;  // east of a west child, north of a south child
+    if (d >= 2 && bit == 1) return a - step;
+    return outer_hint_[(a - 1) >> 2][d];
+  }
+
   // The node covering the same-size cell next to node a in direction d (what find(a, level,
   // ix + dx, iy + dy) returns), without climbing: each node keeps a hint, a node covering that
   // cell when the hint was set. Nodes are never removed, so a hint stays an ancestor of (or equal
   // to) the answer, and descending from it finds the answer in a step or two.
   std::uint32_t neighbour(std::uint32_t a, unsigned d) const {
-    assert(!hints_lent_ && "a look-up after Builder::build_loops() lent the hints away");
-    std::uint32_t h = hint_[a][d];
+    std::uint32_t h = hint(a, d);
     if (h == kNone) return kNone;
     const Node& n = nodes[a];
     const unsigned l = n.level;
@@ -1078,11 +1097,10 @@ class Tree {
   // cache, the nodes its hints name (where neighbour() starts).
   void prefetch_node(std::uint32_t a) const {
     __builtin_prefetch(&nodes[a]);
-    __builtin_prefetch(&hint_[a]);
+    if (a != 0) __builtin_prefetch(&outer_hint_[(a - 1) >> 2]);
   }
   void prefetch_hinted(std::uint32_t a, unsigned d) const {
-    assert(!hints_lent_ && "a prefetch after Builder::build_loops() lent the hints away");
-    const std::uint32_t h = hint_[a][d];
+    const std::uint32_t h = hint(a, d);
     if (h != kNone) __builtin_prefetch(&nodes[h]);
   }
 
@@ -1107,7 +1125,7 @@ class Tree {
 
   // Sets the hints of the four new children of p (p's own hints are set).
   void set_child_hints(std::uint32_t p) {
-    if (hint_.size() < nodes.size()) hint_.resize(nodes.size());
+    if (outer_hint_.size() < groups(nodes.size())) outer_hint_.resize(groups(nodes.size()));
     set_child_hints(p, edge_neighbours(p));
   }
   // neighbour(a, d) for the four directions.
@@ -1122,13 +1140,8 @@ class Tree {
     for (unsigned d = 0; d < 4; ++d) {
       outer_fine[d] = outer[d] == kNone || nodes[outer[d]].level == parent_level;
     }
+    outer_hint_[(c - 1) >> 2] = outer;
     for (std::uint32_t k = 0; k < 4; ++k) {
-      const std::uint32_t kx = k & 1u, ky = k >> 1;
-      auto& h = hint_[c + k];
-      h[0] = kx == 0 ? c + k + 1 : outer[0];
-      h[2] = kx == 1 ? c + k - 1 : outer[2];
-      h[1] = ky == 0 ? c + k + 2 : outer[1];
-      h[3] = ky == 1 ? c + k - 2 : outer[3];
       std::uint8_t state = nodes[c + k].state;
       for (unsigned d = 0; d < 4; ++d) {
         if (outer_fine[d]) state = static_cast<std::uint8_t>(state | (kBalanced << d));
@@ -1264,7 +1277,7 @@ class Tree {
       refuse_beyond_leaf_limit(nodes.size() + 4u);
       first = static_cast<std::uint32_t>(nodes.size());
       nodes.resize(first + 4u);
-      hint_.resize(first + 4u);
+      outer_hint_.resize(groups(first + 4u));
       place = features.size();
       features.resize(place + list_total);
     } else {
@@ -1367,7 +1380,7 @@ class Tree {
       if (l == 0) break;
       const bool sibling = d == 0 ? !odd_x : d == 2 ? odd_x : d == 1 ? !odd_y : odd_y;
       if (sibling || (state & (kBalanced << d)) != 0) continue;
-      const std::uint32_t h = hint_[a][d];
+      const std::uint32_t h = hint(a, d);
       if (h == kNone || nodes[h].level + 1u >= l) continue;
       const std::uint32_t b = neighbour(a, d);
       if (b != kNone && nodes[b].level + 1u < l) {
@@ -1414,7 +1427,8 @@ class Tree {
       // (Most checks pass after a few reads: the next leaf's node and hints are fetched early.)
       if (!lane.work.empty()) {
         __builtin_prefetch(&nodes[lane.work.back()]);
-        __builtin_prefetch(&hint_[lane.work.back()]);
+        const std::uint32_t next = lane.work.back();
+        if (next != 0) __builtin_prefetch(&outer_hint_[(next - 1) >> 2]);
       }
       check(a, lane);
     }
@@ -1430,7 +1444,7 @@ class Tree {
       for (unsigned d = 0; d < 4; ++d) {
         const bool sibling = d == 0 ? !odd_x : d == 2 ? odd_x : d == 1 ? !odd_y : odd_y;
         if (sibling || (n.state & (kBalanced << d)) != 0) continue;
-        const std::uint32_t h = hint_[a][d];
+        const std::uint32_t h = hint(a, d);
         if (h == kNone || nodes[h].level + 1u >= l) continue;
         const std::uint32_t b = neighbour(a, d);
         if (b != kNone && nodes[b].level + 1u < l) return true;
@@ -1496,7 +1510,7 @@ class Tree {
         std::min({std::size_t{node_count} + 64u, (id_limit - node_count) / 2, (node_limit() - node_count) / 2}) / 4 * 4;
     const std::size_t feature_room = std::min<std::size_t>(feature_count + 256u, (id_limit - feature_count) / 2);
     nodes.resize(node_count + 2 * node_room);
-    hint_.resize(node_count + 2 * node_room);
+    outer_hint_.resize(groups(node_count + 2 * node_room));
     features.resize(feature_count + 2 * feature_room);
     std::array<Lane, 2> lanes;
     for (unsigned r = 0; r < 2; ++r) {
@@ -1570,10 +1584,12 @@ class Tree {
           renumber(n.parent);
           renumber(n.child);
           n.feat_begin -= feature_shift;
-          std::array<std::uint32_t, 4> h = hint_[base1 + i];
-          for (std::uint32_t& id : h) renumber(id);
           nodes[base1 + i - shift] = n;
-          hint_[base1 + i - shift] = h;
+          if (i % 4 == 0) {  // the first of a group of siblings (base1 − 1 and shift are multiples of 4)
+            std::array<std::uint32_t, 4> h = outer_hint_[(base1 + i - 1) / 4];
+            for (std::uint32_t& id : h) renumber(id);
+            outer_hint_[(base1 + i - shift - 1) / 4] = h;
+          }
         }
       });
     }
@@ -1582,9 +1598,9 @@ class Tree {
               features.begin() + static_cast<std::ptrdiff_t>(feature_base1 + feature_used1),
               features.begin() + static_cast<std::ptrdiff_t>(feature_count + feature_used0));
     nodes.resize(node_count + used0 + used1);
-    hint_.resize(node_count + used0 + used1);
+    outer_hint_.resize(groups(node_count + used0 + used1));
     features.resize(feature_count + feature_used0 + feature_used1);
-    east_node_block_ = {base1, base1 + used1};
+    east_group_block_ = {(base1 - 1) / 4, (base1 - 1 + used1) / 4};
     east_feature_block_ = {feature_base1, feature_base1 + feature_used1};
     for (Lane& lane : lanes) {
       for (std::uint32_t& id : lane.deferred) renumber(id);
@@ -1668,15 +1684,15 @@ class Tree {
     };
     lend_tail(features, east_feature_block_);
     // (The hints' dead block usually follows their live part: lent with it, as one region.)
-    if (east_node_block_.first > hint_.size()) lend_tail(hint_, east_node_block_);
+    if (east_group_block_.first > outer_hint_.size()) lend_tail(outer_hint_, east_group_block_);
   }
   // After the last neighbour() / diagonal() look-up (Builder::build_loops()): the hints are dead
-  // (16 bytes per node), and no look-up may follow.
+  // (4 bytes per node), and no look-up may follow.
   void lend_hints(SpareRoom& room) {
-    std::size_t end = hint_.size();
-    const auto [dead_begin, dead_end] = east_node_block_;
-    if (dead_begin <= end && dead_end <= hint_.capacity()) end = std::max(end, dead_end);
-    room.lend(hint_.data(), end * sizeof(hint_[0]));
+    std::size_t end = outer_hint_.size();
+    const auto [dead_begin, dead_end] = east_group_block_;
+    if (dead_begin <= end && dead_end <= outer_hint_.capacity()) end = std::max(end, dead_end);
+    room.lend(outer_hint_.data(), end * sizeof(outer_hint_[0]));
     hints_lent_ = true;
   }
 
@@ -1722,9 +1738,11 @@ class Tree {
   unsigned deepest_ = 0;                             // deepest level of any node made so far
   unsigned lane_level_ = 1;                          // finish(): the split line between the lanes
   std::int64_t lane_column_ = 1;
-  std::vector<std::array<std::uint32_t, 4>, UninitializedAllocator<std::array<std::uint32_t, 4>>> hint_;  // per node: see neighbour()
+  // Per group of four siblings (nodes 4g + 1 … 4g + 4): their parent's edge neighbours (east,
+  // north, west, south) when they were made; see hint().
+  std::vector<std::array<std::uint32_t, 4>, UninitializedAllocator<std::array<std::uint32_t, 4>>> outer_hint_;
   bool hints_lent_ = false;                          // lend_hints() was called (checked by assert)
-  std::pair<std::size_t, std::size_t> east_node_block_{0, 0};     // join_lanes(): the east lane's old
+  std::pair<std::size_t, std::size_t> east_group_block_{0, 0};    // join_lanes(): the east lane's old
   std::pair<std::size_t, std::size_t> east_feature_block_{0, 0};  //   blocks (see lend_dead_room())
   std::vector<VertexId> rank_id_;                    // vertex feature (Morton rank) → vertex id
   std::vector<Point> rank_point_;                    // vertex feature → its point
@@ -1841,12 +1859,23 @@ class Builder {
   // they borrow from spare_ and the room past their end would be lost there.
   std::size_t grid_reserve() const { return grid_count_ + grid_count_ / 16 + leaves_.size() / 64 + 16; }
 
-  bool in_chain(std::uint32_t g) const { return g < gseg_.size() && (gseg_[g] != kNone || gwarp_[g] != kNone); }
+  bool in_chain(std::uint32_t g) const { return g < gon_segment_.size() && (gon_segment_[g] || gwarped_[g]); }
+
+  // The segment grid vertex g lies on (an exact corner, a snapped one or a crossing point), or kNone.
+  bool on_any_segment(std::uint32_t g) const { return g < gon_segment_.size() && gon_segment_[g]; }
+  std::uint32_t segment_of(std::uint32_t g) const {
+    if (!on_any_segment(g)) return kNone;
+    return gsegment_.find(g)->second;
+  }
+  void set_segment(std::uint32_t g, std::uint32_t s) {
+    gon_segment_[g] = true;
+    gsegment_[g] = s;
+  }
 
   bool on_segment(std::uint32_t g, std::uint32_t s) const {
-    if (g < gseg_.size() && gseg_[g] == s) return true;
+    if (segment_of(g) == s) return true;
     const FeatureSegment& seg = in_.segments[s];
-    return gwarp_[g] == seg.a || gwarp_[g] == seg.b;
+    return input_gv_[seg.a] == g || input_gv_[seg.b] == g;
   }
 
   const CleanInput& in_;
@@ -1865,6 +1894,10 @@ class Builder {
   // Per leaf: the id of its first owned vertex, and which it owns (Own bits); one block, so that it
   // is lent as one region after build_loops().
   std::unique_ptr<std::byte[]> own_storage_;
+  // Its size: 5 bytes per leaf are used, but the block is as large as cell_bound_ (8 bytes per
+  // leaf), which then borrows it whole and so reuses the pages the ownership touched (the tail
+  // past them costs nothing until written).
+  std::size_t own_storage_bytes() const;
   std::uint32_t* own_base_ = nullptr;
   std::uint8_t* own_mask_ = nullptr;
   // Per leaf, for link_cell(): what lies across its west and south sides, as leaf ordinals or as
@@ -1928,10 +1961,13 @@ class Builder {
   std::vector<Point> gpos_;                // grid vertex (then crossing point) positions
   std::vector<std::uint8_t> glevel_;       // deepest level of a leaf around each grid vertex
   std::vector<std::uint8_t> gtop_;         // shallowest level of a leaf around each grid vertex
-  SpareVector<VertexId> gwarp_{SpareAllocator<VertexId>(&spare_)};     // input vertex a grid vertex
-                                                                       // was warped to, or kNone
-  SpareVector<std::uint32_t> gseg_{SpareAllocator<std::uint32_t>(&spare_)};  // segment a vertex lies
-                                                                             // on (snapped, exact, crossing)
+  std::vector<bool> gwarped_;              // warped onto an input vertex (which one: input_gv_ is the
+                                           // inverse); bits, as gmoved_
+  // Which grid vertices lie on a segment (segments_pass(); empty without segments), as bits for the
+  // per-leaf tests, and on which one: few vertices do, so a map rather than an array indexed by
+  // grid vertex (4 bytes for each of them all).
+  std::vector<bool> gon_segment_;
+  std::unordered_map<std::uint32_t, std::uint32_t> gsegment_;
   std::vector<bool> gmoved_;               // moved off its grid position (warped or snapped); bits,
                                            // so that the per-leaf test stays in cache
   std::uint32_t grid_count_ = 0;
@@ -1942,15 +1978,20 @@ class Builder {
   };
   std::vector<EdgeCrossing> crossings_;
   // Subsegment chains: the neighbours of each vertex along segments, as (other vertex, segment),
-  // grouped by vertex (chain_begin_ indexed by vertex; vertices made later have none).
+  // sorted by vertex (chain_of() finds a vertex's links by binary search: few vertices lie on
+  // segments, and an array indexed by grid vertex would be 4 bytes for each of them all).
   struct ChainLink {
     std::uint32_t vertex, other, segment;
   };
   std::vector<ChainLink> chain_links_;
-  SpareVector<std::uint32_t> chain_begin_{SpareAllocator<std::uint32_t>(&spare_)};
   std::pair<const ChainLink*, const ChainLink*> chain_of(std::uint32_t g) const {
-    if (std::size_t{g} + 1 >= chain_begin_.size()) return {nullptr, nullptr};
-    return {chain_links_.data() + chain_begin_[g], chain_links_.data() + chain_begin_[g + 1]};
+    const ChainLink* const begin = chain_links_.data();
+    const ChainLink* const end = begin + chain_links_.size();
+    const ChainLink* const first =
+        std::lower_bound(begin, end, g, [](const ChainLink& link, std::uint32_t v) { return link.vertex < v; });
+    const ChainLink* last = first;
+    while (last != end && last->vertex == g) ++last;
+    return {first, last};
   }
   std::size_t subsegment_count_ = 0;
   // Final ids and the cells' boundary edges.
@@ -2000,6 +2041,10 @@ class Builder {
 };
 
 
+std::size_t Builder::own_storage_bytes() const {
+  return leaves_.size() * std::max(sizeof(std::uint32_t) + 1, sizeof(CellBound));
+}
+
 void Builder::number_vertices() {
   tree_.lend_dead_room(spare_);
   leaves_ = tree_.leaves_in_order();
@@ -2007,7 +2052,7 @@ void Builder::number_vertices() {
   west_south_ = make_spare_array<std::array<std::uint32_t, 2>>(spare_, leaves_.size());
   leaf_shape_ = make_spare_array<std::uint16_t>(spare_, leaves_.size());
   tree_.number_leaves(leaves_, threaded_leaves_);
-  own_storage_ = std::make_unique_for_overwrite<std::byte[]>(leaves_.size() * (sizeof(std::uint32_t) + 1));
+  own_storage_ = std::make_unique_for_overwrite<std::byte[]>(own_storage_bytes());
   own_base_ = reinterpret_cast<std::uint32_t*>(own_storage_.get());
   own_mask_ = reinterpret_cast<std::uint8_t*>(own_storage_.get() + leaves_.size() * sizeof(std::uint32_t));
   // Which vertices each leaf owns (neighbour look-ups: two threads), then their ids by a prefix
@@ -2211,14 +2256,14 @@ void Builder::build_loops() {
     }
   }
   // Dead from here on (own() is never called again; neither are the tree's look-ups, whose last
-  // use is above): lent to the arrays made later (gwarp_, final_id_, cell_bound_, gseg_, ...).
-  spare_.lend(own_storage_.get(), leaf_count * (sizeof(std::uint32_t) + 1));
+  // use is above): lent to the arrays made later (final_id_, cell_bound_, ...).
+  spare_.lend(own_storage_.get(), own_storage_bytes());
   tree_.lend_hints(spare_);
 }
 
 void Builder::warp() {
-  reserve_room(gwarp_, grid_reserve());
-  gwarp_.assign(grid_count_, kNone);
+  gwarped_.reserve(gpos_.capacity());
+  gwarped_.assign(grid_count_, false);
   gmoved_.reserve(gpos_.capacity());
   gmoved_.assign(grid_count_, false);
   reserve_room(input_gv_, pts_.size());
@@ -2234,8 +2279,8 @@ void Builder::warp() {
       tree_.nearest_corner(n, q, qx, qy);
       static constexpr unsigned kCornerSlot[2][2] = {{kBL, kTL}, {kBR, kTR}};  // [qx][qy]
       const std::uint32_t g = loop_of(k)[kCornerSlot[qx][qy]];
-      if (gwarp_[g] != kNone || input_gv_[v] != kNone) throw RouteFailure{"two input vertices warp the same corner"};
-      gwarp_[g] = v;
+      if (gwarped_[g] || input_gv_[v] != kNone) throw RouteFailure{"two input vertices warp the same corner"};
+      gwarped_[g] = true;
       gmoved_[g] = true;
       gpos_[g] = q;
       input_gv_[v] = g;
@@ -2252,8 +2297,9 @@ void Builder::warp() {
 void Builder::segments_pass() {
   if (in_.segments.empty()) return;
   const std::uint32_t nv = tree_.vertex_count();
-  reserve_room(gseg_, grid_reserve());
-  gseg_.assign(grid_count_, kNone);
+  gon_segment_.reserve(gpos_.capacity());
+  gon_segment_.assign(grid_count_, false);
+  gsegment_.clear();
   // The leaves that have a segment in their list (the only ones the passes below look at), listed
   // by build_loops().
   std::vector<std::uint32_t> near = std::move(near_segment_[0]);
@@ -2271,13 +2317,13 @@ void Builder::segments_pass() {
       const Point& b = pts_[in_.segments[s].b];
       for (unsigned slot = 0; slot < 8; ++slot) {
         const std::uint32_t g = loop[slot];
-        if (g == kNone || gwarp_[g] != kNone || gseg_[g] != kNone) continue;
+        if (g == kNone || gwarped_[g] || gon_segment_[g]) continue;
         const Point& p = gpos_[g];
         if (orient2d(a, b, p) != 0) continue;
         const bool between = a.x != b.x ? ((a.x < p.x && p.x < b.x) || (b.x < p.x && p.x < a.x))
                                         : ((a.y < p.y && p.y < b.y) || (b.y < p.y && p.y < a.y));
         if (!between) continue;
-        gseg_[g] = s;
+        set_segment(g, s);
         ++stats_.on_segment;
       }
     }
@@ -2317,7 +2363,7 @@ void Builder::segments_pass() {
       const double length = distance(gpos_[u], gpos_[w]);
       const double size = tree_.cell_size(tree_.nodes[leaves_[k]].level);
       for (const std::uint32_t c : {u, w}) {
-        if (gwarp_[c] != kNone || gseg_[c] != kNone) continue;
+        if (gwarped_[c] || gon_segment_[c]) continue;
         const double along = distance(gpos_[c], x);
         if (!(along < options_.snap_fraction * size) || !(along < 0.5 * length)) continue;
         offer(c, {s, along / size, x});
@@ -2336,7 +2382,7 @@ void Builder::segments_pass() {
         const double dx = b.x - a.x, dy = b.y - a.y;
         for (unsigned slot = 0; slot < 8; ++slot) {
           const std::uint32_t g = loop[slot];
-          if (g == kNone || gwarp_[g] != kNone || gseg_[g] != kNone) continue;
+          if (g == kNone || gwarped_[g] || gon_segment_[g]) continue;
           const Point& p = gpos_[g];
           const double t = ((p.x - a.x) * dx + (p.y - a.y) * dy) / (dx * dx + dy * dy);
           if (!(t > 0.0 && t < 1.0)) continue;
@@ -2352,7 +2398,7 @@ void Builder::segments_pass() {
       }
     }
     for (const auto& [g, c] : choice) {
-      gseg_[g] = c.segment;
+      set_segment(g, c.segment);
       gpos_[g] = c.target;
       gmoved_[g] = true;
       ++stats_.snapped;
@@ -2375,8 +2421,9 @@ void Builder::segments_pass() {
       const Point& lo = gpos_[std::min(u, w)];
       const Point& hi = gpos_[std::max(u, w)];
       gpos_.push_back(segment_intersection(lo, hi, a, b));
-      gseg_.push_back(s);
-      gwarp_.push_back(kNone);
+      gon_segment_.push_back(true);
+      gsegment_[x] = s;
+      gwarped_.push_back(false);
       gmoved_.push_back(true);
       list.emplace_back(s, x);
       ++stats_.crossings;
@@ -2393,8 +2440,10 @@ void Builder::segments_pass() {
                    crossings_.end());
   // 3. Chains: along each segment, its endpoints and the vertices on it, by position.
   std::vector<std::vector<std::uint32_t>> on(in_.segments.size());
-  for (std::uint32_t g = 0; g < gseg_.size(); ++g) {
-    if (gseg_[g] != kNone) on[gseg_[g]].push_back(g);
+  {
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> placed(gsegment_.begin(), gsegment_.end());
+    std::sort(placed.begin(), placed.end());  // (by vertex: the map's order is unspecified)
+    for (const auto& [g, s] : placed) on[s].push_back(g);
   }
   for (std::uint32_t s = 0; s < in_.segments.size(); ++s) {
     const FeatureSegment& seg = in_.segments[s];
@@ -2418,9 +2467,6 @@ void Builder::segments_pass() {
   }
   std::stable_sort(chain_links_.begin(), chain_links_.end(),
                    [](const ChainLink& p, const ChainLink& q) { return p.vertex < q.vertex; });
-  chain_begin_.assign(gpos_.size() + 1, 0);
-  for (const ChainLink& link : chain_links_) ++chain_begin_[link.vertex + 1];
-  for (std::size_t g = 0; g < gpos_.size(); ++g) chain_begin_[g + 1] += chain_begin_[g];
 }
 
 // The case table with its adjacency: for each midpoint mask, the triangles over polygon positions
@@ -2558,7 +2604,7 @@ void Builder::prepare_cells(const Mesh& mesh, PreparedChunk& out, std::uint32_t 
       bool special = cross_begin != next_crossing;
       for (unsigned s = 0; s < 8 && !special; ++s) {
         const std::uint32_t g = loop[s];
-        if (g != kNone && (gmoved_[g] || (!gseg_.empty() && gseg_[g] != kNone))) special = true;
+        if (g != kNone && (gmoved_[g] || on_any_segment(g))) special = true;
       }
       if (!special) {
         // Untouched square: the case table (its triangles are checked here, emitted later).
@@ -3056,9 +3102,9 @@ void Builder::triangulate_cells(Mesh& mesh) {
   if (!attempt(threads)) attempt(1);
   // The centres, after all grid vertices (their grid ids follow the grid's, as before).
   for (const Point& p : centre_points_) {
-    gwarp_.push_back(kNone);
+    gwarped_.push_back(false);
     gmoved_.push_back(true);
-    if (!gseg_.empty()) gseg_.push_back(kNone);
+    if (!gon_segment_.empty()) gon_segment_.push_back(false);
     final_id_.push_back(mesh.add_vertex(p, VertexKind::kSteiner, 0));
   }
   std::vector<Point>().swap(centre_points_);
@@ -3375,15 +3421,13 @@ Mesh Builder::run(const std::vector<Point>& holes) {
   in_two_halves(grid, threaded_leaves_, [&](std::size_t begin, std::size_t end) {
     auto next = static_cast<VertexId>(steiner_base + (begin == 0 ? 0 : begin - warped_below_middle));
     for (std::size_t g = begin; g < end; ++g) {
-      if (gwarp_[g] != kNone) {
-        final_id_[g] = gwarp_[g];
-        continue;
-      }
+      if (gwarped_[g]) continue;  // (its input vertex's id: below)
       VertexKind kind = VertexKind::kSteiner;
       std::int32_t marker = 0;
-      if (!gseg_.empty() && gseg_[g] != kNone && !in_.segments[gseg_[g]].hull_only) {
+      const std::uint32_t s = segment_of(static_cast<std::uint32_t>(g));
+      if (s != kNone && !in_.segments[s].hull_only) {
         kind = VertexKind::kSteinerOnSegment;
-        marker = in_.segments[gseg_[g]].marker;
+        marker = in_.segments[s].marker;
       }
       const VertexId v = next++;
       final_id_[g] = v;
@@ -3391,6 +3435,7 @@ Mesh Builder::run(const std::vector<Point>& holes) {
       mesh.vertex_marker[v] = marker;
     }
   });
+  for (const VertexId v : in_.vertices) final_id_[input_gv_[v]] = v;
   // The points are written over the grid positions, whose pages are already touched (a fresh
   // array would be 16 bytes per grid vertex of new pages, and the positions are dead once moved):
   // the Steiner point of grid vertex g goes to steiner_base + (g minus the warped vertices below g),
@@ -3478,7 +3523,7 @@ std::vector<Point> Builder::fallback_points(const Tree& tree) const {
     }
   }
   for (std::uint32_t g = 0; g < grid_count_; ++g) {
-    if (!near[g] && (gwarp_.empty() || gwarp_[g] == kNone)) out.push_back(gpos_[g]);
+    if (!near[g] && (gwarped_.empty() || !gwarped_[g])) out.push_back(gpos_[g]);
   }
   return out;
 }
