@@ -926,6 +926,13 @@ class Tree {
     std::vector<std::uint32_t> place;  // per frontier item: first child, or its list's place in features
     std::vector<std::uint8_t> splits;
     std::array<HalfOutput, 2> half;
+    // (Room for the largest level up front: grown by doubling, every new block is fresh pages and
+    // the old one is copied and freed; unused room is never touched. At a million uniform points
+    // the largest level makes about 2 items and 2 list entries per point in each half.)
+    for (HalfOutput& out : half) {
+      reserve_room(out.items, 8 * feature_count + 64);
+      reserve_room(out.pool, 8 * feature_count + 64);
+    }
     while (!frontier.empty()) {
       const std::size_t count = frontier.size();
       splits.resize(count);
