@@ -683,9 +683,10 @@ class Tree {
   struct Item {
     std::uint32_t node, begin, count;
   };
-  // build(): what one half of a level's frontier makes: its children and their lists.
-  struct HalfOutput {
-    std::vector<Item> items;
+  using ItemList = std::vector<Item, UninitializedAllocator<Item>>;
+  // build(): scratch of one half of a level's frontier: a split's four lists, and (second half
+  // only) its children's lists, appended to the first half's after both.
+  struct HalfScratch {
     std::vector<std::uint32_t> pool;
     std::array<FeatureList, 4> lists;
   };
@@ -920,19 +921,15 @@ class Tree {
     reserve_room(next_pool, 4 * feature_count + 64);
     for (std::uint32_t r = 0; r < rank_id_.size(); ++r) pool.push_back(r);
     for (std::uint32_t s = 0; s < in_.segments.size(); ++s) pool.push_back(nv_ + s);
-    std::vector<Item> frontier{{0, 0, static_cast<std::uint32_t>(pool.size())}}, next;
+    ItemList frontier{{0, 0, static_cast<std::uint32_t>(pool.size())}}, next;
     reserve_room(frontier, 4 * feature_count + 64);
     reserve_room(next, 4 * feature_count + 64);
     std::vector<std::uint32_t> place;  // per frontier item: first child, or its list's place in features
     std::vector<std::uint8_t> splits;
-    std::array<HalfOutput, 2> half;
+    std::array<HalfScratch, 2> half;
     // (Room for the largest level up front: grown by doubling, every new block is fresh pages and
-    // the old one is copied and freed; unused room is never touched. At a million uniform points
-    // the largest level makes about 2 items and 2 list entries per point in each half.)
-    for (HalfOutput& out : half) {
-      reserve_room(out.items, 8 * feature_count + 64);
-      reserve_room(out.pool, 8 * feature_count + 64);
-    }
+    // the old one is copied and freed; unused room is never touched.)
+    reserve_room(half[1].pool, 8 * feature_count + 64);
     while (!frontier.empty()) {
       const std::size_t count = frontier.size();
       splits.resize(count);
@@ -960,14 +957,22 @@ class Tree {
       }
       if (next_feature > std::numeric_limits<std::uint32_t>::max()) throw RouteFailure{"too many feature list entries"};
       refuse_beyond_leaf_limit(next_node);
+      // The next frontier is the new nodes, in order (four per split, placed in frontier order):
+      // each child's item goes to its node's place, and its list to next_pool, where the first
+      // half writes directly and the second half's lists follow after both.
+      const auto node_base = static_cast<std::uint32_t>(nodes.size());
+      next.resize(next_node - node_base);
+      next_pool.clear();
+      half[1].pool.clear();
+      std::size_t second_half_first_child = next.size();
       nodes.resize(next_node);
       outer_hint_.resize(groups(next_node));
       features.resize(next_feature);
-      // 3. Leaves and children (each half collects its children's lists, appended below in order).
+      // 3. Leaves and children.
       in_two_halves(count, threaded_items_, [&](std::size_t begin, std::size_t end) {
-        HalfOutput& out = half[begin == 0 ? 0 : 1];
-        out.items.clear();
-        out.pool.clear();
+        HalfScratch& out = half[begin == 0 ? 0 : 1];
+        std::vector<std::uint32_t>& lists_out = begin == 0 ? next_pool : out.pool;
+        bool first_split = true;
         for (std::size_t i = begin; i < end; ++i) {
           // (A split reads the nodes its hints name, scattered over the level above: they are
           // fetched a few items ahead.)
@@ -993,6 +998,8 @@ class Tree {
           for (auto& l : out.lists) l.clear();
           filter_children(n, list, item.count, out.lists);
           const std::uint32_t first = place[i];
+          if (begin != 0 && first_split) second_half_first_child = first - node_base;
+          first_split = false;
           nodes[item.node].child = first;
           for (unsigned k = 0; k < 4; ++k) {
             Node& c = nodes[first + k];
@@ -1001,28 +1008,25 @@ class Tree {
             c.iy = 2 * n.iy + (k >> 1);
             c.parent = item.node;
             c.level = static_cast<std::uint8_t>(n.level + 1);
-            out.items.push_back({first + k, static_cast<std::uint32_t>(out.pool.size()),
-                                 static_cast<std::uint32_t>(out.lists[k].size())});
-            out.pool.insert(out.pool.end(), out.lists[k].begin(), out.lists[k].end());
+            if (lists_out.size() + out.lists[k].size() > std::numeric_limits<std::uint32_t>::max()) {
+              throw RouteFailure{"too many feature list entries"};
+            }
+            next[first + k - node_base] = {first + k, static_cast<std::uint32_t>(lists_out.size()),
+                                           static_cast<std::uint32_t>(out.lists[k].size())};
+            lists_out.insert(lists_out.end(), out.lists[k].begin(), out.lists[k].end());
           }
           set_child_hints(item.node);
         }
       });
-      next.clear();
-      next_pool.clear();
-      for (const HalfOutput& out : half) {
-        if (out.items.empty()) continue;
-        const auto offset = static_cast<std::uint32_t>(next_pool.size());
-        if (next_pool.size() + out.pool.size() > std::numeric_limits<std::uint32_t>::max()) {
+      {
+        const std::vector<std::uint32_t>& second = half[1].pool;
+        if (next_pool.size() + second.size() > std::numeric_limits<std::uint32_t>::max()) {
           throw RouteFailure{"too many feature list entries"};
         }
-        for (Item item : out.items) {
-          item.begin += offset;
-          next.push_back(item);
-        }
-        next_pool.insert(next_pool.end(), out.pool.begin(), out.pool.end());
+        const auto offset = static_cast<std::uint32_t>(next_pool.size());
+        for (std::size_t j = second_half_first_child; j < next.size(); ++j) next[j].begin += offset;
+        next_pool.insert(next_pool.end(), second.begin(), second.end());
       }
-      for (HalfOutput& out : half) out.items.clear();
       if (!next.empty()) deepest_ = std::max(deepest_, static_cast<unsigned>(nodes[next.front().node].level));
       frontier.swap(next);
       pool.swap(next_pool);
