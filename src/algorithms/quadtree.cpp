@@ -30,7 +30,7 @@
 //    are written over them (NodeArray), the grid positions become the mesh's points in place
 //    (Builder::run()), and the tree's dead list blocks and hints and the vertex ownership arrays
 //    are lent to the arrays made after them (SpareRoom); arrays indexed by grid vertex that few
-//    vertices use are bits and maps instead. At a million uniform points the run touches 2.0 GB
+//    vertices use are bits and maps instead. At a million uniform points the run touches 1.9 GB
 //    of fresh pages (2.8 GB before the nodes moved into the triangles).
 //  - Cells are triangulated in chunks of leaves in Morton order, their triangles placed by prefix
 //    sums in that order, and each cell links its left and bottom sides to the cells across them
