@@ -356,8 +356,7 @@ class SegmentInserter {
     }
     // (Resolutions at an existing vertex make none, so they are capped apart: a cycle of them
     // would otherwise never end.)
-    if (++stats_.crossings > kMaxCrossings + 4 * pslg_.segments.size() ||
-        ++resolutions_ > 4 * (kMaxCrossings + 4 * pslg_.segments.size())) {
+    if (++stats_.crossings > crossing_limit() || ++resolutions_ > 4 * crossing_limit()) {
       throw InputError(pslg_.source, 0, "too many segment crossings to resolve");
     }
     const std::int32_t other_marker = m_.marker(crossed);
@@ -440,7 +439,17 @@ class SegmentInserter {
     return otherwise;
   }
 
+  // Segments cross at most s(s − 1)/2 times in exact arithmetic; rounded crossing points add a
+  // few (a piece moved by an ulp may cross a neighbour again), but counts far beyond that are
+  // rounding feeding on itself (segments almost on top of each other at coordinates where the
+  // spacing of doubles is coarse): refused past 8 times the exact bound (at least 4096), and
+  // never past kMaxCrossings. (The fixed cap alone let 96 segments near 2e16 run 3 s before the
+  // refusal.)
   static constexpr std::size_t kMaxCrossings = 1u << 20;
+  std::size_t crossing_limit() const {
+    const std::size_t s = pslg_.segments.size();
+    return std::min(kMaxCrossings, std::size_t{4096} + 4 * s * s) + 4 * s;
+  }
   std::size_t resolutions_ = 0;  // crossings resolved, at new vertices or existing ones
   Mesh& m_;
   const Pslg& pslg_;
