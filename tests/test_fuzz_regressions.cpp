@@ -346,8 +346,9 @@ TEST(FuzzRegressions, QuadtreeCarvesTheHoleTheCdtCarvesFromASeedOnASegmentLine) 
 // Found by fuzz_triangulate (a slow unit, every method): 96 segments lying almost on top of each
 // other near -2e16, where doubles are 2 or 4 apart. Each rounded crossing point makes new
 // crossings, without end. The CDT refuses the input with a one-line InputError; it used to do so
-// only after a million crossings (3 s), and now does past 8 times the s(s − 1)/2 crossings that
-// segments can have in exact arithmetic (src/mesh/constrain.cpp, crossing_limit()).
+// only after a million crossings (3 s), and now does past 4096 + 4 s², more than 8 times the
+// s(s − 1)/2 crossings that s segments can have in exact arithmetic (src/mesh/constrain.cpp,
+// crossing_limit()).
 TEST(FuzzRegressions, RoundedCrossingsThatBreedCrossingsAreRefused) {
   const Pslg pslg = io::read_input(std::string(MWST_TEST_DATA_DIR) + "/rounding_cascade.poly");
   ASSERT_EQ(pslg.segments.size(), 96u);
