@@ -1939,9 +1939,9 @@ class Builder {
   static constexpr std::uint32_t kHasLeftMid = 1u << 28, kHasBottomMid = 1u << 29, kHasRightMid = 1u << 30,
                                  kHasTopMid = 1u << 31;
   std::unique_ptr<PackedLoop[]> loops_;  // per leaf (null until built)
-  // Per half of the leaves (build_loops()): (leaf, its top midpoint) for the leaves with both a
-  // right and a top midpoint, in leaf order; the second half's follow the first's.
-  std::array<std::vector<std::array<std::uint32_t, 2>>, 2> both_mids_;
+  // (leaf, its top midpoint) for the leaves with both a right and a top midpoint, in leaf order
+  // (build_loops()).
+  std::vector<std::array<std::uint32_t, 2>> both_mids_;
   std::array<std::uint32_t, 8> loop_of(std::uint32_t k) const {
     const PackedLoop& p = loops_[k];
     const std::uint32_t base = p.head & kLoopIdMask;
@@ -1958,12 +1958,10 @@ class Builder {
     return loop;
   }
   std::uint32_t top_of_both(std::uint32_t k) const {
-    for (const auto& half : both_mids_) {
-      const auto it = std::lower_bound(half.begin(), half.end(), k,
-                                       [](const std::array<std::uint32_t, 2>& e, std::uint32_t leaf) { return e[0] < leaf; });
-      if (it != half.end() && (*it)[0] == k) return (*it)[1];
-    }
-    throw InternalError("quadtree: a leaf's top midpoint is missing from its table");
+    const auto it = std::lower_bound(both_mids_.begin(), both_mids_.end(), k,
+                                     [](const std::array<std::uint32_t, 2>& e, std::uint32_t leaf) { return e[0] < leaf; });
+    if (it == both_mids_.end() || (*it)[0] != k) throw InternalError("quadtree: a leaf's top midpoint is missing from its table");
+    return (*it)[1];
   }
   std::array<std::vector<std::uint32_t>, 2> near_segment_;  // leaves with a segment in their list (two
                                                              // halves, in order; build_loops())
@@ -2184,11 +2182,11 @@ void Builder::build_loops() {
   gtop_.assign(grid_count_, 255);
   const std::size_t leaf_count = leaves_.size();
   std::array<std::vector<std::pair<std::uint32_t, std::uint8_t>>, 2> across_halves;
+  std::array<std::vector<std::array<std::uint32_t, 2>>, 2> both_mids_per_half;
   in_two_halves(leaf_count, threaded_leaves_, [&](std::size_t begin, std::size_t end) {
     auto& with_vertex = with_vertex_[begin == 0 ? 0 : 1];
     auto& near_segment = near_segment_[begin == 0 ? 0 : 1];
-    auto& both_mids = both_mids_[begin == 0 ? 0 : 1];
-    both_mids.clear();
+    auto& both_mids = both_mids_per_half[begin == 0 ? 0 : 1];
     const std::uint32_t lo = own_base_[begin], hi = end == leaf_count ? grid_count_ : own_base_[end];
     auto& later = across_halves[begin == 0 ? 0 : 1];
     for (auto k = static_cast<std::uint32_t>(begin); k < end; ++k) {
@@ -2266,6 +2264,8 @@ void Builder::build_loops() {
       gtop_[g] = std::min(gtop_[g], l);
     }
   }
+  both_mids_ = std::move(both_mids_per_half[0]);
+  both_mids_.insert(both_mids_.end(), both_mids_per_half[1].begin(), both_mids_per_half[1].end());
   // Dead from here on (own() is never called again; neither are the tree's look-ups, whose last
   // use is above): lent to the arrays made later (final_id_, cell_bound_, ...).
   spare_.lend(own_storage_.get(), own_storage_bytes());

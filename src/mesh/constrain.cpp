@@ -443,8 +443,8 @@ class SegmentInserter {
   // few (a piece moved by an ulp may cross a neighbour again), but counts far beyond that are
   // rounding feeding on itself (segments almost on top of each other at coordinates where the
   // spacing of doubles is coarse): refused past 4096 + 4 s² (more than 8 times the exact
-  // bound), and never past kMaxCrossings. (The fixed cap alone let 96 segments near 2e16 run 3 s before the
-  // refusal.)
+  // bound), and never past kMaxCrossings. (The fixed cap alone let 96 segments near 2e16 run
+  // 3 s before the refusal.)
   static constexpr std::size_t kMaxCrossings = 1u << 20;
   std::size_t crossing_limit() const {
     const std::size_t s = pslg_.segments.size();
