@@ -2,11 +2,13 @@
 // mwst/pipeline.hpp): bytes are decoded into a small planar straight-line graph (points, segments,
 // hole seeds) and options, every method — DT, DR, BRH, QTR, OPT, each optionally followed by the
 // weight-reducing flips (EFH) of Boyacı, Erten, Üngör, "Triangulations Loosing Bundles and
-// Weight" — is run with a small Steiner budget, and the result must pass both validate()
-// (mwst/mesh.hpp, our own structure) and the independent checker check_triangulation()
-// (mwst/check.hpp, which sees only plain triangles, the way `mwst check` reads files back).
-// An InputError is an acceptable answer; any other exception, a crash, a sanitizer report or a
-// checker violation is a bug (abort).
+// Weight" — is run with a small Steiner budget, and the result must pass validate()
+// (mwst/mesh.hpp, our own structure), then round-trip through the files `mwst triangulate` writes:
+// written with io::write_mesh to a scratch directory, read back with io::read_mesh, it must be the
+// same mesh bit for bit (tests/round_trip.hpp) and pass the independent checker
+// check_triangulation() (mwst/check.hpp) on what was read back, as `mwst check` would run it.
+// An InputError from the mesher is an acceptable answer; any other exception, a crash, a sanitizer
+// report, a file mwst cannot read back, a difference or a checker violation is a bug (abort).
 //
 // Decoding. Bytes that parse as a Triangle .poly or .node (the seed corpus is data/) give that
 // graph, cut to its first kMaxTextPoints vertices (segments among them, all holes), with options
@@ -26,6 +28,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <filesystem>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -39,6 +42,7 @@
 #include "mwst/mesh.hpp"
 #include "mwst/pipeline.hpp"
 #include "mwst/pslg.hpp"
+#include "../tests/round_trip.hpp"
 
 namespace {
 
@@ -83,22 +87,38 @@ double ulps_away(double x, int steps) {
   std::abort();
 }
 
-// The mesh as `mwst check` sees it after write_mesh(): every vertex, the in-domain triangles, and
-// each subsegment bordering the domain once.
-mwst::CheckResult check_mesh(const mwst::Pslg& input, const mwst::Mesh& m) {
-  std::vector<std::array<std::uint32_t, 3>> triangles;
-  std::vector<mwst::Segment> subsegments;
-  for (mwst::TriangleId t = 0; t < m.triangles.size(); ++t) {
-    if (!m.in_domain(t)) continue;
-    triangles.push_back(m.triangles[t].v);
-    for (unsigned e = 0; e < 3; ++e) {
-      const mwst::Handle h = mwst::make_handle(t, e);
-      if (!m.is_segment(h)) continue;
-      const mwst::TriangleId other = m.sym(h) >> 2;
-      if (!m.in_domain(other) || other > t) subsegments.push_back({m.org(h), m.dest(h), m.marker(h)});
-    }
+// A directory of this process for the written meshes (removed at exit; one per process, so that
+// libFuzzer's -jobs and -fork workers do not share it).
+const std::string& scratch_prefix() {
+  static const std::string prefix = [] {
+    std::string dir = (std::filesystem::temp_directory_path() / "mwst-fuzz-XXXXXX").string();
+    if (::mkdtemp(dir.data()) == nullptr) fail("mkdtemp", dir);
+    static const std::string removed_at_exit = dir;
+    std::atexit([] {
+      std::error_code ec;
+      std::filesystem::remove_all(removed_at_exit, ec);
+    });
+    return dir + "/mesh";
+  }();
+  return prefix;
+}
+
+// The round trip: write the mesh as `mwst triangulate` does, read it back as `mwst check` does,
+// compare, and check what was read back against the input.
+void check_round_trip(const mwst::Pslg& input, const mwst::Mesh& mesh) {
+  const std::string& prefix = scratch_prefix();
+  std::filesystem::remove(prefix + ".poly");  // a mesh without subsegments writes none
+  mwst::io::MeshFiles back;
+  try {
+    mwst::io::write_mesh(mesh, prefix);
+    back = mwst::io::read_mesh(prefix);
+  } catch (const mwst::InputError& e) {
+    fail("mwst cannot read back what it wrote", e.located());
   }
-  return mwst::check_triangulation(input, m.points, triangles, subsegments);
+  const std::vector<std::string> differences = mwst::test::round_trip_differences(mesh, back, 1);
+  if (!differences.empty()) fail("read back differs", differences.front());
+  const mwst::CheckResult check = mwst::check_triangulation(input, back.points, back.triangles, back.segments);
+  if (!check.ok()) fail("check_triangulation", check.messages.empty() ? "?" : check.messages.front());
 }
 
 // The bytes as a Triangle file, if they are one (a .poly whose vertices are in a .node beside it
@@ -252,10 +272,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
   }
   try {
-    const mwst::CheckResult check = check_mesh(pslg, mesh);
-    if (!check.ok()) fail("check_triangulation", check.messages.empty() ? "?" : check.messages.front());
+    check_round_trip(pslg, mesh);
   } catch (const std::exception& e) {
-    fail("check_triangulation threw", e.what());
+    fail("round trip or check_triangulation threw", e.what());
   }
   return 0;
 }

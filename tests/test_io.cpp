@@ -164,11 +164,35 @@ TEST(IoNode, AttributesAndMarkers) {
   EXPECT_EQ(p.points[1], (mwst::Point{1.0, 0.0}));
 }
 
-TEST(IoNode, ExtraFieldsIgnored) {
-  // Fields beyond those the header announces are ignored, as in Triangle.
-  const Pslg p = parse_node("2 2 0 0\n1 0 0 7 8\n2 1 1 x\n", "t");
+TEST(IoNode, ExtraNumbersIgnored) {
+  // Numbers beyond those the header announces are ignored, as in Triangle (which reads them as
+  // attributes it does not need); words are not (IoNodeErrors.WordsAfterTheFields).
+  const Pslg p = parse_node("2 2 0 0 5\n1 0 0 7 8\n2 1 1 -inf 0x1p3 1e999 # comment\n", "t");
   EXPECT_EQ(p.points.size(), 2u);
   EXPECT_EQ(p.point_markers[0], 0);
+  EXPECT_EQ(p.points[1], (mwst::Point{1.0, 1.0}));
+}
+
+TEST(IoNode, LineEndings) {
+  // "\n", "\r\n" and a lone "\r" each end a line, mixed in one file too.
+  const std::string lf = "# c\n3 2 0 0\n1 0 0\n\n2 1 0.5\n3 0 1\n";
+  for (const std::string& eol : {std::string("\r\n"), std::string("\r")}) {
+    std::string text;
+    for (const char c : lf) text += c == '\n' ? eol : std::string(1, c);
+    const Pslg p = parse_node(text, "t");
+    ASSERT_EQ(p.points.size(), 3u);
+    EXPECT_EQ(p.points[1], (mwst::Point{1.0, 0.5}));
+  }
+  const Pslg mixed = parse_node("3 2 0 0\r1 0 0\r\n2 1 0.5\n\r3 0 1", "t");
+  ASSERT_EQ(mixed.points.size(), 3u);
+  EXPECT_EQ(mixed.points[2], (mwst::Point{0.0, 1.0}));
+}
+
+TEST(IoNode, ByteOrderMarkSkipped) {
+  const Pslg p = parse_node("\xEF\xBB\xBF" "2 2 0 0\n1 0 0\n2 1 1\n", "t");
+  EXPECT_EQ(p.points.size(), 2u);
+  const Pslg q = parse_poly("\xEF\xBB\xBF" "# comment\r2 2 0 0\r1 0 0\r2 1 1\r1 0\r1 1 2\r", "t");
+  EXPECT_EQ(q.segments.size(), 1u);
 }
 
 TEST(IoNode, ZeroAndRangeLimits) {
@@ -260,6 +284,46 @@ TEST(IoNodeErrors, Indices) {
   node_error("3 2 0 0\n1 0 0\n3 1 1\n2 0 1\n", 3, "vertex index 3 out of sequence: expected 2");
   node_error("3 2 0 0\n0 0 0\n1 1 1\n1 0 1\n", 4, "vertex index 1 out of sequence: expected 2");
   node_error("2 2 0 1\n1 0 0 3000000000\n2 1 1\n", 2, "boundary marker 3000000000 is out of range");
+}
+
+TEST(IoNodeErrors, WordsAfterTheFields) {
+  node_error("2 2 0 0\n1 0 0\n2 1 1 x\n", 3, "vertex 2: unexpected 'x' after its fields");
+  node_error("2 2 0 0\n1 0 0 zzz\n2 1 1\n", 2, "vertex 1: unexpected 'zzz' after its fields");
+  node_error("2 2 1 1\n1 0 0 0.5 1 7 word\n2 1 1\n", 2, "vertex 1: unexpected 'word'");
+  node_error("2 2 0 0 vertices\n1 0 0\n2 1 1\n", 1, "header: unexpected 'vertices' after its fields");
+  node_error("2 2 0 0\n1 0 0 1.5x\n2 1 1\n", 2, "unexpected '1.5x'");
+  const std::string v = "3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n";  // lines 1-4
+  poly_error(v + "1 0 segments\n1 1 2\n", 5, "the segment header: unexpected 'segments'");
+  poly_error(v + "1 0\n1 1 2 q\n", 6, "segment 1: unexpected 'q'");
+  poly_error(v + "1 1\n1 1 2 3 q\n", 6, "segment 1: unexpected 'q'");
+  poly_error(v + "0 0\n1 holes\n1 0.2 0.2\n", 6, "the hole header: unexpected 'holes'");
+  poly_error(v + "0 0\n1\n1 0.2 0.2 here\n", 7, "hole 1: unexpected 'here'");
+  poly_error(v + "0 0\n0\n1 r\n1 0.2 0.2 1 0.1\n", 7, "the region header: unexpected 'r'");
+  poly_error(v + "0 0\n0\n1\n1 0.2 0.2 1 0.1 big\n", 8, "region 1: unexpected 'big'");
+  // Numbers there are accepted.
+  const Pslg p = parse_poly(v + "1 0 9\n1 1 2 5 6\n1 9\n1 0.2 0.2 3\n1\n1 0.2 0.2 1 0.1 7\n", "t");
+  EXPECT_EQ(p.segments.size(), 1u);
+  EXPECT_EQ(p.holes.size(), 1u);
+  EXPECT_EQ(p.regions.size(), 1u);
+}
+
+TEST(IoNodeErrors, LinesAreCountedWhateverTheirEnding) {
+  // The same error (vertex 3's y coordinate missing, on line 5) under each line ending.
+  node_error("# c\n3 2 0 0\n1 0 0\n2 1 0\n3 1\n", 5, "vertex 3: missing y coordinate");
+  node_error("# c\r\n3 2 0 0\r\n1 0 0\r\n2 1 0\r\n3 1\r\n", 5, "vertex 3: missing y coordinate");
+  node_error("# c\r3 2 0 0\r1 0 0\r2 1 0\r3 1\r", 5, "vertex 3: missing y coordinate");
+  node_error("# c\r3 2 0 0\n1 0 0\r\n2 1 0\r3 1", 5, "vertex 3: missing y coordinate");
+  // "\r\r\n" is a lone CR (ending one line) then a CR LF (ending an empty one).
+  node_error("2 2 0 0\r\r\n1 0 0\r\r\n2 x 0\r\r\n", 5, "found 'x'");
+  // A lone-CR file whose header promises more than it holds is reported as truncated where it
+  // ends, not as a count the file cannot hold.
+  node_error("3 2 0 0\r1 0 0\r2 1 0\r", 3, "expected 3 vertices, found 2");
+}
+
+TEST(IoNodeErrors, ByteOrderMarkOnlyAtTheStart) {
+  node_error("2 2 0 0\n\xEF\xBB\xBF" "1 0 0\n2 1 1\n", 2, "expected an integer for the index, found '\\xef\\xbb\\xbf1'");
+  node_error("\xEF\xBB\xBF", 1, "no data");
+  node_error("\xEF\xBB\xBF\xEF\xBB\xBF" "1 2 0 0\n1 0 0\n", 1, "found '\\xef\\xbb\\xbf1'");
 }
 
 TEST(IoNodeErrors, TrailingData) {
@@ -580,34 +644,67 @@ TEST(IoReadMesh, ValidatesIndices) {
 // cases met while writing and reviewing the reader (an endpoint of INT64_MIN once overflowed
 // `index - base`), kept here so that the sanitizer builds of the tests see them too.
 
-TEST(IoFuzzRegressions, Inputs) {
-  // Each must be rejected (or accepted) without crashing; none may allocate unboundedly.
-  const std::vector<std::string> inputs = {
-      "3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n1 0\n1 1 -9223372036854775808\n",
-      "1 2 0 0\n-9223372036854775808 0 0\n",
-      "9223372036854775807 2 0 0\n",
-      "1 2 0 0\n1 0 0\n1 0\n1 1 1\n1\n1 0 0\n1\n1 0 0 -inf 1\n",
-      std::string("1\0 2", 4),
-      "1 2 0 99999999999999999\n1 0 0 1\n",
-      "1 2 9223372036854775807 1\n1 0 0\n",
-      "0x",
-      "+",
-      "-",
-      "1 2 0 0\n1 -",
-      "1 2 0 0\n1 0x1p",
-      "1 2 0 0\n1 0 0x",
-  };
-  for (const std::string& s : inputs) {
+// What reading a text gives: accepted with so many vertices and segments, or refused on a line
+// with a message containing a phrase.
+struct Outcome {
+  bool accepted;
+  std::size_t points_or_line;
+  std::size_t segments;  // accepted only
+  std::string phrase;    // refused only
+};
+Outcome accepted(std::size_t points, std::size_t segments = 0) { return {true, points, segments, ""}; }
+Outcome refused(std::size_t line, const std::string& phrase) { return {false, line, 0, phrase}; }
+
+void expect_outcome(const std::function<Pslg()>& read, const Outcome& want) {
+  if (want.accepted) {
     try {
-      parse_node(s, "t");
-    } catch (const InputError&) {
+      const Pslg p = read();
+      EXPECT_EQ(p.points.size(), want.points_or_line);
+      EXPECT_EQ(p.segments.size(), want.segments);
+    } catch (const InputError& e) {
+      ADD_FAILURE() << "refused: " << e.located();
     }
-    try {
-      parse_poly(s, "t");
-    } catch (const InputError&) {
-    }
+  } else {
+    expect_error([&] { read(); }, want.points_or_line, want.phrase);
   }
-  SUCCEED();
+}
+
+TEST(IoFuzzRegressions, Inputs) {
+  // Each is read as a .node and as a .poly; each reading must give exactly its outcome (and none
+  // may crash or allocate unboundedly, which the sanitizer builds check).
+  struct Case {
+    std::string text;
+    Outcome as_node, as_poly;
+  };
+  const std::vector<Case> cases = {
+      {"3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n1 0\n1 1 -9223372036854775808\n",
+       refused(5, "unexpected data after the last vertex"), refused(6, "names vertex -9223372036854775808")},
+      {"1 2 0 0\n-9223372036854775808 0 0\n",
+       refused(2, "the first vertex index must be 0 or 1, found -9223372036854775808"),
+       refused(2, "the first vertex index must be 0 or 1, found -9223372036854775808")},
+      {"9223372036854775807 2 0 0\n", refused(1, "vertex count 9223372036854775807 is more than the rest of the file"),
+       refused(1, "vertex count 9223372036854775807 is more than the rest of the file")},
+      {"1 2 0 0\n1 0 0\n1 0\n1 1 1\n1\n1 0 0\n1\n1 0 0 -inf 1\n", refused(3, "unexpected data after the last vertex"),
+       refused(8, "region 1: regional attribute '-inf' is not a finite double")},
+      {std::string("1\0 2", 4), refused(1, "expected an integer for the vertex count, found '1\\x00'"),
+       refused(1, "expected an integer for the vertex count, found '1\\x00'")},
+      {"1 2 0 99999999999999999\n1 0 0 1\n", accepted(1), refused(2, "unexpected end of file: expected the segment count")},
+      {"1 2 9223372036854775807 1\n1 0 0\n", accepted(1), refused(2, "unexpected end of file: expected the segment count")},
+      {"0x", refused(1, "expected an integer for the vertex count, found '0x'"),
+       refused(1, "expected an integer for the vertex count, found '0x'")},
+      {"+", refused(1, "found '+'"), refused(1, "found '+'")},
+      {"-", refused(1, "found '-'"), refused(1, "found '-'")},
+      {"1 2 0 0\n1 -", refused(2, "vertex 1: expected a number for the x coordinate, found '-'"),
+       refused(2, "vertex 1: expected a number for the x coordinate, found '-'")},
+      {"1 2 0 0\n1 0x1p", refused(2, "found '0x1p'"), refused(2, "found '0x1p'")},
+      {"1 2 0 0\n1 0 0x", refused(2, "vertex 1: expected a number for the y coordinate, found '0x'"),
+       refused(2, "vertex 1: expected a number for the y coordinate, found '0x'")},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.text);
+    expect_outcome([&] { return parse_node(c.text, "t"); }, c.as_node);
+    expect_outcome([&] { return parse_poly(c.text, "t"); }, c.as_poly);
+  }
 }
 
 // ---- the data sets ----------------------------------------------------------------------------
@@ -649,6 +746,82 @@ TEST(IoData, EveryDataSetMatchesItsHeaderComment) {
     }
   }
   EXPECT_EQ(checked, static_cast<int>(files.size()));
+}
+#endif
+
+#ifdef MWST_REGRESSION_DIR
+// ---- reader corners kept as files (tests/regression/, each named after what it caught) ----------
+
+std::string regression_file(const std::string& name) { return std::string(MWST_REGRESSION_DIR) + "/" + name; }
+
+void expect_unit_square(const Pslg& p) {
+  ASSERT_EQ(p.points.size(), 4u);
+  EXPECT_EQ(p.points[0], (mwst::Point{0.0, 0.0}));
+  EXPECT_EQ(p.points[2], (mwst::Point{1.0, 1.0}));
+  EXPECT_EQ(p.point_markers, (std::vector<std::int32_t>{1, 1, 1, 1}));
+}
+
+TEST(IoRegressionFiles, ByteOrderMarkIsSkipped) {
+  // The files start with EF BB BF, as some editors save them; it was refused before the header.
+  for (const char* name : {"bom_node.node", "bom_header_node.node"}) {
+    SCOPED_TRACE(name);
+    ASSERT_EQ(read_text(regression_file(name)).substr(0, 3), "\xEF\xBB\xBF");
+    expect_unit_square(mwst::io::read_node(regression_file(name)));
+  }
+  const Pslg poly = mwst::io::read_poly(regression_file("bom_poly.poly"));
+  expect_unit_square(poly);
+  EXPECT_EQ(poly.segments.size(), 4u);
+  EXPECT_EQ(poly.segment_lines, (std::vector<std::size_t>{8, 9, 10, 11}));
+}
+
+TEST(IoRegressionFiles, LoneCrAndCrLfLineEndings) {
+  // Lone-CR files read as one line before ("vertex count 4 is more than the rest of the file can
+  // hold"); every line ending now ends a line, and errors name the right one.
+  const std::string cr_node = read_text(regression_file("cr_only_node.node"));
+  ASSERT_EQ(cr_node.find('\n'), std::string::npos);
+  expect_unit_square(mwst::io::read_node(regression_file("cr_only_node.node")));
+  for (const char* name : {"cr_only_poly.poly", "crlf_poly.poly"}) {
+    SCOPED_TRACE(name);
+    const Pslg p = mwst::io::read_poly(regression_file(name));
+    expect_unit_square(p);
+    EXPECT_EQ(p.segments.size(), 4u);
+    EXPECT_EQ(p.segment_lines, (std::vector<std::size_t>{8, 9, 10, 11}));
+  }
+  expect_error([] { mwst::io::read_node(regression_file("cr_only_error_line.node")); }, 6,
+               "vertex 3: missing y coordinate", regression_file("cr_only_error_line.node"));
+  expect_error([] { mwst::io::read_poly(regression_file("crlf_error_line.poly")); }, 10,
+               "segment 2 names vertex 5, which does not exist", regression_file("crlf_error_line.poly"));
+}
+
+TEST(IoRegressionFiles, WordsAfterTheFieldsAreRefused) {
+  // `1 0 0 zzz` was silently accepted; Triangle allows further numbers there, not words.
+  struct Case {
+    const char* name;
+    std::size_t line;
+    const char* phrase;
+  };
+  for (const Case& c : {Case{"garbage_after_vertex.node", 5, "vertex 2: unexpected 'zzz' after its fields"},
+                        Case{"garbage_after_header.node", 2, "header: unexpected 'vertices' after its fields"},
+                        Case{"garbage_after_vertex.poly", 4, "vertex 2: unexpected 'zzz' after its fields"},
+                        Case{"garbage_after_segment.poly", 9, "segment 2: unexpected 'oops' after its fields"},
+                        Case{"garbage_after_hole.poly", 13, "hole 1: unexpected 'here' after its fields"},
+                        Case{"garbage_after_region.poly", 14, "region 1: unexpected 'big' after its fields"}}) {
+    SCOPED_TRACE(c.name);
+    expect_error([&] { mwst::io::read_input(regression_file(c.name)); }, c.line, c.phrase, regression_file(c.name));
+  }
+  const Pslg numbers = mwst::io::read_node(regression_file("numbers_after_vertex.node"));
+  ASSERT_EQ(numbers.points.size(), 3u);
+  EXPECT_EQ(numbers.points[2], (mwst::Point{0.0, 1.0}));
+  const std::string ele = regression_file("garbage_after_triangle.ele");
+  expect_error([] { mwst::io::read_mesh(regression_file("garbage_after_triangle")); }, 5,
+               "triangle 2: unexpected 'x' after its fields", ele);
+}
+
+TEST(IoRegressionFiles, MeshWithByteOrderMarkAndLoneCr) {
+  const mwst::io::MeshFiles m = mwst::io::read_mesh(regression_file("bom_cr_only_mesh"));
+  ASSERT_EQ(m.points.size(), 4u);
+  ASSERT_EQ(m.triangles.size(), 2u);
+  EXPECT_EQ(m.triangles[1], (std::array<std::uint32_t, 3>{0, 2, 3}));
 }
 #endif
 

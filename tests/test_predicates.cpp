@@ -89,9 +89,7 @@ int oracle_diametral(const Point& pa, const Point& pb, const Point& pp) {
   return -sign((p.x - a.x) * (p.x - b.x) + (p.y - a.y) * (p.y - b.y));
 }
 
-// ---- checkers (count oracle cases; check every permutation identity too) ----------------------
-
-std::int64_t g_orient_cases = 0, g_incircle_cases = 0, g_length_cases = 0, g_diametral_cases = 0;
+// ---- checkers (the oracle's sign, and every permutation identity too) -------------------------
 
 std::int64_t g_failures = 0;
 constexpr std::int64_t kMaxReported = 20;  // keep the log readable if something is badly wrong
@@ -126,7 +124,6 @@ std::string show(const Point& p) {
 
 // Returns the oracle sign.
 int check_orient(const Point& a, const Point& b, const Point& c) {
-  ++g_orient_cases;
   const int s = oracle_orient(a, b, c);
   const auto where = [&] { return "orient2d" + show(a) + show(b) + show(c); };
   MWST_CHECK_SIGN(orient2d(a, b, c), s, where());
@@ -141,7 +138,6 @@ int check_orient(const Point& a, const Point& b, const Point& c) {
 }
 
 int check_incircle(const Point& a, const Point& b, const Point& c, const Point& d) {
-  ++g_incircle_cases;
   const int s = oracle_incircle(a, b, c, d);
   const auto where = [&] { return "incircle" + show(a) + show(b) + show(c) + show(d); };
   MWST_CHECK_SIGN(incircle(a, b, c, d), s, where());
@@ -157,7 +153,6 @@ int check_incircle(const Point& a, const Point& b, const Point& c, const Point& 
 }
 
 int check_lengths(const Point& a, const Point& b, const Point& c, const Point& d) {
-  ++g_length_cases;
   const int s = oracle_compare_lengths(a, b, c, d);
   const auto where = [&] {
     return "compare_squared_lengths" + show(a) + show(b) + show(c) + show(d);
@@ -169,7 +164,6 @@ int check_lengths(const Point& a, const Point& b, const Point& c, const Point& d
 }
 
 int check_diametral(const Point& a, const Point& b, const Point& p) {
-  ++g_diametral_cases;
   const int s = oracle_diametral(a, b, p);
   const auto where = [&] { return "in_diametral_circle" + show(a) + show(b) + show(p); };
   MWST_CHECK_SIGN(in_diametral_circle(a, b, p), s, where());
@@ -745,11 +739,91 @@ TEST(Constructions, BasicsAndSignedArea) {
   }
 }
 
-TEST(Predicates, CaseCounts) {
-  // Not a check: records how many oracle-verified cases ran (each with its permutations).
-  std::printf("oracle cases: orient2d %lld, incircle %lld, squared lengths %lld, diametral %lld\n",
-              static_cast<long long>(g_orient_cases), static_cast<long long>(g_incircle_cases),
-              static_cast<long long>(g_length_cases), static_cast<long long>(g_diametral_cases));
+// Does the floating-point filter decide these points, or do they go to the exact stage? The
+// orient2d filter is inline in geometry.hpp; this is the same test (its error bound kOrientBound);
+// incircle's filter is detail::incircle_determinant itself.
+bool orient_filter_decides(const Point& a, const Point& b, const Point& c) {
+  const double left = (a.x - c.x) * (b.y - c.y);
+  const double right = (a.y - c.y) * (b.x - c.x);
+  return std::fabs(left - right) > detail::kOrientBound * (std::fabs(left) + std::fabs(right));
+}
+bool incircle_filter_decides(const Point& a, const Point& b, const Point& c, const Point& d) {
+  const detail::FilteredDeterminant det = detail::incircle_determinant(a, b, c, d);
+  return std::fabs(det.value) > det.bound;
+}
+
+// Where the exact stage is reached: always for exactly degenerate cases (a filter that decided
+// one would return a non-zero sign for a zero determinant), for most of the near-degenerate
+// families the tests above use (so that they test the exact stage, not only the filter), and never
+// for well-separated points (so that the filter does its job: the exact stage is ~100 times
+// slower). Every sign is checked against the oracle as well.
+TEST(Predicates, ExactStageReachedExactlyWhereNeeded) {
+  const FailureScope scope;
+  Rng rng(606);
+  // Exactly collinear (points on y = x, and Shewchuk's diagonal i == j) and exactly cocircular
+  // (the symmetric ring): the filter must never decide.
+  std::int64_t degenerate = 0, degenerate_decided = 0;
+  for (int iter = 0; iter < 3000; ++iter) {
+    const double scale = kScales[iter % 3];
+    const double x1 = uniform(rng, -1.0, 1.0) * scale, x2 = uniform(rng, -1.0, 1.0) * scale,
+                 x3 = uniform(rng, -1.0, 1.0) * scale;
+    const Point a{x1, x1}, b{x2, x2}, c{x3, x3};
+    if (!all_in_range(a, b, c)) continue;
+    EXPECT_EQ(check_orient(a, b, c), 0);
+    ++degenerate;
+    degenerate_decided += orient_filter_decides(a, b, c);
+    const double p = uniform(rng, 0.01, 1.0) * scale, q = uniform(rng, 0.01, 1.0) * scale;
+    const std::array<Point, 4> ring = {Point{p, q}, Point{-q, p}, Point{-p, -q}, Point{q, -p}};
+    EXPECT_EQ(check_incircle(ring[0], ring[1], ring[2], ring[3]), 0);
+    ++degenerate;
+    degenerate_decided += incircle_filter_decides(ring[0], ring[1], ring[2], ring[3]);
+  }
+  EXPECT_GT(degenerate, 5000);
+  EXPECT_EQ(degenerate_decided, 0);
+
+  // Near-degenerate: Shewchuk's orient2d grid (one-ulp steps near (0.5, 0.5) against (12, 12),
+  // (24, 24)), whose determinants (at most 12 · 64 ulps of 0.5, about 8.5e-14) are all below the
+  // filter's bound (about 1.9e-13), and the incircle grid near the circle through (±0.5, ±0.5),
+  // where the bound (about 4.4e-15) is of the order of the determinants (up to 64 ulps of 0.5,
+  // about 7e-15, in the grid's far corners): the orient2d cases all reach the exact stage, most of
+  // the incircle ones (86 % when this was written).
+  constexpr double u = 0x1p-53;
+  std::int64_t near = 0, orient_near_exact = 0, incircle_near_exact = 0;
+  for (int i = 0; i < 64; ++i) {
+    for (int j = 0; j < 64; ++j) {
+      const Point p{0.5 + i * u, 0.5 + j * u};
+      check_orient(p, Point{12, 12}, Point{24, 24});
+      orient_near_exact += !orient_filter_decides(p, Point{12, 12}, Point{24, 24});
+      const Point d{0.5 + (i - 32) * u, 0.5 + (j - 32) * u};
+      check_incircle(Point{-0.5, 0.5}, Point{-0.5, -0.5}, Point{0.5, -0.5}, d);
+      incircle_near_exact += !incircle_filter_decides(Point{-0.5, 0.5}, Point{-0.5, -0.5}, Point{0.5, -0.5}, d);
+      ++near;
+    }
+  }
+  EXPECT_EQ(orient_near_exact, near);
+  EXPECT_GT(incircle_near_exact, near * 3 / 4) << incircle_near_exact << " of " << near;
+
+  // Well separated: random triangles in the unit square whose orientation determinant is at least
+  // 1e-3 (the filter's bound there is below 1e-14), and points at least 1e-3 (relative to the
+  // circle's size) inside or outside the circumcircle: the filter decides every one.
+  std::int64_t easy = 0, easy_exact = 0;
+  for (int iter = 0; iter < 20000; ++iter) {
+    const Point a{uniform(rng, 0, 1), uniform(rng, 0, 1)}, b{uniform(rng, 0, 1), uniform(rng, 0, 1)},
+        c{uniform(rng, 0, 1), uniform(rng, 0, 1)}, d{uniform(rng, 0, 1), uniform(rng, 0, 1)};
+    const double orientation = (a.x - c.x) * (b.y - c.y) - (a.y - c.y) * (b.x - c.x);
+    if (std::fabs(orientation) < 1e-3) continue;
+    check_orient(a, b, c);
+    ++easy;
+    easy_exact += !orient_filter_decides(a, b, c);
+    const Point centre = circumcenter(a, b, c);
+    const double r = distance(centre, a), from_centre = distance(centre, d);
+    if (r > 10.0 || std::fabs(from_centre - r) < 1e-3 * r) continue;
+    check_incircle(a, b, c, d);
+    ++easy;
+    easy_exact += !incircle_filter_decides(a, b, c, d);
+  }
+  EXPECT_GT(easy, 20000);
+  EXPECT_EQ(easy_exact, 0);
 }
 
 }  // namespace

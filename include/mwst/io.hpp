@@ -2,8 +2,10 @@
 //
 // Readers follow Triangle's conventions: '#' starts a comment anywhere on a line, blank lines are
 // skipped, indices may start at 0 or 1 (decided by the first vertex's index, as Triangle does),
-// attributes and boundary markers are tolerated. Every problem is an InputError naming the file and
-// line. Coordinates outside the supported range (see geometry.hpp), NaN and Inf are rejected.
+// attributes and boundary markers are tolerated, and so are further numbers at the end of a line
+// (Triangle ignores them), but not words. Lines may end in "\n", "\r\n" or "\r"; a UTF-8
+// byte-order mark at the start of a file is skipped. Every problem is an InputError naming the file
+// and line. Coordinates outside the supported range (see geometry.hpp), NaN and Inf are rejected.
 // Writers print shortest round-trip decimals, so coordinates read back as the same doubles; they
 // write to a temporary name and rename when complete, so a failure leaves no partial file.
 #pragma once

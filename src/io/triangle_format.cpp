@@ -2,8 +2,11 @@
 // .node, .poly and .ele (read_node, read_poly, read_input, parse_node, parse_poly, read_mesh) and
 // the mesh writer (write_mesh). write_file_atomic lives in atomic_file.cpp.
 //
-// Reading: a large file is mapped (a small one read with one read(2)) and scanned in place. A Scanner walks the text line by line (one memchr per line;
-// '#' ends a line's content wherever it appears) and hands out the fields of the current line;
+// Reading: a large file is mapped (a small one read with one read(2)) and scanned in place, after a
+// UTF-8 byte-order mark if it starts with one. A Scanner walks the text line by line (lines end in
+// "\n", "\r\n" or a lone "\r"; one memchr per line; '#' ends a line's content wherever it
+// appears) and hands out the fields of the current line; after a record's fields only numbers may
+// follow (Triangle's extra attributes), never words;
 // numbers are converted directly from the text with std::from_chars (no iostreams, no copies), with
 // inline fast paths for plain integers and in-range decimals. Every problem is an InputError
 // naming the file and line. Header counts are checked against the size of the file, and storage is
@@ -201,20 +204,37 @@ struct Item {
   }
 };
 
+// A UTF-8 byte-order mark (EF BB BF), which some editors put at the start of a text file: it is
+// not data, and is skipped (only at the start of a file).
+std::string_view without_byte_order_mark(std::string_view text) {
+  constexpr std::string_view kMark = "\xEF\xBB\xBF";
+  return text.substr(0, kMark.size()) == kMark ? text.substr(kMark.size()) : text;
+}
+
 class Scanner {
  public:
   Scanner(std::string_view text, const std::string& name)
-      : next_(text.data()), end_(text.data() + text.size()), name_(name) {}
+      : next_(text.data()), end_(text.data() + text.size()), name_(name) {
+    next_lf_ = find(next_, '\n');
+    next_cr_ = find(next_, '\r');
+  }
 
   // Advances to the next line that holds data (skipping blank and comment-only lines). Returns
-  // false at the end of the file. A '#' ends a line's content wherever it appears; it is found
-  // lazily (fields stop at it), so a line costs one memchr.
+  // false at the end of the file. A line ends at "\n", "\r\n" or a lone "\r" (files from classic
+  // Mac OS), so line numbers are right whichever ending a file uses. The next '\n' and the next
+  // '\r' are each found with memchr and remembered until passed: a file of one ending costs one
+  // memchr per line plus one over the whole file for the ending it does not use (never a rescan).
+  // A '#' ends a line's content wherever it appears; it is found lazily (fields stop at it).
   bool next_line() {
     while (next_ < end_) {
       const char* start = next_;
-      const auto* nl = static_cast<const char*>(std::memchr(start, '\n', static_cast<std::size_t>(end_ - start)));
-      const char* line_end = nl != nullptr ? nl : end_;
-      next_ = nl != nullptr ? nl + 1 : end_;
+      if (next_lf_ < start) next_lf_ = find(start, '\n');
+      if (next_cr_ < start) next_cr_ = find(start, '\r');
+      // The line ends at the nearer of the two; a '\r' right before a '\n' ends it together with
+      // that '\n'.
+      const char* line_end = next_lf_ <= next_cr_ ? next_lf_ : next_cr_;
+      const bool crlf = line_end == next_cr_ && line_end + 1 == next_lf_;
+      next_ = line_end == end_ ? end_ : line_end + (crlf ? 2 : 1);
       ++line_;
       while (start < line_end && is_blank(*start)) ++start;
       if (start < line_end && *start != '#') {
@@ -240,6 +260,8 @@ class Scanner {
   std::size_t lines_scanned() const { return line_; }
   void continue_as(const Scanner& later, std::size_t lines_before) {
     next_ = later.next_;
+    next_lf_ = later.next_lf_;
+    next_cr_ = later.next_cr_;
     cur_ = later.cur_;
     cur_end_ = later.cur_end_;
     line_ = lines_before + later.line_;
@@ -295,6 +317,21 @@ class Scanner {
   std::size_t reservable(std::size_t n, std::size_t min_record) const {
     const std::size_t fit = (remaining() + 1) / min_record;  // +1: the last line may lack '\n'
     return n < fit ? n : fit;
+  }
+
+  // The end of a record or header: fields after those read may only be numbers (Triangle reads
+  // further numbers as attributes and ignores those it does not need), then an optional '#'
+  // comment. A word there ("1 0 0 zzz") is refused: it is a typo or another format, not data to
+  // drop silently.
+  void end_of_record(const Item& item) {
+    while (has_field()) {
+      double ignored = 0.0;
+      if (parse_double(ignored) == Status::kMalformed) {
+        fail(item.text() + ": unexpected " + quote(token()) +
+             " after its fields (only numbers may follow them; '#' starts a comment)");
+      }
+      cur_ = after_;
+    }
   }
 
   // A boundary marker (an int32).
@@ -414,10 +451,19 @@ class Scanner {
     return Status::kOk;
   }
 
+  // The first c at or after p, or end_.
+  const char* find(const char* p, char c) const {
+    if (p == end_) return end_;
+    const auto* q = static_cast<const char*>(std::memchr(p, c, static_cast<std::size_t>(end_ - p)));
+    return q != nullptr ? q : end_;
+  }
+
   const char* next_;               // start of the next unscanned line
   const char* end_;
+  const char* next_lf_;            // the next '\n' at or after where it was last looked for (or end_)
+  const char* next_cr_;            // the same for '\r'
   const char* cur_ = nullptr;      // position in the current line
-  const char* cur_end_ = nullptr;  // end of the current line (its '\n' or the end of the text)
+  const char* cur_end_ = nullptr;  // end of the current line (its line ending or the end of the text)
   const char* after_ = nullptr;
   std::size_t line_ = 0;           // number of the current line (1-based)
   const std::string& name_;
@@ -481,6 +527,7 @@ void read_vertex_record(Scanner& s, std::size_t i, int& base, std::int64_t nattr
   for (; a < nattr && s.has_field(); ++a) s.real(item, "attribute");
   marker = 0;
   if (nmarkers > 0 && a == nattr && s.has_field()) marker = s.marker(item);
+  s.end_of_record(item);
 }
 
 // Large vertex sections are parsed in two halves on two threads. The second thread starts at the
@@ -556,6 +603,7 @@ std::size_t read_vertex_section(Scanner& s, Pslg& out) {
   if (nattr < 0) s.fail("negative attribute count " + std::to_string(nattr));
   const std::int64_t nmarkers = s.optional_integer(header, "marker count", 0);
   if (nmarkers < 0) s.fail("negative marker count " + std::to_string(nmarkers));
+  s.end_of_record(header);
   if (n == 0) return 0;
   if (n >= kInfinite) s.fail("vertex count " + std::to_string(n) + " is too large");
 
@@ -590,7 +638,7 @@ Pslg parse_node_text(std::string_view text, const std::string& name) {
   out.source = name;
   out.is_poly = false;
   if (text.empty()) throw InputError(name, 0, "empty file");
-  Scanner s(text, name);
+  Scanner s(without_byte_order_mark(text), name);
   if (!s.next_line()) s.fail("no data: the file holds only comments and blank lines");
   read_vertex_section(s, out);
   if (s.next_line()) {
@@ -608,7 +656,7 @@ Pslg parse_poly_text(std::string_view text, const std::string& name, const Pslg*
   out.source = name;
   out.is_poly = true;
   if (text.empty()) throw InputError(name, 0, "empty file");
-  Scanner s(text, name);
+  Scanner s(without_byte_order_mark(text), name);
   if (!s.next_line()) s.fail("no data: the file holds only comments and blank lines");
   const std::size_t header_line = s.line();
   const std::size_t n = read_vertex_section(s, out);
@@ -637,6 +685,7 @@ Pslg parse_poly_text(std::string_view text, const std::string& name, const Pslg*
   {
     const std::size_t m = s.count("segment count");
     const bool markers = s.optional_integer(Item{"header"}, "marker flag", 0) != 0;
+    s.end_of_record(Item{"the segment header"});
     out.segments.reserve(s.reservable(m, 6));
     out.segment_lines.reserve(s.reservable(m, 6));
     for (std::size_t i = 0; i < m; ++i) {
@@ -647,6 +696,7 @@ Pslg parse_poly_text(std::string_view text, const std::string& name, const Pslg*
       seg.a = vertex_reference(s, item, "first endpoint", nv, base);
       seg.b = vertex_reference(s, item, "second endpoint", nv, base);
       if (markers && s.has_field()) seg.marker = s.marker(item);
+      s.end_of_record(item);
       out.segments.push_back(seg);
       out.segment_lines.push_back(s.line());
     }
@@ -656,6 +706,7 @@ Pslg parse_poly_text(std::string_view text, const std::string& name, const Pslg*
   if (!s.next_line()) return out;
   {
     const std::size_t h = s.count("hole count");
+    s.end_of_record(Item{"the hole header"});
     out.holes.reserve(s.reservable(h, 6));
     for (std::size_t i = 0; i < h; ++i) {
       if (!s.next_line()) truncated(s, h, i, "holes");
@@ -664,6 +715,7 @@ Pslg parse_poly_text(std::string_view text, const std::string& name, const Pslg*
       Point p;
       p.x = s.coordinate(item, "x coordinate");
       p.y = s.coordinate(item, "y coordinate");
+      s.end_of_record(item);
       out.holes.push_back(p);
     }
   }
@@ -672,6 +724,7 @@ Pslg parse_poly_text(std::string_view text, const std::string& name, const Pslg*
   if (!s.next_line()) return out;
   {
     const std::size_t r = s.count("region count");
+    s.end_of_record(Item{"the region header"});
     out.regions.reserve(s.reservable(r, 8));
     for (std::size_t i = 0; i < r; ++i) {
       if (!s.next_line()) truncated(s, r, i, "regions");
@@ -682,6 +735,7 @@ Pslg parse_poly_text(std::string_view text, const std::string& name, const Pslg*
       region.seed.y = s.coordinate(item, "y coordinate");
       region.attribute = s.real(item, "regional attribute");
       if (s.has_field()) region.max_area = s.real(item, "maximum area");
+      s.end_of_record(item);
       out.regions.push_back(region);
     }
   }
@@ -693,7 +747,7 @@ Pslg parse_poly_text(std::string_view text, const std::string& name, const Pslg*
 std::vector<std::array<std::uint32_t, 3>> parse_ele_text(std::string_view text, const std::string& name,
                                                          std::size_t points, int base) {
   if (text.empty()) throw InputError(name, 0, "empty file");
-  Scanner s(text, name);
+  Scanner s(without_byte_order_mark(text), name);
   if (!s.next_line()) s.fail("no data: the file holds only comments and blank lines");
   const Item header{"header"};
   const std::size_t t = s.count("triangle count");
@@ -703,6 +757,7 @@ std::vector<std::array<std::uint32_t, 3>> parse_ele_text(std::string_view text, 
   }
   const std::int64_t nattr = s.optional_integer(header, "attribute count", 0);
   if (nattr < 0) s.fail("negative attribute count " + std::to_string(nattr));
+  s.end_of_record(header);
   std::vector<std::array<std::uint32_t, 3>> triangles;
   triangles.reserve(s.reservable(t, 8));
   int tri_base = -1;
@@ -712,7 +767,8 @@ std::vector<std::array<std::uint32_t, 3>> parse_ele_text(std::string_view text, 
     const Item item{"triangle", index};
     std::array<std::uint32_t, 3> tri{};
     for (auto& v : tri) v = vertex_reference(s, item, "corner", points, base);
-    // Further nodes (6-node triangles) and attributes are tolerated and ignored.
+    // Further nodes (6-node triangles) and attributes are numbers, tolerated and ignored.
+    s.end_of_record(item);
     triangles.push_back(tri);
   }
   if (s.next_line()) {
