@@ -324,14 +324,7 @@ class Scanner {
   // comment. A word there ("1 0 0 zzz") is refused: it is a typo or another format, not data to
   // drop silently.
   void end_of_record(const Item& item) {
-    while (has_field()) {
-      double ignored = 0.0;
-      if (parse_double(ignored) == Status::kMalformed) {
-        fail(item.text() + ": unexpected " + quote(token()) +
-             " after its fields (only numbers may follow them; '#' starts a comment)");
-      }
-      cur_ = after_;
-    }
+    if (has_field()) fields_after_record(item);
   }
 
   // A boundary marker (an int32).
@@ -379,6 +372,18 @@ class Scanner {
     const char* e = cur_;
     while (e < cur_end_ && !is_blank(*e) && *e != '#') ++e;
     return {cur_, static_cast<std::size_t>(e - cur_)};
+  }
+
+  // The fields after a record's own (end_of_record): numbers are skipped, a word is refused.
+  [[gnu::noinline]] void fields_after_record(const Item& item) {
+    while (has_field()) {
+      double ignored = 0.0;
+      if (parse_double(ignored) == Status::kMalformed) {
+        fail(item.text() + ": unexpected " + quote(token()) +
+             " after its fields (only numbers may follow them; '#' starts a comment)");
+      }
+      cur_ = after_;
+    }
   }
 
   [[noreturn, gnu::cold, gnu::noinline]] void missing(const Item& item, const char* field) const {
