@@ -1,6 +1,7 @@
 // fuzz/fuzz_node.cpp — libFuzzer harness for the .node reader (mwst::io::parse_node): any byte
 // string must either parse or raise InputError; crashes, sanitizer reports, other exceptions and
-// unbounded allocations are bugs.
+// unbounded allocations are bugs. What a text reads as must not depend on its line endings or a
+// byte-order mark (reader_invariance.hpp).
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -8,6 +9,7 @@
 
 #include "mwst/error.hpp"
 #include "mwst/io.hpp"
+#include "reader_invariance.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);
@@ -20,5 +22,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
   } catch (const mwst::InputError&) {
   }
+  mwst_fuzz::check_reader_invariance(text, [](const std::string& t) { return mwst::io::parse_node(t, "fuzz.node"); });
   return 0;
 }

@@ -1,7 +1,9 @@
 // fuzz/fuzz_poly.cpp — libFuzzer harness for the .poly reader (mwst::io::parse_poly): any byte
 // string must either parse or raise InputError; crashes, sanitizer reports, other exceptions and
-// unbounded allocations are bugs. (A vertex count of 0 looks for a .node beside the given name;
-// the name points into a directory that does not exist, so that path is exercised as an error.)
+// unbounded allocations are bugs. What a text reads as must not depend on its line endings or a
+// byte-order mark (reader_invariance.hpp). (A vertex count of 0 looks for a .node beside the given
+// name; the name points into a directory that does not exist, so that path is exercised as an
+// error.)
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -9,6 +11,7 @@
 
 #include "mwst/error.hpp"
 #include "mwst/io.hpp"
+#include "reader_invariance.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);
@@ -28,5 +31,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
   } catch (const mwst::InputError&) {
   }
+  mwst_fuzz::check_reader_invariance(text, [](const std::string& t) { return mwst::io::parse_poly(t, "/nonexistent-mwst-fuzz/fuzz.poly"); });
   return 0;
 }
