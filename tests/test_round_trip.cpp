@@ -180,6 +180,27 @@ TEST(RoundTrip, RandomPolygonsWithHolesEveryMethod) {
   }
 }
 
+TEST(RoundTrip, RandomCrossingSegmentsEveryMethod) {
+  // A unit square with random segments inside it that cross each other: the crossing points are
+  // rounded intersections, written and read back like any other vertex.
+  for (const std::uint64_t seed : {41u, 42u}) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> inside(0.05, 0.95);
+    Pslg p;
+    p.is_poly = true;
+    p.source = "crossing segments (seed " + std::to_string(seed) + ")";
+    test::add_ring(p, {{0, 0}, {1, 0}, {1, 1}, {0, 1}});
+    for (int k = 0; k < 8; ++k) {
+      const auto first = static_cast<std::uint32_t>(p.points.size());
+      p.points.push_back({inside(rng), inside(rng)});
+      p.points.push_back({inside(rng), inside(rng)});
+      p.segments.push_back({first, first + 1, 2});
+    }
+    p.point_markers.assign(p.points.size(), 1);
+    for (const Method m : kMethods) expect_round_trip(p, options_for(m, seed == 42));
+  }
+}
+
 TEST(RoundTrip, FarFromOneEveryMethod) {
   // The same shapes scaled by powers of two towards both ends of the supported range (1e±50): the
   // written decimals have up to 17 significant digits and three-digit exponents.
