@@ -3592,9 +3592,10 @@ VertexId out_of_range_vertex(const Mesh& m, const std::vector<char>& kept) {
 // (same corners, same order, same subsegments); the rest of the convex hull of the kept vertices
 // (holes, concavities, the pockets between the domain and the hull) is triangulated anew by the
 // constrained Delaunay triangulation of the domain's boundary vertices and the input points
-// outside the domain, with the domain's boundary edges as segments. Its triangles on the far side
-// of those edges (a flood from them that never crosses one) are carved (kOutside); its ghosts
-// close the hull, which is the same, since the domain lies inside the hull of its boundary.
+// outside the domain, with the domain's boundary edges as segments. Its triangles outside the
+// domain (all but those a flood from the near side of the boundary edges reaches without crossing
+// one) are carved (kOutside); its ghosts close the hull, which is the same, since the domain lies
+// inside the hull of its boundary.
 // Subsegments with carved triangles on both sides (none reach the output) are not kept.
 void drop_unused_vertices(Mesh& m, const std::vector<char>& kept) {
   const std::size_t n = m.points.size();
@@ -3642,7 +3643,9 @@ void drop_unused_vertices(Mesh& m, const std::vector<char>& kept) {
     throw InternalError("drop_unused_vertices: the boundary's triangulation added vertices");
   }
   const auto new_of = [&](VertexId cv) { return cv == kInfinite ? kInfinite : cdt_vertex[cv]; };
-  // The CDT's triangles outside the domain: flooded from the far side of each boundary edge.
+  // The CDT's triangles inside the domain: flooded from the near side of each boundary edge
+  // without crossing one (every component of the domain has boundary edges). The other finite
+  // ones are outside it (all of them when the domain is empty).
   std::unordered_map<std::uint64_t, Handle> cdt_edge;
   for (TriangleId t = 0; t < c.triangles.size(); ++t) {
     if (c.is_dead(t) || c.is_ghost(t)) continue;
@@ -3653,14 +3656,14 @@ void drop_unused_vertices(Mesh& m, const std::vector<char>& kept) {
   }
   std::unordered_set<std::uint64_t> boundary_keys;
   for (const auto& [u, v] : boundary) boundary_keys.insert(key(std::min(u, v), std::max(u, v)));
-  std::vector<char> outside(c.triangles.size(), 0);
+  std::vector<char> inside(c.triangles.size(), 0);
   std::vector<TriangleId> stack;
   for (const auto& [u, v] : boundary) {
-    const auto it = cdt_edge.find(key(v, u));
-    if (it == cdt_edge.end()) continue;  // on the hull: the far side is a ghost
+    const auto it = cdt_edge.find(key(u, v));
+    if (it == cdt_edge.end()) throw InternalError("drop_unused_vertices: a boundary edge is not in the triangulation");
     const TriangleId t = triangle_of(it->second);
-    if (!outside[t]) {
-      outside[t] = 1;
+    if (!inside[t]) {
+      inside[t] = 1;
       stack.push_back(t);
     }
   }
@@ -3672,8 +3675,8 @@ void drop_unused_vertices(Mesh& m, const std::vector<char>& kept) {
       const VertexId a = new_of(c.org(h)), b = new_of(c.dest(h));
       if (boundary_keys.count(key(std::min(a, b), std::max(a, b))) != 0) continue;
       const TriangleId u = triangle_of(c.sym(h));
-      if (outside[u] || c.is_ghost(u) || c.is_dead(u)) continue;
-      outside[u] = 1;
+      if (inside[u] || c.is_ghost(u) || c.is_dead(u)) continue;
+      inside[u] = 1;
       stack.push_back(u);
     }
   }
@@ -3681,7 +3684,7 @@ void drop_unused_vertices(Mesh& m, const std::vector<char>& kept) {
   std::vector<TriangleId> cdt_slot(c.triangles.size(), kNone);
   TriangleId slots = domain_triangles;
   for (TriangleId t = 0; t < c.triangles.size(); ++t) {
-    if (!c.is_dead(t) && (outside[t] || c.is_ghost(t))) cdt_slot[t] = slots++;
+    if (!c.is_dead(t) && !inside[t]) cdt_slot[t] = slots++;
   }
   Mesh out;
   out.points.reserve(count);

@@ -19,6 +19,7 @@
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
+#include <utility>
 
 #include "mwst/delaunay.hpp"
 #include "mwst/mesh.hpp"
@@ -556,11 +557,19 @@ class Checker {
   // The line of an input segment: exact-enough distance and a strictly increasing position.
   struct SegmentLine {
     Point a, b;
-    AlongPiece along;
+    double sign_x, sign_y;  // the directions in which x and y grow from a to b (+1 if they stay)
+    bool by_x;              // x changes at least as much as y
     double length;
     double tolerance;  // on the cross product: kSegmentUlps ulps of the magnitude, times length
+    // Position along the line: the coordinate that changes most, then the other one, each signed
+    // to grow from a to b (lexicographic). Exact; on a long nearly diagonal segment rounded chain
+    // vertices can share the first coordinate and differ in the second.
+    std::pair<double, double> along(const Point& q) const {
+      return by_x ? std::pair{sign_x * q.x, sign_y * q.y} : std::pair{sign_y * q.y, sign_x * q.x};
+    }
     SegmentLine(const Point& from, const Point& to)
-        : a(from), b(to), along(from, to), length(distance(from, to)) {
+        : a(from), b(to), sign_x(to.x >= from.x ? 1.0 : -1.0), sign_y(to.y >= from.y ? 1.0 : -1.0),
+          by_x(std::fabs(to.x - from.x) >= std::fabs(to.y - from.y)), length(distance(from, to)) {
       const double magnitude = std::max({std::fabs(a.x), std::fabs(a.y), std::fabs(b.x), std::fabs(b.y)});
       const double ulp = std::nextafter(magnitude, std::numeric_limits<double>::infinity()) - magnitude;
       tolerance = kSegmentUlps * ulp * length;
@@ -577,7 +586,7 @@ class Checker {
   // otherwise the vertex furthest along where it stopped, with *enters set when the segment runs
   // from there into the interior of a mesh triangle (rather than out of the mesh).
   std::uint32_t follow_segment(const SegmentLine& line, std::uint32_t from, std::uint32_t to, bool* enters) {
-    const double s_end = line.along(line.b);
+    const auto s_end = line.along(line.b);
     std::vector<std::uint32_t>& stack = path_;
     stack.assign(1, from);
     std::vector<std::uint32_t> touched;
@@ -587,7 +596,7 @@ class Checker {
       const std::uint32_t cur = stack.back();
       stack.pop_back();
       if (line.along(p_[cur]) > line.along(p_[furthest])) furthest = cur;
-      const double s_cur = cur == from ? line.along(line.a) : line.along(p_[cur]);
+      const auto s_cur = line.along(p_[cur]);
       for (std::uint32_t k = adj_start_[cur]; k < adj_start_[cur + 1]; ++k) {
         const std::uint32_t w = adj_[k];
         if (w == to) {
@@ -595,7 +604,7 @@ class Checker {
           break;
         }
         if (dead_end_[w]) continue;
-        const double s = line.along(p_[w]);
+        const auto s = line.along(p_[w]);
         if (!(s > s_cur && s < s_end) || !line.near(p_[w])) continue;
         dead_end_[w] = 1;  // visited: reached once, never expanded again
         touched.push_back(w);
