@@ -16,6 +16,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -730,6 +732,84 @@ TEST(Cdt, Deterministic) {
   }
   EXPECT_EQ(a.mesh.flags, b.mesh.flags);
   EXPECT_EQ(a.mesh.points, b.mesh.points);
+}
+
+// ---- crossing points: the exact intersection, rounded ---------------------------------------------
+
+// The double nearest to q (ties to even), from GMP alone: the oracle for the crossing points.
+double nearest_double(const mpq_class& q) {
+  const double t = q.get_d();  // truncated toward zero
+  if (q == 0) return 0.0;
+  const double away = std::nextafter(t, q > 0 ? HUGE_VAL : -HUGE_VAL);
+  const mpq_class dt = abs(q - mpq_class(t)), da = abs(mpq_class(away) - q);
+  if (dt != da) return dt < da ? t : away;
+  return (std::bit_cast<std::uint64_t>(t) & 1u) == 0 ? t : away;
+}
+
+// Two segments that cross properly away from their ends, at many scales: the one Steiner point is
+// the exact intersection of the two lines with each coordinate rounded to the nearest double.
+TEST(CdtCrossing, CrossingVertexIsTheExactIntersectionRounded) {
+  std::mt19937_64 rng(36);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int checked = 0;
+  for (const double scale : {1.0, 1e-40, 3e17, 1e40}) {
+    for (int trial = 0; trial < 200; ++trial) {
+      Pslg g;
+      for (int k = 0; k < 4; ++k) g.points.push_back({scale * unit(rng), scale * unit(rng)});
+      g.segments = {{0, 1, 1}, {2, 3, 2}};
+      const auto q = [&](int i) { return std::array<mpq_class, 2>{mpq_class(g.points[i].x), mpq_class(g.points[i].y)}; };
+      const auto a = q(0), b = q(1), c = q(2), d = q(3);
+      auto orient = [](const std::array<mpq_class, 2>& o, const std::array<mpq_class, 2>& p,
+                       const std::array<mpq_class, 2>& r) {
+        return mpq_class((p[0] - o[0]) * (r[1] - o[1]) - (p[1] - o[1]) * (r[0] - o[0]));
+      };
+      const mpq_class oa = orient(c, d, a), ob = orient(c, d, b), oc = orient(a, b, c), od = orient(a, b, d);
+      if (sgn(oa) * sgn(ob) >= 0 || sgn(oc) * sgn(od) >= 0) continue;  // no proper crossing
+      const mpq_class x = (oa * b[0] - ob * a[0]) / (oa - ob), y = (oa * b[1] - ob * a[1]) / (oa - ob);
+      const Point want{nearest_double(x), nearest_double(y)};
+      // Within a few hundred ulps of an end the crossing is taken at that end (no new vertex).
+      bool near_end = false;
+      for (const Point& p : g.points) near_end = near_end || distance(p, want) < 1e-12 * scale;
+      if (near_end) continue;
+      ConstrainStats stats;
+      const Mesh m = constrained_delaunay(g, {.strict = false, .convex_hull = true}, &stats);
+      ASSERT_EQ(stats.crossings, 1u);
+      ASSERT_EQ(m.points.size(), 5u);
+      EXPECT_EQ(m.points[4], want) << "scale " << scale << " trial " << trial;
+      EXPECT_TRUE(validate(m).empty());
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 150);  // about a quarter of random pairs cross
+}
+
+// tests/regression/crossing_snapped_far_off_segment.poly: two segments crossing at x = 9.6e-51,
+// between 0 and the smallest supported magnitude 1e-50. The crossing vertex was put at x = 0, 20 %
+// of the segments' length off both; no double in the range is within rounding of the crossing, so
+// the input is refused, naming the segment and the point.
+TEST(CdtCrossingRegression, CrossingBelowTheCoordinateRangeIsRefusedNotSnapped) {
+  const std::string path = std::string(MWST_TEST_DATA_DIR) + "/../regression/crossing_snapped_far_off_segment.poly";
+  const Pslg g = io::read_input(path);
+  try {
+    constrained_delaunay(g, {});
+    FAIL() << "the crossing below the coordinate range was accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.located();
+    EXPECT_NE(what.find("crossing_snapped_far_off_segment.poly"), std::string::npos) << what;
+    EXPECT_NE(what.find("outside the supported coordinate range"), std::string::npos) << what;
+    EXPECT_NE(what.find("9.634146341463"), std::string::npos) << what;
+  }
+  // The same picture scaled up by 1e10 lies inside the range: the crossing is made, exactly rounded.
+  Pslg big = g;
+  for (Point& p : big.points) p = {p.x * 1e10, p.y * 1e10};
+  ConstrainStats stats;
+  const Mesh m = constrained_delaunay(big, {}, &stats);
+  EXPECT_EQ(stats.crossings, 1u);
+  ASSERT_EQ(m.points.size(), big.points.size() + 1);
+  const Point x = m.points.back();
+  EXPECT_NEAR(x.x, 9.634146341463415e-41, 1e-55);
+  EXPECT_NEAR(x.y, -1.0365853658536586e-40, 1e-55);
+  EXPECT_TRUE(test::check_mesh(big, m).ok());
 }
 
 }  // namespace

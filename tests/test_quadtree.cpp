@@ -11,6 +11,7 @@
 // leaf size against the local feature size; the angle bound on the data sets and random inputs;
 // determinism; and the fallback.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -25,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "mwst/check.hpp"
 #include "mwst/delaunay.hpp"
 #include "mwst/error.hpp"
 #include "mwst/io.hpp"
@@ -181,7 +183,27 @@ double check_output(const Pslg& g, const Result& r, bool expect_no_fallback = tr
   const Metrics metrics = measure(m);
   EXPECT_EQ(metrics.steiner, steiner);
   EXPECT_EQ(outside, 0u) << "counted Steiner points outside the domain";
+  // What is written is read back: only vertices the domain uses (after the input points), all in
+  // the supported coordinate range.
+  std::size_t unused = 0, out_of_range = 0;
+  for (VertexId v = 0; v < m.points.size(); ++v) {
+    if (v >= m.input_vertex_count && !used[v]) ++unused;
+    if (!in_supported_range(m.points[v])) ++out_of_range;
+  }
+  EXPECT_EQ(unused, 0u) << "Steiner vertices in no triangle of the domain";
+  EXPECT_EQ(out_of_range, 0u) << "vertices outside the supported coordinate range";
   return smallest;
+}
+
+// Writes the mesh as `mwst triangulate` does, reads it back as `mwst check` does, and checks it.
+void expect_round_trip(const Pslg& g, const Mesh& m, const std::string& name) {
+  const std::string prefix = testing::TempDir() + "/mwst_qtr_" + std::to_string(::getpid()) + "_" + name;
+  io::write_mesh(m, prefix);
+  const io::MeshFiles back = io::read_mesh(prefix);
+  EXPECT_EQ(back.points.size(), m.points.size());
+  const CheckResult r = check_triangulation(g, back.points, back.triangles, back.segments);
+  EXPECT_TRUE(r.ok()) << joined(r.messages);
+  for (const char* ext : {".node", ".ele", ".poly"}) std::filesystem::remove(prefix + ext);
 }
 
 // ---- the case table and the cell program -----------------------------------------------------------
@@ -973,6 +995,57 @@ TEST(Quadtree, FeaturesBelowTheDeepestLevelFallBackToAValidMesh) {
   const Result f = run(poly, options);
   EXPECT_TRUE(f.stats.fallback);
   check_output(poly, f, /*expect_no_fallback=*/false);
+}
+
+// tests/regression/qtr_unused_corner_beyond_range_big1e50.node: the root square (twice the
+// bounding box of (±1e50, ±1e50)) has corners beyond 1e50. They are not in the domain, and are no
+// longer written; the mesh reads back and passes the checker.
+TEST(QuadtreeRegression, UnusedCornersBeyondTheRangeAreNotWritten) {
+  const std::string path = std::string(MWST_TEST_DATA_DIR) + "/../regression/qtr_unused_corner_beyond_range_big1e50.node";
+  const Pslg g = io::read_input(path);
+  const Result r = run(g);
+  check_output(g, r);
+  for (const Point& p : r.mesh.points) {
+    EXPECT_LE(std::max(std::fabs(p.x), std::fabs(p.y)), 1e50);
+  }
+  expect_round_trip(g, r.mesh, "big1e50");
+}
+
+// tests/regression/qtr_corner_below_range_tiny_square.poly: a square of side 1e-50 at the origin.
+// The quadtree's grid there is finer than the range (a corner at x = 1.34e-51 was written); the
+// input falls back to its constrained Delaunay triangulation, which stays in the range.
+TEST(QuadtreeRegression, CornersBelowTheRangeFallBackInsteadOfBeingWritten) {
+  const std::string path = std::string(MWST_TEST_DATA_DIR) + "/../regression/qtr_corner_below_range_tiny_square.poly";
+  const Pslg g = io::read_input(path);
+  const Result r = run(g);
+  check_output(g, r, /*expect_no_fallback=*/false);
+  EXPECT_TRUE(r.stats.fallback);
+  expect_round_trip(g, r.mesh, "tiny_square");
+  // Squares of side 2e-50 around the origin and beside an axis: the route's own corners inside the
+  // domain would leave the range, so the route gives way to the fallback, which stays inside it.
+  for (const char* text : {"4 2 0 0\n1 -1e-50 -1e-50\n2 1e-50 -1e-50\n3 1e-50 1e-50\n4 -1e-50 1e-50\n4 0\n"
+                           "1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n",
+                           "4 2 0 0\n1 1e-50 0\n2 2e-50 0\n3 2e-50 1e-50\n4 1e-50 1e-50\n4 0\n"
+                           "1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n"}) {
+    const Pslg square = io::parse_poly(text, "square.poly");
+    const Result s = run(square);
+    check_output(square, s, /*expect_no_fallback=*/false);
+    EXPECT_TRUE(s.stats.fallback);
+    EXPECT_NE(s.stats.fallback_reason.find("outside the supported coordinate range"), std::string::npos)
+        << s.stats.fallback_reason;
+    expect_round_trip(square, s.mesh, "square");
+  }
+}
+
+// Outlines (where the corners outside the domain were 45 % of the vertices written): only used
+// vertices, and the files read back pass the checker.
+TEST(Quadtree, OutlinesReadBackWithOnlyUsedVertices) {
+  for (const char* name : {"Plate.poly", "Superior.poly"}) {
+    const Pslg g = io::read_input(std::string(MWST_DATA_DIR) + "/" + name);
+    const Result r = run(g);
+    check_output(g, r);
+    expect_round_trip(g, r.mesh, name);
+  }
 }
 
 TEST(Quadtree, Deterministic) {

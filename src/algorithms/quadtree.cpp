@@ -78,6 +78,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <exception>
 #include <limits>
@@ -89,6 +90,7 @@
 #include <thread>
 #include <type_traits>
 #include <unordered_map>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -3555,6 +3557,7 @@ Mesh fallback_mesh(const Pslg& pslg, const QuadtreeOptions& options, std::vector
   extra.erase(std::unique(extra.begin(), extra.end()), extra.end());
   Handle hint = kNone;
   for (const Point& p : extra) {
+    if (!in_supported_range(p)) continue;  // a grid corner finer than the range (see above)
     const Location at = m.locate(p, hint);
     hint = at.handle;
     if (at.kind != Location::Kind::kInTriangle || !m.in_domain(at.handle >> 2)) continue;
@@ -3562,6 +3565,192 @@ Mesh fallback_mesh(const Pslg& pslg, const QuadtreeOptions& options, std::vector
     m.insert_vertex(v, at.handle, &hint);
   }
   return m;
+}
+
+// The vertices the output keeps: every input point (ids are kept) and every Steiner point of a
+// triangle of the domain. Quadtree corners outside the domain (the root square is twice the
+// input's bounding box) are dropped, with the triangles around them.
+std::vector<char> kept_vertices(const Mesh& m) {
+  std::vector<char> kept(m.points.size(), 0);
+  std::fill(kept.begin(), kept.begin() + std::min<std::size_t>(m.input_vertex_count, kept.size()), 1);
+  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+    if (!m.in_domain(t)) continue;
+    for (const VertexId v : m.triangles[t].v) kept[v] = 1;
+  }
+  return kept;
+}
+
+// The first kept vertex outside the supported coordinate range, or kNone.
+VertexId out_of_range_vertex(const Mesh& m, const std::vector<char>& kept) {
+  for (VertexId v = 0; v < m.points.size(); ++v) {
+    if (kept[v] && !in_supported_range(m.points[v])) return v;
+  }
+  return kNone;
+}
+
+// Drops the vertices kept_vertices() does not keep. The triangles of the domain stay as they are
+// (same corners, same order, same subsegments); the rest of the convex hull of the kept vertices
+// (holes, concavities, the pockets between the domain and the hull) is triangulated anew by the
+// constrained Delaunay triangulation of the domain's boundary vertices and the input points
+// outside the domain, with the domain's boundary edges as segments. Its triangles outside the
+// domain (all but those a flood from the near side of the boundary edges reaches without crossing
+// one) are carved (kOutside); its ghosts close the hull, which is the same, since the domain lies
+// inside the hull of its boundary.
+// Subsegments with carved triangles on both sides (none reach the output) are not kept.
+void drop_unused_vertices(Mesh& m, const std::vector<char>& kept) {
+  const std::size_t n = m.points.size();
+  std::vector<VertexId> new_id(n, kNone);
+  VertexId count = 0;
+  for (VertexId v = 0; v < n; ++v) {
+    if (kept[v]) new_id[v] = count++;
+  }
+  if (count == n) return;
+  const auto key = [](VertexId u, VertexId v) { return (static_cast<std::uint64_t>(u) << 32) | v; };
+  // Boundary edges of the domain (new ids, domain on the left) and the vertices of the new CDT.
+  std::vector<char> in_cdt(n, 0);
+  std::vector<std::pair<VertexId, VertexId>> boundary;
+  std::vector<TriangleId> new_slot(m.triangles.size(), kNone);
+  TriangleId domain_triangles = 0;
+  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+    if (m.in_domain(t)) new_slot[t] = domain_triangles++;
+  }
+  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+    if (new_slot[t] == kNone) continue;
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle h = make_handle(t, e);
+      if (new_slot[triangle_of(m.sym(h))] != kNone) continue;
+      in_cdt[m.org(h)] = in_cdt[m.dest(h)] = 1;
+      boundary.emplace_back(new_id[m.org(h)], new_id[m.dest(h)]);
+    }
+  }
+  for (VertexId v = 0; v < m.input_vertex_count && v < n; ++v) {
+    if (m.vertex_kind[v] != VertexKind::kDuplicate) in_cdt[v] = 1;
+  }
+  Pslg outer;
+  std::vector<VertexId> cdt_vertex;  // CDT vertex → new id
+  std::vector<VertexId> cdt_of(count, kNone);
+  for (VertexId v = 0; v < n; ++v) {
+    if (!in_cdt[v]) continue;
+    cdt_of[new_id[v]] = static_cast<VertexId>(cdt_vertex.size());
+    cdt_vertex.push_back(new_id[v]);
+    outer.points.push_back(m.points[v]);
+  }
+  for (const auto& [u, v] : boundary) outer.segments.push_back({cdt_of[u], cdt_of[v], 0});
+  ConstrainOptions whole;
+  whole.convex_hull = true;
+  const Mesh c = constrained_delaunay(outer, whole);
+  if (c.points.size() != cdt_vertex.size()) {
+    throw InternalError("drop_unused_vertices: the boundary's triangulation added vertices");
+  }
+  const auto new_of = [&](VertexId cv) { return cv == kInfinite ? kInfinite : cdt_vertex[cv]; };
+  // The CDT's triangles inside the domain: flooded from the near side of each boundary edge
+  // without crossing one (every component of the domain has boundary edges). The other finite
+  // ones are outside it (all of them when the domain is empty).
+  std::unordered_map<std::uint64_t, Handle> cdt_edge;
+  for (TriangleId t = 0; t < c.triangles.size(); ++t) {
+    if (c.is_dead(t) || c.is_ghost(t)) continue;
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle h = make_handle(t, e);
+      cdt_edge.emplace(key(new_of(c.org(h)), new_of(c.dest(h))), h);
+    }
+  }
+  std::unordered_set<std::uint64_t> boundary_keys;
+  for (const auto& [u, v] : boundary) boundary_keys.insert(key(std::min(u, v), std::max(u, v)));
+  std::vector<char> inside(c.triangles.size(), 0);
+  std::vector<TriangleId> stack;
+  for (const auto& [u, v] : boundary) {
+    const auto it = cdt_edge.find(key(u, v));
+    if (it == cdt_edge.end()) throw InternalError("drop_unused_vertices: a boundary edge is not in the triangulation");
+    const TriangleId t = triangle_of(it->second);
+    if (!inside[t]) {
+      inside[t] = 1;
+      stack.push_back(t);
+    }
+  }
+  while (!stack.empty()) {
+    const TriangleId t = stack.back();
+    stack.pop_back();
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle h = make_handle(t, e);
+      const VertexId a = new_of(c.org(h)), b = new_of(c.dest(h));
+      if (boundary_keys.count(key(std::min(a, b), std::max(a, b))) != 0) continue;
+      const TriangleId u = triangle_of(c.sym(h));
+      if (inside[u] || c.is_ghost(u) || c.is_dead(u)) continue;
+      inside[u] = 1;
+      stack.push_back(u);
+    }
+  }
+  // The CDT's carved triangles and ghosts follow the domain's triangles.
+  std::vector<TriangleId> cdt_slot(c.triangles.size(), kNone);
+  TriangleId slots = domain_triangles;
+  for (TriangleId t = 0; t < c.triangles.size(); ++t) {
+    if (!c.is_dead(t) && !inside[t]) cdt_slot[t] = slots++;
+  }
+  Mesh out;
+  out.points.reserve(count);
+  out.vertex_kind.reserve(count);
+  out.vertex_marker.reserve(count);
+  for (VertexId v = 0; v < n; ++v) {
+    if (!kept[v]) continue;
+    out.points.push_back(m.points[v]);
+    out.vertex_kind.push_back(m.vertex_kind[v]);
+    out.vertex_marker.push_back(v < m.vertex_marker.size() ? m.vertex_marker[v] : 0);
+  }
+  out.duplicates = m.duplicates;
+  out.input_vertex_count = m.input_vertex_count;
+  out.triangles.resize(slots);
+  out.flags.assign(slots, 0);
+  const bool markers = !m.segment_marker.empty();
+  if (markers) out.segment_marker.assign(3 * std::size_t{slots}, 0);
+  // Directed edges of the carved triangles and ghosts (new ids), to link the domain to them.
+  std::unordered_map<std::uint64_t, Handle> outer_edge;
+  for (TriangleId t = 0; t < c.triangles.size(); ++t) {
+    if (cdt_slot[t] == kNone) continue;
+    Triangle& T = out.triangles[cdt_slot[t]];
+    out.flags[cdt_slot[t]] = c.is_ghost(t) ? 0 : kOutside;
+    for (unsigned e = 0; e < 3; ++e) {
+      T.v[e] = new_of(c.triangles[t].v[e]);
+      const Handle h = make_handle(t, e);
+      const Handle s = c.sym(h);
+      if (cdt_slot[triangle_of(s)] != kNone) {
+        T.n[e] = make_handle(cdt_slot[triangle_of(s)], edge_of(s));
+      } else {
+        T.n[e] = kNone;  // across a boundary edge: linked from the domain's side below
+        outer_edge.emplace(key(new_of(c.org(h)), new_of(c.dest(h))), make_handle(cdt_slot[t], e));
+      }
+    }
+  }
+  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+    const TriangleId nt = new_slot[t];
+    if (nt == kNone) continue;
+    Triangle& T = out.triangles[nt];
+    out.flags[nt] = static_cast<std::uint8_t>(m.flags[t] & ~(kOutside | kDead));
+    for (unsigned e = 0; e < 3; ++e) {
+      T.v[e] = new_id[m.triangles[t].v[e]];
+      const Handle h = make_handle(t, e);
+      const Handle s = m.sym(h);
+      if (markers) out.segment_marker[3 * std::size_t{nt} + e] = m.marker(h);
+      if (new_slot[triangle_of(s)] != kNone) {
+        T.n[e] = make_handle(new_slot[triangle_of(s)], edge_of(s));
+        continue;
+      }
+      const auto it = outer_edge.find(key(new_id[m.dest(h)], new_id[m.org(h)]));
+      if (it == outer_edge.end()) throw InternalError("drop_unused_vertices: a boundary edge has no outer triangle");
+      T.n[e] = it->second;
+      out.triangles[triangle_of(it->second)].n[edge_of(it->second)] = make_handle(nt, e);
+      if (m.is_segment(h)) {
+        const Handle o = it->second;
+        out.flags[triangle_of(o)] = static_cast<std::uint8_t>(out.flags[triangle_of(o)] | (kSegmentEdge0 << edge_of(o)));
+        if (markers) out.segment_marker[3 * std::size_t{triangle_of(o)} + edge_of(o)] = m.marker(h);
+      }
+    }
+  }
+  for (const Triangle& T : out.triangles) {
+    for (const Handle h : T.n) {
+      if (h == kNone) throw InternalError("drop_unused_vertices: an outer triangle is not linked");
+    }
+  }
+  m = std::move(out);
 }
 
 }  // namespace
@@ -3625,6 +3814,20 @@ Mesh quadtree_refinement(const Pslg& pslg, const QuadtreeOptions& options, Quadt
                            " leaves at the deepest level still see the input non-simply"};
       }
       mesh = builder.run(holes);
+      // Round trip: what is written must lie in the supported coordinate range. A corner the
+      // domain uses outside it (a grid finer than 1e-50 near an axis: a square of side 1e-50 got
+      // a corner at x = 1.34e-51) sends the input to the fallback.
+      const std::vector<char> kept = kept_vertices(mesh);
+      if (const VertexId v = out_of_range_vertex(mesh, kept); v != kNone) {
+        char where[64];
+        std::snprintf(where, sizeof where, "(%.17g, %.17g)", mesh.points[v].x, mesh.points[v].y);
+        // (No corners for the fallback: the grid's positions went into the mesh.)
+        throw RouteFailure{"a quadtree vertex at " + std::string(where) +
+                               " lies outside the supported coordinate range (0 or a magnitude between "
+                               "1e-50 and 1e50)",
+                           /*corners_usable=*/false};
+      }
+      drop_unused_vertices(mesh, kept);
     } catch (const RouteFailure& failure) {
       stats.fallback = true;
       stats.fallback_reason = failure.reason;

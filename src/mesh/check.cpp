@@ -14,15 +14,22 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
+#include <utility>
 
 #include "mwst/delaunay.hpp"
 #include "mwst/mesh.hpp"
 
 namespace mwst {
+
+namespace detail {
+// The orient2d determinant computed exactly and rounded to double (predicates.cpp; exact sign).
+double orient2d_value(const Point& a, const Point& b, const Point& c);
+}  // namespace detail
 
 namespace {
 
@@ -81,6 +88,13 @@ constexpr double kOnLineTolerance = 1e-12;  // times the coordinate magnitude of
 constexpr double kAreaTolerance = 1e-8;     // relative difference of mesh and domain area
 constexpr double kTurnTolerance = 1e-6;     // degrees around a vertex
 constexpr double kAngleTolerance = 1e-9;    // degrees, for --min-angle
+// A mesh vertex on an input segment lies within this many ulps of the segment's largest coordinate
+// magnitude M of the segment's line (check_input_segments). Rounded crossings and Steiner points
+// are within an ulp (0.81 at most on the data sets under dt, dr, brh and qtr); the CDT resolves a
+// crossing at a segment's end when that end is within 256·2^-52 of the larger of the crossing's
+// magnitude and the segments' lengths (at most 2√2·M) of the crossing or of the other line, up to
+// about 1450 ulps of M.
+constexpr double kSegmentUlps = 2048.0;
 
 // Position along the piece a → b: the coordinate in which the piece runs furthest, signed to grow
 // from a to b. It orders the vertices along the piece exactly, where the parameter
@@ -110,6 +124,7 @@ class Checker {
       : input_(input), p_(points), tri_(triangles), subsegments_(subsegments), options_(options), domain_(domain) {}
 
   CheckResult run() {
+    check_vertex_range();
     check_triangles();
     build_edges();
     index_vertices();
@@ -119,6 +134,7 @@ class Checker {
     walk_domain_chains();
     check_mesh_boundary();
     check_subsegments();
+    check_input_segments();
     check_turning();
     if (options_.delaunay) check_delaunay();
     if (options_.min_angle_deg > 0.0) check_min_angle();
@@ -137,6 +153,17 @@ class Checker {
   std::string edge_name(std::uint32_t u, std::uint32_t v) const {
     return "edge " + std::to_string(u + 1) + "-" + std::to_string(v + 1) + " " + point_text(p_[u]) +
            "-" + point_text(p_[v]);
+  }
+
+  // Every vertex is inside the supported coordinate range (0 or a magnitude in [1e-50, 1e50]),
+  // where the predicates are exact and mwst reads files back.
+  void check_vertex_range() {
+    for (std::uint32_t v = 0; v < p_.size(); ++v) {
+      if (!in_supported_range(p_[v])) {
+        violation(vertex_name(v) + " is outside the supported coordinate range (0 or a magnitude between "
+                  "1e-50 and 1e50)");
+      }
+    }
   }
 
   // Orientation of every triangle (exact); triangles naming missing or repeated vertices are
@@ -477,6 +504,128 @@ class Checker {
     }
   }
 
+  // Every input segment, checked against the input itself (not against the reference domain,
+  // whose crossing points come from the same code as the mesh's): from the mesh vertex at one end
+  // to the one at the other, a chain of mesh edges whose vertices advance strictly along the
+  // segment and lie within kSegmentUlps ulps of its largest coordinate magnitude of its line (the
+  // distance from the exactly computed orient2d). A crossing vertex or a Steiner point moved
+  // further than rounding is refused. Where the segment leaves the mesh (a segment in a hole, or
+  // bounding a hole) the part beyond is walked from the other end; a segment is reported only
+  // where it runs into a triangle's interior, or when its chain ends short of it.
+  void check_input_segments() {
+    dead_end_.assign(p_.size(), 0);
+    std::vector<std::uint32_t> at_input(input_.points.size(), kNone);
+    for (std::size_t i = 0; i < input_.points.size(); ++i) {
+      const auto it = by_point_.find(PointKey(input_.points[i]));
+      if (it != by_point_.end()) at_input[i] = it->second;
+    }
+    for (std::size_t i = 0; i < input_.segments.size(); ++i) {
+      const Segment& s = input_.segments[i];
+      if (s.a >= input_.points.size() || s.b >= input_.points.size()) continue;
+      const Point& a = input_.points[s.a];
+      const Point& b = input_.points[s.b];
+      if (a == b) continue;
+      const std::uint32_t u = at_input[s.a], v = at_input[s.b];
+      if (u == kNone && v == kNone) continue;  // wholly outside the mesh, or reported as missing
+      const SegmentLine line(a, b);
+      std::uint32_t stop = kNone;
+      bool enters = false;
+      if (u != kNone) {
+        stop = follow_segment(line, u, v, &enters);
+        if (stop == kNone) continue;
+        if (!enters && v != kNone) {
+          // The segment leaves the mesh at `stop`: walk the rest from the far end.
+          const SegmentLine back(b, a);
+          const std::uint32_t back_stop = follow_segment(back, v, u, &enters);
+          if (back_stop == kNone) continue;
+          if (enters || line.along(p_[back_stop]) < line.along(p_[stop])) stop = back_stop;
+        }
+      } else {
+        const SegmentLine back(b, a);
+        stop = follow_segment(back, v, u, &enters);
+        if (stop == kNone) continue;
+      }
+      if (!enters) continue;
+      std::string name = "input segment " + std::to_string(static_cast<long long>(i) + input_.first_index);
+      if (i < input_.segment_lines.size()) name += " (line " + std::to_string(input_.segment_lines[i]) + ")";
+      violation(name + " from " + point_text(a) + " to " + point_text(b) +
+                " is not a chain of mesh edges within rounding of it: at " + vertex_name(stop) +
+                " it runs into a triangle");
+    }
+  }
+
+  // The line of an input segment: exact-enough distance and a strictly increasing position.
+  struct SegmentLine {
+    Point a, b;
+    double sign_x, sign_y;  // the directions in which x and y grow from a to b (+1 if they stay)
+    bool by_x;              // x changes at least as much as y
+    double length;
+    double tolerance;  // on the cross product: kSegmentUlps ulps of the magnitude, times length
+    // Position along the line: the coordinate that changes most, then the other one, each signed
+    // to grow from a to b (lexicographic). Exact; on a long nearly diagonal segment rounded chain
+    // vertices can share the first coordinate and differ in the second.
+    std::pair<double, double> along(const Point& q) const {
+      return by_x ? std::pair{sign_x * q.x, sign_y * q.y} : std::pair{sign_y * q.y, sign_x * q.x};
+    }
+    SegmentLine(const Point& from, const Point& to)
+        : a(from), b(to), sign_x(to.x >= from.x ? 1.0 : -1.0), sign_y(to.y >= from.y ? 1.0 : -1.0),
+          by_x(std::fabs(to.x - from.x) >= std::fabs(to.y - from.y)), length(distance(from, to)) {
+      const double magnitude = std::max({std::fabs(a.x), std::fabs(a.y), std::fabs(b.x), std::fabs(b.y)});
+      const double ulp = std::nextafter(magnitude, std::numeric_limits<double>::infinity()) - magnitude;
+      tolerance = kSegmentUlps * ulp * length;
+    }
+    bool near(const Point& q) const {
+      // orient2d(a, b, q) / |ab| is the distance of q from the line (exact sign, rounded value).
+      return std::fabs(detail::orient2d_value(a, b, q)) <= tolerance;
+    }
+  };
+
+  // Depth-first search from mesh vertex `from` to `to` (kNone: none) along mesh edges whose far
+  // vertices are near the line and strictly further along it (so no cycles; a vertex that led
+  // nowhere once leads nowhere again, dead_end_). Returns kNone when the chain reaches `to`,
+  // otherwise the vertex furthest along where it stopped, with *enters set when the segment runs
+  // from there into the interior of a mesh triangle (rather than out of the mesh).
+  std::uint32_t follow_segment(const SegmentLine& line, std::uint32_t from, std::uint32_t to, bool* enters) {
+    const auto s_end = line.along(line.b);
+    std::vector<std::uint32_t>& stack = path_;
+    stack.assign(1, from);
+    std::vector<std::uint32_t> touched;
+    std::uint32_t furthest = from;
+    bool found = false;
+    while (!stack.empty() && !found) {
+      const std::uint32_t cur = stack.back();
+      stack.pop_back();
+      if (line.along(p_[cur]) > line.along(p_[furthest])) furthest = cur;
+      const auto s_cur = line.along(p_[cur]);
+      for (std::uint32_t k = adj_start_[cur]; k < adj_start_[cur + 1]; ++k) {
+        const std::uint32_t w = adj_[k];
+        if (w == to) {
+          found = true;
+          break;
+        }
+        if (dead_end_[w]) continue;
+        const auto s = line.along(p_[w]);
+        if (!(s > s_cur && s < s_end) || !line.near(p_[w])) continue;
+        dead_end_[w] = 1;  // visited: reached once, never expanded again
+        touched.push_back(w);
+        stack.push_back(w);
+      }
+    }
+    for (const std::uint32_t w : touched) dead_end_[w] = 0;
+    if (found) return kNone;
+    // Does the segment, leaving `furthest` towards b, enter one of its triangles?
+    *enters = false;
+    const Point& c = p_[furthest];
+    for (std::uint32_t k = adj_start_[furthest]; k < adj_start_[furthest + 1]; ++k) {
+      const std::uint32_t w = adj_[k];
+      const auto it = apex_.find(edge_key(furthest, w));
+      if (it == apex_.end()) continue;
+      const Point& q = p_[it->second.apex];
+      if (orient2d(c, p_[w], line.b) >= 0 && orient2d(c, q, line.b) <= 0) *enters = true;
+    }
+    return furthest;
+  }
+
   // The triangles around each vertex turn 360° inside the mesh and at most 360° on its boundary.
   void check_turning() {
     std::vector<double> turn(p_.size(), 0.0);
@@ -551,7 +700,8 @@ class Checker {
   Mesh reference_;
   std::vector<char> junction_;  // mesh vertex at a vertex of the domain (input point, crossing)
   std::vector<std::uint32_t> guide_start_, guide_;  // guide edges (build_guides), both directions
-  std::vector<std::uint32_t> path_;                 // scratch for guided_chain
+  std::vector<std::uint32_t> path_;                 // scratch for guided_chain, follow_segment
+  std::vector<char> dead_end_;                      // scratch for follow_segment
   std::unordered_map<std::uint64_t, std::uint8_t> chain_;  // undirected mesh edge → kinds
   std::vector<std::pair<std::uint32_t, std::uint32_t>> boundary_chain_;  // directed, domain on the left
 };

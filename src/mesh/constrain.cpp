@@ -8,10 +8,17 @@
 //
 // Degenerate graphs are resolved on the way (constrained_delaunay): duplicate points merge, zero
 // length segments drop, a vertex lying inside a segment splits it, collinear overlaps merge, and
-// crossing segments are split at their (rounded) intersection point, or refused with --strict.
+// crossing segments are split at their exact intersection point rounded to doubles (or at an end
+// of either segment within rounding of it), or refused with --strict. A crossing whose rounded
+// point would leave the supported coordinate range is refused: snapping it into the range would
+// move it off both segments.
+#include <gmp.h>
+
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <unordered_map>
 
@@ -98,6 +105,83 @@ void retriangulate(const Mesh& m, VertexId a, VertexId b, const std::vector<Vert
     tasks.push_back({t.a, c, t.lo, best});
     tasks.push_back({c, t.b, best + 1, t.hi});
   }
+}
+
+// Rational numbers for the exact crossing point (GMP; every double is a dyadic rational).
+class Rational {
+ public:
+  Rational() { mpq_init(q_); }
+  explicit Rational(double v) : Rational() { mpq_set_d(q_, v); }
+  Rational(const Rational&) = delete;
+  Rational& operator=(const Rational&) = delete;
+  ~Rational() { mpq_clear(q_); }
+  mpq_ptr get() { return q_; }
+  mpq_srcptr get() const { return q_; }
+
+ private:
+  mpq_t q_;
+};
+
+// The double nearest to q (ties to even). mpq_get_d truncates toward zero, so the nearest double is
+// that value or its neighbour away from zero; the exact distances decide. Called only with values
+// inside the coordinate range's bounding boxes, far from overflow.
+double round_to_double(mpq_srcptr q) {
+  const double toward_zero = mpq_get_d(q);
+  const int sign = mpq_sgn(q);
+  if (sign == 0) return 0.0;
+  const double away = std::nextafter(toward_zero, sign > 0 ? std::numeric_limits<double>::infinity()
+                                                           : -std::numeric_limits<double>::infinity());
+  Rational low(toward_zero), high(away), near_zero, far_from_zero;
+  mpq_sub(near_zero.get(), q, low.get());       // q - toward_zero: the sign of q (or 0)
+  mpq_sub(far_from_zero.get(), high.get(), q);  // away - q: the sign of q
+  if (sign < 0) {  // distances
+    mpq_neg(near_zero.get(), near_zero.get());
+    mpq_neg(far_from_zero.get(), far_from_zero.get());
+  }
+  const int c = mpq_cmp(near_zero.get(), far_from_zero.get());
+  if (c == 0) return (std::bit_cast<std::uint64_t>(toward_zero) & 1u) == 0 ? toward_zero : away;
+  return c < 0 ? toward_zero : away;
+}
+
+// orient2d(c, d, p) = (d - c) × (p - c), exactly.
+void exact_orient(const Point& c, const Point& d, const Point& p, Rational& out) {
+  Rational dcx(d.x), dcy(d.y), pcx(p.x), pcy(p.y), cx(c.x), cy(c.y), t;
+  mpq_sub(dcx.get(), dcx.get(), cx.get());
+  mpq_sub(dcy.get(), dcy.get(), cy.get());
+  mpq_sub(pcx.get(), pcx.get(), cx.get());
+  mpq_sub(pcy.get(), pcy.get(), cy.get());
+  mpq_mul(out.get(), dcx.get(), pcy.get());
+  mpq_mul(t.get(), dcy.get(), pcx.get());
+  mpq_sub(out.get(), out.get(), t.get());
+}
+
+// The intersection point of the lines ab and cd (which properly cross), each coordinate the exact
+// value rounded to the nearest double. With o_a = orient(c, d, a) and o_b = orient(c, d, b), the
+// point is a + o_a/(o_a - o_b)·(b - a) = (o_a·b - o_b·a)/(o_a - o_b). Not passed through
+// snap_to_range: the caller decides what a crossing outside the supported range means.
+Point exact_crossing(const Point& a, const Point& b, const Point& c, const Point& d) {
+  Rational oa, ob, denominator, numerator, t;
+  exact_orient(c, d, a, oa);
+  exact_orient(c, d, b, ob);
+  mpq_sub(denominator.get(), oa.get(), ob.get());
+  if (mpq_sgn(denominator.get()) == 0) return segment_intersection(a, b, c, d);  // parallel: no crossing
+  auto coordinate = [&](double av, double bv) {
+    Rational va(av), vb(bv);
+    mpq_mul(numerator.get(), oa.get(), vb.get());
+    mpq_mul(t.get(), ob.get(), va.get());
+    mpq_sub(numerator.get(), numerator.get(), t.get());
+    mpq_div(numerator.get(), numerator.get(), denominator.get());
+    return round_to_double(numerator.get());
+  };
+  const double x = coordinate(a.x, b.x);
+  const double y = coordinate(a.y, b.y);
+  return {x, y};
+}
+
+std::string coordinate_text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
 }
 
 }  // namespace
@@ -360,7 +444,8 @@ class SegmentInserter {
       throw InputError(pslg_.source, 0, "too many segment crossings to resolve");
     }
     const std::int32_t other_marker = m_.marker(crossed);
-    const Point x = segment_intersection(m_.points[from], m_.points[p.b], m_.points[c], m_.points[d]);
+    // The exact crossing rounded to doubles (possibly outside the supported range: see below).
+    const Point x = exact_crossing(m_.points[from], m_.points[p.b], m_.points[c], m_.points[d]);
     auto queue = [&](VertexId u, VertexId w, std::int32_t marker, std::uint32_t id) {
       if (u != w) pending_.push_back({u, w, marker, id});
     };
@@ -410,6 +495,15 @@ class SegmentInserter {
     // Unmark cd; it is re-inserted in two pieces through the crossing vertex.
     m_.clear_segment(crossed);
     VertexId v = snap;
+    if (snap == kNone && !in_supported_range(x)) {
+      // No double in the range lies within rounding of the crossing (a coordinate between 0 and
+      // 1e-50 in magnitude): moving it to 0 would put the vertex off both segments.
+      throw InputError(pslg_.source, p.id < pslg_.segment_lines.size() ? pslg_.segment_lines[p.id] : 0,
+                       describe(p.id) + " crosses another segment at (" + coordinate_text(x.x) + ", " +
+                           coordinate_text(x.y) +
+                           "), outside the supported coordinate range (0 or a magnitude between 1e-50 "
+                           "and 1e50): the crossing vertex cannot be placed on both segments");
+    }
     if (snap != kNone) {
       --stats_.crossings;
       ++stats_.snapped;
