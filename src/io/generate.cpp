@@ -347,6 +347,16 @@ std::vector<Point> generate_points(Distribution d, std::size_t n, std::uint64_t 
 
 namespace io {
 
+namespace {
+// Appends an integer, or a double as its shortest round-trip decimal.
+template <typename T>
+void append_decimal(std::string& s, T value) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, value);
+  s.append(buf, r.ptr);
+}
+}  // namespace
+
 std::string node_text(const std::vector<Point>& points, std::string_view comment) {
   std::string s;
   s.reserve(64 + comment.size() + points.size() * 48);
@@ -358,11 +368,7 @@ std::string node_text(const std::vector<Point>& points, std::string_view comment
     if (end == std::string_view::npos) break;
     comment.remove_prefix(end + 1);
   }
-  char buf[32];
-  auto append = [&](auto value) {
-    const auto r = std::to_chars(buf, buf + sizeof buf, value);  // shortest round-trip for doubles
-    s.append(buf, r.ptr);
-  };
+  auto append = [&s](auto value) { append_decimal(s, value); };
   append(points.size());
   s += " 2 0 0\n";
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -379,33 +385,18 @@ std::string node_text(const std::vector<Point>& points, std::string_view comment
 std::string poly_text(const Pslg& pslg, std::string_view comment) {
   std::string s = node_text(pslg.points, comment);
   s.reserve(s.size() + pslg.segments.size() * 24 + pslg.holes.size() * 48 + 32);
-  char buf[32];
-  auto append = [&](auto value) {
-    const auto r = std::to_chars(buf, buf + sizeof buf, value);
-    s.append(buf, r.ptr);
-  };
+  auto append = [&s](auto value) { append_decimal(s, value); };
   append(pslg.segments.size());
   s += " 1\n";
   for (std::size_t i = 0; i < pslg.segments.size(); ++i) {
     const Segment& e = pslg.segments[i];
-    append(i + 1);
-    s += ' ';
-    append(std::size_t{e.a} + 1);
-    s += ' ';
-    append(std::size_t{e.b} + 1);
-    s += ' ';
-    append(e.marker);
-    s += '\n';
+    append(i + 1), s += ' ', append(std::size_t{e.a} + 1), s += ' ', append(std::size_t{e.b} + 1);
+    s += ' ', append(e.marker), s += '\n';
   }
   append(pslg.holes.size());
   s += '\n';
   for (std::size_t i = 0; i < pslg.holes.size(); ++i) {
-    append(i + 1);
-    s += ' ';
-    append(pslg.holes[i].x);
-    s += ' ';
-    append(pslg.holes[i].y);
-    s += '\n';
+    append(i + 1), s += ' ', append(pslg.holes[i].x), s += ' ', append(pslg.holes[i].y), s += '\n';
   }
   return s;
 }
