@@ -925,6 +925,29 @@ TEST(Cli, GenerateIsDeterministicAndTriangulatesValidly) {
   }
 }
 
+// The polygon classes are written as .poly (and refused as .node); the point classes may be
+// written as a .poly without segments. Each output triangulates and checks.
+TEST(Cli, GeneratePolygonsAsPoly) {
+  Sandbox box;
+  for (const std::string cls : {"holes", "fan", "strip", "coastline", "spiral", "clusters"}) {
+    SCOPED_TRACE(cls);
+    ASSERT_EQ(box.run({"generate", cls, "700", "-o", "a.poly"}).exit_code, 0);
+    const mwst::Pslg g = mwst::io::read_poly(box.path("a.poly"));
+    EXPECT_EQ(g.points.size(), 700u);
+    const bool polygon = cls != "spiral" && cls != "clusters";
+    EXPECT_EQ(g.segments.size(), polygon ? 700u : 0u);
+    Outcome r = box.run({"triangulate", "a.poly", "-o", "t", "-q"});
+    ASSERT_EQ(r.exit_code, 0) << describe(r);
+    r = box.run({"check", "a.poly", "t", "--delaunay"});
+    EXPECT_EQ(r.exit_code, 0) << describe(r);
+    r = box.run({"generate", cls, "700", "-o", "a.node"});
+    EXPECT_EQ(r.exit_code, polygon ? 2 : 0) << describe(r);
+  }
+  const Outcome r = box.run({"generate", "holes", "67", "-o", "h.poly"});  // the minimum is 68
+  EXPECT_EQ(r.exit_code, 2) << describe(r);
+  EXPECT_FALSE(std::filesystem::exists(box.path("h.poly")));
+}
+
 // ---- 8. determinism ----------------------------------------------------------------------------
 
 TEST(Cli, TwoRunsGiveIdenticalFiles) {
