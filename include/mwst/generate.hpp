@@ -28,11 +28,11 @@ enum class Distribution {
   kCircle,   // N points evenly spaced on the unit circle (no randomness)
 };
 
-std::string_view distribution_name(Distribution d);  // "uniform", "kuzmin", ...
-std::optional<Distribution> parse_distribution(std::string_view name);
+MWST_API std::string_view distribution_name(Distribution d);  // "uniform", "kuzmin", ...
+MWST_API std::optional<Distribution> parse_distribution(std::string_view name);
 
 // N points of the distribution; `seed` matters for uniform and kuzmin only.
-std::vector<Point> generate_points(Distribution d, std::size_t n, std::uint64_t seed);
+MWST_API std::vector<Point> generate_points(Distribution d, std::size_t n, std::uint64_t seed);
 
 // A uniform double in [0, 1) from one 64-bit draw: its top 53 bits times 2⁻⁵³ (exact).
 inline double unit_double(std::uint64_t bits) { return static_cast<double>(bits >> 11) * 0x1p-53; }
@@ -40,7 +40,7 @@ inline double unit_double(std::uint64_t bits) { return static_cast<double>(bits 
 namespace io {
 // Triangle .node text for a point set (1-based, no attributes or markers), coordinates as shortest
 // round-trip decimals. Each line of `comment` becomes a '#' line at the top.
-std::string node_text(const std::vector<Point>& points, std::string_view comment = {});
+MWST_API std::string node_text(const std::vector<Point>& points, std::string_view comment = {});
 }  // namespace io
 
 }  // namespace mwst
