@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The test job (also what CI runs, via .ci/run): installs the build and test dependencies, then
-#   1. builds everything with warnings as errors in build-ci/ (Release) and runs the whole suite;
+#   1. builds everything with warnings as errors in build-ci/ (Release) and runs the whole suite,
+#      then installs it into a scratch prefix and builds and runs examples/cpp/ against it;
 #   2. builds the GoogleTest suite (mwst_tests, and the CLI it runs) again with AddressSanitizer +
 #      UndefinedBehaviorSanitizer (-DMWST_SANITIZE=ON, -O1) in build-asan/ with clang and runs it (the
 #      CGAL differential tests are left out there: their compile time does not fit the CI budget;
@@ -31,6 +32,16 @@ cmake -S . -B build-ci -G Ninja -DCMAKE_BUILD_TYPE=Release -DMWST_WERROR=ON
 cmake --build build-ci -j "$jobs"
 ctest --test-dir build-ci --output-on-failure -j "$jobs"
 echo "== run-tests: release: $((SECONDS - started)) s" >&2
+
+# 1b. The installed package: mwst installed into a scratch prefix, and the three programs of
+#     examples/cpp/ built against that prefix alone (find_package(mwst 0.2 CONFIG)) and run.
+t=$SECONDS
+step "installed package and examples/cpp"
+consumers=$(mktemp -d)
+cmake --install build-ci --prefix "$consumers/prefix" >/dev/null
+bash examples/cpp/run.sh "$consumers/prefix" "$consumers/work"
+rm -rf "$consumers"
+echo "== run-tests: installed package: $((SECONDS - t)) s" >&2
 
 # 2. The GoogleTest suite under ASan + UBSan. -O1 keeps the instrumented build and run fast enough;
 #    no NDEBUG, so assertions are on as well.

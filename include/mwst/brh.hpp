@@ -51,6 +51,6 @@ struct BrhStats {
 // around the skinny triangles, not of the mesh); DR's own time swings ±15% between runs. On point
 // sets (hull edges split into nearly collinear pieces) the exact tests near the hull rebuild
 // DT(V): 200k uniform points take about 7× DR at K = 8 and 9–10× at K = 12.
-BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options);
+MWST_API BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options);
 
 }  // namespace mwst

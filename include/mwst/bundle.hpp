@@ -86,14 +86,14 @@ struct BundleResult {
 
 // The bundle number of the in-domain triangles of `mesh` (Mesh::in_domain). The mesh must be valid
 // (validate()): its carved-away and ghost triangles are used to walk across holes and concavities.
-BundleResult bundle_number(const Mesh& mesh, const BundleOptions& options = {});
+MWST_API BundleResult bundle_number(const Mesh& mesh, const BundleOptions& options = {});
 
 // The bundle number of a triangulation given as a triangle list (what `mwst bundle` reads from
 // PREFIX.node/.ele): triangles are vertex index triples, either orientation. Throws InputError if an
 // index is out of range, a triangle is degenerate (collinear corners) or repeated, two used points
 // coincide, or the triangles overlap (crossing edges, or a vertex inside another triangle or on
 // another triangle's edge). Points not used by any triangle are ignored.
-BundleResult bundle_number(const std::vector<Point>& points,
+MWST_API BundleResult bundle_number(const std::vector<Point>& points,
                            const std::vector<std::array<std::uint32_t, 3>>& triangles,
                            const BundleOptions& options = {});
 
@@ -104,7 +104,7 @@ BundleResult bundle_number(const std::vector<Point>& points,
 // circumdisk between two corners outside it is a degree-8 sign, decided by a filter with rigorous
 // error bounds and otherwise in integer arithmetic (GMP) — the flat Delaunay triangles of nearly
 // collinear hull vertices have circumdisks of radius 10¹⁷ that rounding cannot place.
-std::vector<std::uint32_t> circumdisk_bundle_per_triangle(const Mesh& mesh, unsigned threads = 0);
+MWST_API std::vector<std::uint32_t> circumdisk_bundle_per_triangle(const Mesh& mesh, unsigned threads = 0);
 
 // What in_k_bundle did.
 struct KBundleStats {
@@ -139,7 +139,7 @@ struct KBundleStats {
 // whose key matches in full, instead of sweeping again. Across BRH's passes the mesh changes only
 // near its splits, so most pencils, e.g. those of the flat circumdisks along the hull of a point
 // set, come back unchanged. The answers are the same with or without it.
-class KBundleCache {
+class MWST_API KBundleCache {
  public:
   KBundleCache();
   ~KBundleCache();
@@ -162,7 +162,7 @@ class KBundleCache {
 
 // Thrown by in_k_bundle when its deadline passes before it has answered (the cache then holds
 // nothing of the call).
-struct KBundleTimeout : std::runtime_error {
+struct MWST_API KBundleTimeout : std::runtime_error {
   KBundleTimeout() : std::runtime_error("in_k_bundle: the deadline passed") {}
 };
 
@@ -170,7 +170,7 @@ struct KBundleTimeout : std::runtime_error {
 // segments cross thousands of times), every disk meets most of the mesh and nearly every test is
 // near-degenerate: one call on 5000 triangles takes about 15 s; past the deadline it throws
 // KBundleTimeout instead of answering.
-std::vector<std::uint8_t> in_k_bundle(const Mesh& mesh, std::uint32_t k, const std::vector<TriangleId>& queries,
+MWST_API std::vector<std::uint8_t> in_k_bundle(const Mesh& mesh, std::uint32_t k, const std::vector<TriangleId>& queries,
                                       KBundleStats* stats = nullptr, unsigned threads = 0,
                                       KBundleCache* cache = nullptr,
                                       std::chrono::steady_clock::time_point deadline =
@@ -184,7 +184,7 @@ namespace detail {
 // of e · c' is the sign of (|p'|² cross(e, q') − |q'|² cross(e, p')) · orient(p, q, u): the incircle
 // determinant without its |e|² term (its derivative at u). Filtered (first stage: incircle's
 // bound; second: the four factors rounded with rigorous bounds), then exact.
-int enters_circle(const Point& p, const Point& q, const Point& u, const Point& w, int orient_pqu);
+MWST_API int enters_circle(const Point& p, const Point& q, const Point& u, const Point& w, int orient_pqu);
 }  // namespace detail
 
 }  // namespace mwst

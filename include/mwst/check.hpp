@@ -51,7 +51,7 @@ struct CheckResult {
 // `subsegments` are the mesh's own subsegments (PREFIX.poly), empty when it has none; when given
 // they must be mesh edges lying on input segments, and every piece of an input segment must be
 // listed. Throws InputError if the input itself is refused (as `mwst triangulate` would).
-CheckResult check_triangulation(const Pslg& input, const std::vector<Point>& points,
+MWST_API CheckResult check_triangulation(const Pslg& input, const std::vector<Point>& points,
                                 const std::vector<std::array<std::uint32_t, 3>>& triangles,
                                 const std::vector<Segment>& subsegments,
                                 const CheckOptions& options = {});

@@ -21,7 +21,7 @@ struct DelaunayStats {
 // Duplicate points are merged (kept in Mesh::points as VertexKind::kDuplicate, listed in
 // Mesh::duplicates). Throws InputError if a coordinate is outside the supported range, if fewer
 // than three distinct points remain, or if all points are collinear (the messages say which).
-Mesh delaunay(std::vector<Point> points, DelaunayStats* stats = nullptr);
+MWST_API Mesh delaunay(std::vector<Point> points, DelaunayStats* stats = nullptr);
 
 struct ConstrainOptions {
   bool strict = false;       // refuse crossing segments (InputError naming both) instead of splitting
@@ -47,23 +47,23 @@ struct ConstrainStats {
 // what the segments enclose minus the holes (flood fill across non-segment edges from hole seeds
 // and from hull edges that are not segments). A graph without segments keeps its convex hull.
 // Input points keep their ids; crossing points are appended as Steiner vertices.
-Mesh constrained_delaunay(const Pslg& pslg, const ConstrainOptions& options = {},
+MWST_API Mesh constrained_delaunay(const Pslg& pslg, const ConstrainOptions& options = {},
                           ConstrainStats* stats = nullptr);
 
 // Inserts the segment between existing vertices a and b (a ≠ b) into a constrained Delaunay mesh:
 // the triangles it crosses are removed and the two pseudo-polygons on either side are
 // retriangulated (constrained Delaunay). Vertices lying on the open segment split it; the caller
 // must have resolved crossings with other segments (InternalError otherwise).
-void insert_segment(Mesh& mesh, VertexId a, VertexId b, std::int32_t marker);
+MWST_API void insert_segment(Mesh& mesh, VertexId a, VertexId b, std::int32_t marker);
 
 // Lawson's flip algorithm from a stack of suspect edges: flips every edge that is not locally
 // Delaunay (ghost triangles included) and is not a subsegment, re-examining the four edges around
 // each flip, until none is left. On any triangulation it ends with the constrained Delaunay
 // triangulation of its vertices and subsegments (Lawson 1977; each flip lifts the surface).
-void restore_delaunay(Mesh& mesh, std::vector<Handle>& stack);
+MWST_API void restore_delaunay(Mesh& mesh, std::vector<Handle>& stack);
 
 // Marks triangles outside the domain with kOutside (see constrained_delaunay).
-void carve(Mesh& mesh, const std::vector<Point>& holes, bool convex_hull,
+MWST_API void carve(Mesh& mesh, const std::vector<Point>& holes, bool convex_hull,
            std::vector<std::string>* warnings = nullptr);
 
 }  // namespace mwst

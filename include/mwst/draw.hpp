@@ -34,18 +34,18 @@ struct Picture {
 // The domain triangles of `mesh`; bold: its subsegments and the edges between a domain triangle and
 // a triangle outside the domain (the boundary: segments, or the convex hull of a point set);
 // marked: the vertices of domain triangles that are not input points.
-Picture picture_of(const Mesh& mesh);
+MWST_API Picture picture_of(const Mesh& mesh);
 
 // A mesh read back from files (read_mesh) for the graph `input` it was made from. Bold: the input
 // segments and the mesh's boundary edges (edges of one triangle only); marked: the vertices used by
 // triangles whose coordinates are not those of an input point.
-Picture picture_of(const MeshFiles& mesh, const Pslg& input);
+MWST_API Picture picture_of(const MeshFiles& mesh, const Pslg& input);
 
 enum class PictureFormat { kPng, kSvg, kPdf };
 
 // The format named by the extension of `path` (.png, .svg, .pdf; any letter case). Anything else is
 // an InputError naming the path.
-PictureFormat picture_format(const std::string& path);
+MWST_API PictureFormat picture_format(const std::string& path);
 
 struct DrawOptions {
   // The larger side of each panel's drawing area: pixels for PNG, points (1/72 inch) for SVG/PDF.
@@ -62,11 +62,11 @@ struct DrawOptions {
 
 // Renders the panels and returns the file's bytes in the given format. Throws InputError if the
 // panels are empty and InternalError if cairo fails.
-std::string render_pictures(const std::vector<Picture>& panels, PictureFormat format,
+MWST_API std::string render_pictures(const std::vector<Picture>& panels, PictureFormat format,
                             const DrawOptions& options = {});
 
 // Renders and writes `path` atomically (write_file_atomic), the format chosen by its extension.
-void draw_pictures(const std::vector<Picture>& panels, const std::string& path,
+MWST_API void draw_pictures(const std::vector<Picture>& panels, const std::string& path,
                    const DrawOptions& options = {});
 
 }  // namespace mwst::io

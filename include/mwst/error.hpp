@@ -6,11 +6,13 @@
 #include <stdexcept>
 #include <string>
 
+#include "mwst/export.hpp"
+
 namespace mwst {
 
 // Bad input: a file that cannot be read or parsed, or a point set / graph we refuse.
 // file and line are empty / 0 when the problem is not tied to a place in a file.
-class InputError : public std::runtime_error {
+class MWST_API InputError : public std::runtime_error {
  public:
   InputError(std::string file, std::size_t line, const std::string& what)
       : std::runtime_error(what), file_(std::move(file)), line_(line) {}
@@ -33,7 +35,7 @@ class InputError : public std::runtime_error {
 };
 
 // A bug: an invariant of ours was broken (exit code 3 at the command line).
-class InternalError : public std::logic_error {
+class MWST_API InternalError : public std::logic_error {
  public:
   using std::logic_error::logic_error;
 };

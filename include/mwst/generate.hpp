@@ -59,22 +59,22 @@ inline constexpr double kSpiralTurns = 10.0;
 inline constexpr std::size_t kHolePolygonPoints = 64;
 inline constexpr double kFanInnerRadius = 1e-3;
 
-std::string_view distribution_name(Distribution d);  // "uniform", "kuzmin", ...
-std::optional<Distribution> parse_distribution(std::string_view name);
+MWST_API std::string_view distribution_name(Distribution d);  // "uniform", "kuzmin", ...
+MWST_API std::optional<Distribution> parse_distribution(std::string_view name);
 // Every distribution, in the order of the enum (for --help and tests).
-std::vector<Distribution> all_distributions();
+MWST_API std::vector<Distribution> all_distributions();
 // True for the polygon classes (holes, fan, strip, coastline): they have segments.
-bool has_segments(Distribution d);
+MWST_API bool has_segments(Distribution d);
 // True when `seed` changes the output (uniform, kuzmin, clusters, coastline).
-bool uses_seed(Distribution d);
+MWST_API bool uses_seed(Distribution d);
 // The smallest N the distribution accepts (1 for the point sets; a polygon needs a few vertices).
-std::size_t minimum_count(Distribution d);
+MWST_API std::size_t minimum_count(Distribution d);
 
 // The N vertices (points) of the distribution; for a polygon class, its vertices.
-std::vector<Point> generate_points(Distribution d, std::size_t n, std::uint64_t seed);
+MWST_API std::vector<Point> generate_points(Distribution d, std::size_t n, std::uint64_t seed);
 // The whole input: points, and for a polygon class its segments (closed rings) and hole seeds
 // (is_poly set). N below minimum_count(d) is an InputError.
-Pslg generate_input(Distribution d, std::size_t n, std::uint64_t seed);
+MWST_API Pslg generate_input(Distribution d, std::size_t n, std::uint64_t seed);
 
 // A uniform double in [0, 1) from one 64-bit draw: its top 53 bits times 2⁻⁵³ (exact).
 inline double unit_double(std::uint64_t bits) { return static_cast<double>(bits >> 11) * 0x1p-53; }
@@ -82,10 +82,10 @@ inline double unit_double(std::uint64_t bits) { return static_cast<double>(bits 
 namespace io {
 // Triangle .node text for a point set (1-based, no attributes or markers), coordinates as shortest
 // round-trip decimals. Each line of `comment` becomes a '#' line at the top.
-std::string node_text(const std::vector<Point>& points, std::string_view comment = {});
+MWST_API std::string node_text(const std::vector<Point>& points, std::string_view comment = {});
 // Triangle .poly text for a planar straight-line graph: its vertices (as node_text), segments with
 // their boundary markers, and hole seeds; 1-based.
-std::string poly_text(const Pslg& pslg, std::string_view comment = {});
+MWST_API std::string poly_text(const Pslg& pslg, std::string_view comment = {});
 }  // namespace io
 
 }  // namespace mwst

@@ -13,6 +13,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "mwst/export.hpp"
+
 namespace mwst {
 
 struct Point {
@@ -42,8 +44,8 @@ inline double snap_to_range(double v) { return std::fabs(v) < kMinCoordinate ? 0
 
 namespace detail {
 // Exact stages; called only when the filter cannot decide. Return the sign of the determinant.
-int orient2d_exact(const Point& a, const Point& b, const Point& c);
-int incircle_exact(const Point& a, const Point& b, const Point& c, const Point& d);
+MWST_API int orient2d_exact(const Point& a, const Point& b, const Point& c);
+MWST_API int incircle_exact(const Point& a, const Point& b, const Point& c, const Point& d);
 inline constexpr double kEpsilon = 0x1p-53;  // half an ulp of 1: the unit roundoff
 inline constexpr double kOrientBound = (3.0 + 16.0 * kEpsilon) * kEpsilon;
 inline constexpr double kIncircleBound = (10.0 + 96.0 * kEpsilon) * kEpsilon;
@@ -100,33 +102,33 @@ inline int incircle(const Point& a, const Point& b, const Point& c, const Point&
 
 // Exact comparison of squared distances: sign of |a-b|² − |c-d|² (used by weight-reducing flips
 // and shortest-edge tests, where near-ties must not be decided by rounding).
-int compare_squared_lengths(const Point& a, const Point& b, const Point& c, const Point& d);
+MWST_API int compare_squared_lengths(const Point& a, const Point& b, const Point& c, const Point& d);
 
 // Exact test: does p lie in the closed diametral disk of segment ab? Returns +1 strictly inside,
 // 0 on the circle, -1 outside. (Sign of −(p−a)·(p−b).)
-int in_diametral_circle(const Point& a, const Point& b, const Point& p);
+MWST_API int in_diametral_circle(const Point& a, const Point& b, const Point& p);
 
 // ---- constructions (rounded) -------------------------------------------------------------------
 
-double distance(const Point& a, const Point& b);
-double squared_distance(const Point& a, const Point& b);
-Point midpoint(const Point& a, const Point& b);
+MWST_API double distance(const Point& a, const Point& b);
+MWST_API double squared_distance(const Point& a, const Point& b);
+MWST_API Point midpoint(const Point& a, const Point& b);
 
 // Circumcenter of a non-degenerate triangle, computed relative to a for accuracy.
-Point circumcenter(const Point& a, const Point& b, const Point& c);
+MWST_API Point circumcenter(const Point& a, const Point& b, const Point& c);
 
 // Üngör's off-center of triangle (a, b, c) whose shortest edge is pq (p, q two of its corners):
 // the point on the perpendicular bisector of pq, on the side of the circumcenter, at distance
 // factor·(|pq|/2)·cot(alpha/2) from the midpoint of pq — unless the circumcenter is closer, in
 // which case the circumcenter. alpha is the target minimum angle in radians.
-Point off_center(const Point& p, const Point& q, const Point& circumcenter_pqr, double alpha,
+MWST_API Point off_center(const Point& p, const Point& q, const Point& circumcenter_pqr, double alpha,
                  double factor);
 
 // Intersection point of the segments ab and cd, which must properly cross (rounded).
-Point segment_intersection(const Point& a, const Point& b, const Point& c, const Point& d);
+MWST_API Point segment_intersection(const Point& a, const Point& b, const Point& c, const Point& d);
 
 // Signed area of triangle (a, b, c) (rounded; positive when counter-clockwise).
-double signed_area(const Point& a, const Point& b, const Point& c);
+MWST_API double signed_area(const Point& a, const Point& b, const Point& c);
 
 // The area an area bound (--max-area) is tested and reported with: ½ (b − a) × (c − a) in plain
 // double arithmetic (a few ulps from signed_area's accurate rounding, and cheap), taken from the

@@ -21,15 +21,15 @@
 namespace mwst::io {
 
 // Reads a .node file (points only).
-Pslg read_node(const std::string& path);
+MWST_API Pslg read_node(const std::string& path);
 // Reads a .poly file; a vertex count of 0 reads the .node beside it (same stem).
-Pslg read_poly(const std::string& path);
+MWST_API Pslg read_poly(const std::string& path);
 // Dispatches on the extension (.node or .poly); anything else is an InputError.
-Pslg read_input(const std::string& path);
+MWST_API Pslg read_input(const std::string& path);
 
 // Parses from memory (used by the fuzzers and tests); `name` is used in messages.
-Pslg parse_node(std::string_view text, const std::string& name);
-Pslg parse_poly(std::string_view text, const std::string& name);
+MWST_API Pslg parse_node(std::string_view text, const std::string& name);
+MWST_API Pslg parse_poly(std::string_view text, const std::string& name);
 
 // A mesh read back from PREFIX.node / PREFIX.ele (and PREFIX.poly when present): used by
 // `mwst check`, `mwst bundle` and `mwst draw`.
@@ -38,15 +38,15 @@ struct MeshFiles {
   std::vector<std::array<std::uint32_t, 3>> triangles;  // 0-based
   std::vector<Segment> segments;                        // from PREFIX.poly (may be empty)
 };
-MeshFiles read_mesh(const std::string& prefix);
+MWST_API MeshFiles read_mesh(const std::string& prefix);
 
 // Writes PREFIX.node, PREFIX.ele and (if the mesh has subsegments) PREFIX.poly, numbering from
 // `first_index`. Only live, finite, in-domain triangles are written. Atomic per file.
-void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index = 1);
+MWST_API void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index = 1);
 
 // Writes `content` (the concatenation of `pieces`) to `path` atomically (temporary name in the
 // same directory, then rename).
-void write_file_atomic(const std::string& path, std::span<const std::string_view> pieces);
-void write_file_atomic(const std::string& path, std::string_view content);
+MWST_API void write_file_atomic(const std::string& path, std::span<const std::string_view> pieces);
+MWST_API void write_file_atomic(const std::string& path, std::string_view content);
 
 }  // namespace mwst::io

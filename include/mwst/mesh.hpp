@@ -79,7 +79,7 @@ struct Location {
   Handle handle = kNone;
 };
 
-class Mesh {
+class MWST_API Mesh {
  public:
   std::vector<Point> points;          // vertex coordinates, indexed by VertexId
   std::vector<VertexKind> vertex_kind;
@@ -231,7 +231,7 @@ class Mesh {
 
 // Drops dead triangle slots and removed vertices (VertexKind::kRemoved), renumbering both.
 // Input vertices keep their ids (they come first and are never removed).
-void compact(Mesh& mesh);
+MWST_API void compact(Mesh& mesh);
 
 // ---- validation --------------------------------------------------------------------------------
 struct ValidateOptions {
@@ -242,6 +242,6 @@ struct ValidateOptions {
 // closed triangulation (V+1 − E + F = 2 with the infinite vertex), convexity of the hull, that
 // segment flags and markers agree on both sides, and the options. Returns one line per violation
 // (empty when valid).
-std::vector<std::string> validate(const Mesh& mesh, const ValidateOptions& options = {});
+MWST_API std::vector<std::string> validate(const Mesh& mesh, const ValidateOptions& options = {});
 
 }  // namespace mwst

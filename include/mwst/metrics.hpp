@@ -23,9 +23,9 @@ struct Metrics {
   double max_triangle_area = 0.0;  // the largest in-domain triangle's (what --max-area bounds)
 };
 
-Metrics measure(const Mesh& mesh);
+MWST_API Metrics measure(const Mesh& mesh);
 
 // The three angles (degrees) of triangle t, opposite corners 0, 1, 2.
-void triangle_angles_deg(const Mesh& mesh, TriangleId t, double out[3]);
+MWST_API void triangle_angles_deg(const Mesh& mesh, TriangleId t, double out[3]);
 
 }  // namespace mwst

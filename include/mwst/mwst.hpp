@@ -5,10 +5,12 @@
 //   refine, brh, bundle, flip, optimize, quadtree — the methods (DR, BRH, the exact bundle number,
 //             EFH, our optimiser, QTR) and metrics / check (weight, angles, independent validation);
 //   pipeline  — one call that runs a method on an input and reports it;
+//   arrays    — the same call handing back flat arrays (vertices, triangles, neighbours, ...);
 //   io, draw, generate — Triangle's file formats, pictures, synthetic point sets.
 // Errors are exceptions (error.hpp); nothing in the library prints or exits.
 #pragma once
 
+#include "mwst/version.hpp"
 #include "mwst/error.hpp"
 #include "mwst/geometry.hpp"
 #include "mwst/pslg.hpp"
@@ -24,6 +26,7 @@
 #include "mwst/mwt.hpp"
 #include "mwst/quadtree.hpp"
 #include "mwst/pipeline.hpp"
+#include "mwst/arrays.hpp"
 #include "mwst/io.hpp"
 #include "mwst/draw.hpp"
 #include "mwst/generate.hpp"

@@ -66,6 +66,6 @@ struct MwtResult {
 // The minimum weight triangulation of the domain of `mesh` (its in-domain triangles) on the
 // vertices of those triangles, containing every subsegment. Input vertices, segments and markers
 // are kept; the returned mesh passes validate(). Throws InternalError on broken invariants.
-MwtResult exact_mwt(const Mesh& mesh, const MwtOptions& options = {});
+MWST_API MwtResult exact_mwt(const Mesh& mesh, const MwtOptions& options = {});
 
 }  // namespace mwst

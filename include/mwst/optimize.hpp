@@ -110,13 +110,13 @@ struct OptimizeStats {
 // replaces the converged mesh whenever it is solved and lighter, followed by the search again; with
 // exact_polish_start a second search runs from the MWT of the starting mesh, and the lighter of
 // the two results is kept. Either way the result is never heavier than without the polish.
-OptimizeStats optimize(Mesh& mesh, const OptimizeOptions& options = {});
+MWST_API OptimizeStats optimize(Mesh& mesh, const OptimizeOptions& options = {});
 
 // One exact polish step on its own: compacts `mesh` and, within the exact_polish_* size limits of
 // `options`, replaces its triangulation by the exact MWT of its vertices with its segments
 // (exact_mwt, mwt.hpp) if that is solved and lighter by more than min_relative_gain. Returns true
 // if it did; vertices, segments and markers are unchanged either way.
-bool exact_polish_mesh(Mesh& mesh, const OptimizeOptions& options);
+MWST_API bool exact_polish_mesh(Mesh& mesh, const OptimizeOptions& options);
 
 // Partition crossover (crossover.cpp): cuts the domain along the edges two triangulations of the
 // same input share, and replaces each piece of `a` by `b`'s triangles there when those are lighter
@@ -127,7 +127,7 @@ struct CrossoverStats {
   std::size_t mismatched = 0;  // pieces whose boundary differs in b (a segment split differently)
   double gain = 0.0;           // weight removed from a
 };
-CrossoverStats partition_crossover(Mesh& a, const Mesh& b);
+MWST_API CrossoverStats partition_crossover(Mesh& a, const Mesh& b);
 
 // Seeded starting meshes for the search (seed_points.cpp): Steiner points inserted (constrained
 // Delaunay insertion, insert_vertex) into a carved CDT at
@@ -137,16 +137,16 @@ CrossoverStats partition_crossover(Mesh& a, const Mesh& b);
 // Seeds off the domain or on an edge are skipped. Returns the number inserted. The mesh stays a
 // valid constrained Delaunay triangulation; the optimiser then keeps what pays.
 enum class SeedPoints { kJunctionCircumcenters, kCentroids };
-std::size_t seed_steiner_points(Mesh& mesh, SeedPoints which);
+MWST_API std::size_t seed_steiner_points(Mesh& mesh, SeedPoints which);
 // Minimum weight triangulation of a simple polygon (vertices counter-clockwise) by dynamic
 // programming over its valid diagonals, O(d³) (Gilbert 1979; Klincsek 1980). Returns the total
 // length of the diagonals used, or +inf if the polygon cannot be triangulated (not simple), and
 // appends its triangles (indices into the polygon) to `triangles`.
-double polygon_mwt(const std::vector<Point>& polygon,
+MWST_API double polygon_mwt(const std::vector<Point>& polygon,
                    std::vector<std::array<std::uint32_t, 3>>* triangles);
 
 // True if the closed polygon (counter-clockwise) is simple and strictly convex: every corner turns
 // left and the fan from the first vertex turns left throughout (exact orientation tests).
-bool is_strictly_convex(const std::vector<Point>& polygon);
+MWST_API bool is_strictly_convex(const std::vector<Point>& polygon);
 
 }  // namespace mwst

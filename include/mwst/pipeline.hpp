@@ -33,13 +33,13 @@ enum class Method {
 };
 
 // "dt", "dr", "brh", "qtr", "opt".
-std::string_view method_name(Method method);
+MWST_API std::string_view method_name(Method method);
 // The inverse of method_name; std::nullopt for an unknown name.
-std::optional<Method> parse_method(std::string_view name);
+MWST_API std::optional<Method> parse_method(std::string_view name);
 
 // "offcenter" / "circumcenter" and back.
-std::string_view steiner_rule_name(SteinerRule rule);
-std::optional<SteinerRule> parse_steiner_rule(std::string_view name);
+MWST_API std::string_view steiner_rule_name(SteinerRule rule);
+MWST_API std::optional<SteinerRule> parse_steiner_rule(std::string_view name);
 
 inline constexpr std::size_t kDefaultOptTrials = std::numeric_limits<std::size_t>::max();
 
@@ -68,20 +68,20 @@ struct TriangulateOptions {
 // The paper's lemma: a triangulation with minimum angle α is (4π/α + 3)-bundle-free, so the default
 // bundle size for BRH is ⌈4π/α⌉ + 3 (α = 30° gives 27). Computed as ⌈720/deg⌉ + 3 so that whole
 // divisors of 720 are exact. Throws std::invalid_argument if min_angle_deg ≤ 0.
-std::size_t default_bundle_k(double min_angle_deg);
+MWST_API std::size_t default_bundle_k(double min_angle_deg);
 
 // Checks the options for values no method can use (negative angles, an angle of 60° or more,
 // NaN, ...). Throws std::invalid_argument naming the option as the command line spells it.
-void check_options(const TriangulateOptions& options);
+MWST_API void check_options(const TriangulateOptions& options);
 
 // Does `method` read the option the command line spells `option` ("--min-angle", "--steiner",
 // "--bundle-k", "--max-area", "--max-steiner", "--time-limit", "--exact-polish", "--opt-trials")?
 // dt and qtr read none of them; dr the angle, rule and budgets; brh also --bundle-k; opt all but
 // --max-area (its BRH and DR starts, its search). Options every method reads (--flip,
 // --convex-hull, --strict, --bundle) and names not listed: true.
-bool method_reads_option(Method method, std::string_view option);
+MWST_API bool method_reads_option(Method method, std::string_view option);
 
-struct Report {
+struct MWST_API Report {
   std::string input;   // Pslg::source
   std::string method;  // method_name()
   TriangulateOptions options;
@@ -112,12 +112,12 @@ struct Report {
 // Throws InputError for input the mesher refuses (naming pslg.source and, where known, the line),
 // std::invalid_argument for unusable options (a bundle size below 3, an angle outside [0, 60), ...),
 // and InternalError for broken invariants.
-Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* out = nullptr);
+MWST_API Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* out = nullptr);
 
 // The JSON report: input, method, parameters, vertices, triangles, steiner, weight_total,
 // weight_boundary, weight_interior, min_angle, max_angle, max_triangle_area, seconds (an object
 // phase → seconds, plus "total"), stop_reason (refinement methods), duplicates, crossings,
 // warnings, and the keys of Report::extra.
-nlohmann::json to_json(const Report& report);
+MWST_API nlohmann::json to_json(const Report& report);
 
 }  // namespace mwst

@@ -148,7 +148,7 @@ struct QuadtreeStats {
 // VertexKind::kDuplicate); Steiner points come after them, VertexKind::kSteinerOnSegment on input
 // segments and kSteiner elsewhere. Quadtree vertices outside the domain stay in carved (kOutside)
 // triangles and are not counted by measure(). Throws InputError for input the CDT refuses.
-Mesh quadtree_refinement(const Pslg& pslg, const QuadtreeOptions& options = {},
+MWST_API Mesh quadtree_refinement(const Pslg& pslg, const QuadtreeOptions& options = {},
                          QuadtreeStats* stats = nullptr);
 
 namespace detail {
@@ -159,34 +159,34 @@ namespace detail {
 // polygon (exact tests). Ties are broken by the smaller total diagonal length. Returns false if the
 // polygon has no such triangulation (degenerate); otherwise appends k − 2 triangles of local
 // indices to `out`.
-bool triangulate_polygon(const std::vector<Point>& polygon,
+MWST_API bool triangulate_polygon(const std::vector<Point>& polygon,
                          std::vector<std::array<std::uint8_t, 3>>& out);
 
 // Testing only: triangulate_polygon() giving the program's smallest-angle sine too (the value
 // triangulate_piece() compares with the fan), with its shortcut for weakly convex quadrilaterals
 // (general = false) or the general program for every k (general = true). The two must agree
 // exactly: the same triangles in the same order and the same quality.
-bool triangulate_polygon_quality(const std::vector<Point>& polygon,
+MWST_API bool triangulate_polygon_quality(const std::vector<Point>& polygon,
                                  std::vector<std::array<std::uint8_t, 3>>& out, double& quality, bool general);
 
 // Sine of the smallest angle over the given triangles of a polygon (+inf if there are none).
-double triangulation_quality(const std::vector<Point>& polygon,
+MWST_API double triangulation_quality(const std::vector<Point>& polygon,
                              const std::vector<std::array<std::uint8_t, 3>>& triangles);
 
 // The fan from the polygon's vertex average: false unless every triangle (centre, v_i, v_i+1) is
 // strictly counter-clockwise (exact); `quality` receives its smallest-angle sine.
-bool centroid_fan(const std::vector<Point>& polygon, Point& centre, double& quality);
+MWST_API bool centroid_fan(const std::vector<Point>& polygon, Point& centre, double& quality);
 
 // Triangulates a warped or cut piece of a cell: the max–min-angle triangulation of its boundary,
 // unless that has an angle below 20° and the fan from the polygon's vertex average is better; then
 // that fan (its triangles use index polygon.size() for `centre`, and used_centre is set). Returns
 // false if neither is valid.
-bool triangulate_piece(const std::vector<Point>& polygon, std::vector<std::array<std::uint8_t, 3>>& out,
+MWST_API bool triangulate_piece(const std::vector<Point>& polygon, std::vector<std::array<std::uint8_t, 3>>& out,
                        Point& centre, bool& used_centre);
 
 // The case table: for each mask of present side midpoints (bit 0 bottom, 1 right, 2 top, 3 left),
 // triangles over the slots 0 BL, 1 bottom-mid, 2 BR, 3 right-mid, 4 TR, 5 top-mid, 6 TL, 7 left-mid.
-const std::array<std::vector<std::array<std::uint8_t, 3>>, 16>& quadtree_case_table();
+MWST_API const std::array<std::vector<std::array<std::uint8_t, 3>>, 16>& quadtree_case_table();
 
 }  // namespace detail
 

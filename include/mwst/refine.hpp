@@ -90,6 +90,6 @@ struct RefineStats {
 // domain (kOutside) are only touched where a boundary subsegment is split. With min_angle_deg ≤ 0,
 // no max_area and no custom test the mesh is returned unchanged. Hull edges of the domain that are
 // not subsegments (a point set, or Triangle's -c) are first marked as subsegments with marker 1.
-RefineStats refine(Mesh& mesh, const RefineOptions& options);
+MWST_API RefineStats refine(Mesh& mesh, const RefineOptions& options);
 
 }  // namespace mwst

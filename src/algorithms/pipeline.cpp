@@ -26,6 +26,7 @@
 #include "mwst/metrics.hpp"
 #include "mwst/quadtree.hpp"
 #include "mwst/refine.hpp"
+#include "mwst/version.hpp"
 
 namespace mwst {
 
@@ -554,6 +555,7 @@ nlohmann::json to_json(const Report& r) {
   seconds["total"] = r.total_seconds();
 
   nlohmann::json j = {
+      {"version", kVersionString},
       {"input", r.input},
       {"method", r.method},
       {"parameters", std::move(parameters)},

@@ -15,6 +15,7 @@
 #include "mwst/bundle.hpp"
 #include "mwst/error.hpp"
 #include "mwst/io.hpp"
+#include "mwst/version.hpp"
 
 namespace mwst::cli {
 
@@ -41,6 +42,7 @@ int run_bundle(const BundleArgs& a) {
   for (const std::uint32_t t : r.triangles) triangles.push_back(t + 1);
   if (a.json) {
     const nlohmann::json j = {
+        {"version", kVersionString},
         {"input", input.source},
         {"mesh", a.prefix},
         {"triangle_count", mesh.triangles.size()},

@@ -12,6 +12,7 @@
 
 #include "cli/commands.hpp"
 #include "mwst/error.hpp"
+#include "mwst/version.hpp"
 
 namespace {
 
@@ -66,6 +67,7 @@ int main(int argc, char** argv) {
                "quadtree refinement, weight optimisation) of Triangle .node/.poly inputs",
                "mwst"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("mwst ") + mwst::kVersionString, "Print the version and exit");
   Action action;
   try {
     for (const Registrar add : kCommands) add(app, action);
@@ -78,6 +80,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::cerr << "mwst: " << one_line(e.what()) << '\n'

@@ -1,0 +1,163 @@
+// to_arrays() and triangulate_arrays() (mwst/arrays.hpp): the domain triangles of a mesh as flat
+// arrays of vertices, triangles, neighbours and subsegments, in time linear in the mesh (plus one
+// point location per region seed).
+#include "mwst/arrays.hpp"
+
+#include <sstream>
+#include <utility>
+
+#include "mwst/error.hpp"
+
+namespace mwst {
+
+namespace {
+
+inline constexpr std::int32_t kNoTriangle = -1;
+
+// An in-domain triangle holding the point of `where` (found by Mesh::locate), or kNone: a point
+// on an edge or a vertex belongs to any domain triangle beside it.
+TriangleId domain_triangle_at(const Mesh& mesh, const Location& where) {
+  switch (where.kind) {
+    case Location::Kind::kInTriangle: {
+      const TriangleId t = triangle_of(where.handle);
+      return mesh.in_domain(t) ? t : kNone;
+    }
+    case Location::Kind::kOnEdge: {
+      for (const Handle h : {where.handle, mesh.sym(where.handle)}) {
+        if (mesh.in_domain(triangle_of(h))) return triangle_of(h);
+      }
+      return kNone;
+    }
+    case Location::Kind::kOnVertex: {
+      // The triangles around org(handle), counter-clockwise (onext), until back at the start.
+      Handle h = where.handle;
+      do {
+        if (mesh.in_domain(triangle_of(h))) return triangle_of(h);
+        h = mesh.onext(h);
+      } while (h != where.handle);
+      return kNone;
+    }
+  }
+  return kNone;
+}
+
+// Triangle's regional attributes: each region's attribute spreads from the triangle holding its
+// seed to every domain triangle reachable without crossing a subsegment; regions are applied in
+// order, so a later one overwrites an earlier one in the same part of the domain.
+void spread_region_attributes(const Mesh& mesh, const std::vector<Region>& regions,
+                              const std::vector<std::int32_t>& index_of_slot, MeshArrays& out) {
+  out.triangle_attributes.assign(out.triangle_count(), 0.0);
+  std::vector<std::uint32_t> visited(mesh.triangle_slots(), 0);  // region number + 1 that reached it
+  std::vector<TriangleId> stack;
+  for (std::size_t r = 0; r < regions.size(); ++r) {
+    const Point& seed = regions[r].seed;
+    const TriangleId start = in_supported_range(seed) ? domain_triangle_at(mesh, mesh.locate(seed)) : kNone;
+    if (start == kNone) {
+      std::ostringstream warning;
+      warning.precision(17);
+      warning << "region seed " << r + 1 << " (" << seed.x << ", " << seed.y
+              << ") lies outside the domain: its attribute is not applied";
+      out.report.warnings.push_back(warning.str());
+      continue;
+    }
+    const auto mark = static_cast<std::uint32_t>(r + 1);
+    visited[start] = mark;
+    stack.assign(1, start);
+    while (!stack.empty()) {
+      const TriangleId t = stack.back();
+      stack.pop_back();
+      out.triangle_attributes[static_cast<std::size_t>(index_of_slot[t])] = regions[r].attribute;
+      for (unsigned e = 0; e < 3; ++e) {
+        const Handle h = make_handle(t, e);
+        if (mesh.is_segment(h)) continue;
+        const TriangleId u = triangle_of(mesh.sym(h));
+        if (visited[u] != mark && mesh.in_domain(u)) {
+          visited[u] = mark;
+          stack.push_back(u);
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+
+MeshArrays to_arrays(const Mesh& mesh, const std::vector<Region>& regions) {
+  MeshArrays out;
+  const std::size_t slots = mesh.triangle_slots();
+
+  // Subsegment ends per vertex: each subsegment has a live triangle on either side, and each side
+  // counts the origin of its directed edge, so both ends are counted once.
+  std::vector<std::uint32_t> segment_ends(mesh.points.size(), 0);
+  for (TriangleId t = 0; t < slots; ++t) {
+    if (mesh.is_dead(t)) continue;
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle h = make_handle(t, e);
+      if (mesh.is_segment(h)) ++segment_ends[mesh.org(h)];
+    }
+  }
+
+  // Vertices: all but removed Steiner points, in order (input points keep their indices).
+  std::vector<std::uint32_t> index_of_vertex(mesh.points.size(), kNone);
+  for (VertexId v = 0; v < mesh.points.size(); ++v) {
+    const VertexKind kind = mesh.vertex_kind[v];
+    if (kind == VertexKind::kRemoved) continue;
+    ArrayVertexKind array_kind = ArrayVertexKind::kInput;
+    if (kind == VertexKind::kDuplicate) {
+      array_kind = ArrayVertexKind::kDuplicate;
+    } else if (kind != VertexKind::kInput) {
+      array_kind = segment_ends[v] == 0   ? ArrayVertexKind::kSteiner
+                   : segment_ends[v] <= 2 ? ArrayVertexKind::kSegmentSteiner
+                                          : ArrayVertexKind::kCrossing;
+    }
+    index_of_vertex[v] = static_cast<std::uint32_t>(out.vertex_kinds.size());
+    out.vertices.push_back(mesh.points[v].x);
+    out.vertices.push_back(mesh.points[v].y);
+    out.vertex_kinds.push_back(array_kind);
+    out.vertex_markers.push_back(v < mesh.vertex_marker.size() ? mesh.vertex_marker[v] : 0);
+  }
+
+  // Triangles of the domain, in slot order.
+  std::vector<std::int32_t> index_of_slot(slots, kNoTriangle);
+  std::size_t count = 0;
+  for (TriangleId t = 0; t < slots; ++t) {
+    if (mesh.in_domain(t)) index_of_slot[t] = static_cast<std::int32_t>(count++);
+  }
+  out.triangles.reserve(3 * count);
+  out.neighbours.reserve(3 * count);
+  for (TriangleId t = 0; t < slots; ++t) {
+    if (index_of_slot[t] == kNoTriangle) continue;
+    for (unsigned i = 0; i < 3; ++i) {
+      const VertexId v = mesh.triangles[t].v[i];
+      if (index_of_vertex[v] == kNone) throw InternalError("to_arrays: a domain triangle uses a removed vertex");
+      out.triangles.push_back(index_of_vertex[v]);
+      // Edge i of t is opposite corner i; its neighbour is the triangle of sym (-1 outside).
+      out.neighbours.push_back(index_of_slot[triangle_of(mesh.sym(make_handle(t, i)))]);
+    }
+    // Subsegments, each once: from the lower-numbered domain triangle beside it.
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle h = make_handle(t, e);
+      if (!mesh.is_segment(h)) continue;
+      const std::int32_t other = index_of_slot[triangle_of(mesh.sym(h))];
+      if (other != kNoTriangle && other < index_of_slot[t]) continue;
+      out.segments.push_back(index_of_vertex[mesh.org(h)]);
+      out.segments.push_back(index_of_vertex[mesh.dest(h)]);
+      out.segment_markers.push_back(mesh.marker(h));
+    }
+  }
+
+  if (!regions.empty()) spread_region_attributes(mesh, regions, index_of_slot, out);
+  return out;
+}
+
+MeshArrays triangulate_arrays(const Pslg& pslg, const TriangulateOptions& options, Mesh* mesh) {
+  Mesh result;
+  Report report = triangulate(pslg, options, &result);
+  MeshArrays out = to_arrays(result, pslg.regions);
+  for (std::string& warning : out.report.warnings) report.warnings.push_back(std::move(warning));
+  out.report = std::move(report);
+  if (mesh) *mesh = std::move(result);
+  return out;
+}
+
+}  // namespace mwst
