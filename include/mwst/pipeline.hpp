@@ -71,7 +71,7 @@ class ResourceError : public std::runtime_error {
 
 // The memory a mesh of `triangles` domain triangles needs at the peak of a refinement by `method`
 // that makes it (measured peak resident bytes per output triangle of `mwst triangulate`, writing
-// its files included, rounded up: see the comment in pipeline.cpp).
+// its files included, rounded down: see the comment in pipeline.cpp).
 double estimated_bytes(Method method, double triangles);
 
 inline constexpr std::size_t kDefaultOptTrials = std::numeric_limits<std::size_t>::max();
@@ -96,9 +96,9 @@ struct TriangulateOptions {
   // qtr: the most leaves its quadtree may have before the method falls back
   // (QuadtreeOptions::max_leaves; 0 = automatic). The fuzz harness keeps its meshes small with it.
   std::size_t quadtree_max_leaves = 0;
-  // The memory the run may use, in bytes (0: no budget). An --max-area whose mesh (about
-  // 2 · domain area / max_area triangles, estimated_bytes each) would not fit is refused with a
-  // ResourceError before any refinement.
+  // The memory the run may use, in bytes (0: no budget). An --max-area whose mesh cannot fit (at
+  // least domain area / max_area triangles, estimated_bytes of them; refinement makes about twice
+  // that) is refused with a ResourceError before any refinement.
   double memory_budget_bytes = 0.0;
   // Called at every phase (may be empty).
   ProgressCallback progress;

@@ -79,24 +79,33 @@ void announce(const TriangulateOptions& options, Clock::time_point start, std::s
   options.progress(p);
 }
 
+// "1.5 GiB", "300 MiB".
+std::string bytes_text(double bytes) {
+  constexpr double kMiB = 1024.0 * 1024.0, kGiB = 1024.0 * kMiB;
+  char buf[64];
+  if (bytes >= kGiB) {
+    std::snprintf(buf, sizeof buf, "%.3g GiB", bytes / kGiB);
+  } else {
+    std::snprintf(buf, sizeof buf, "%.3g MiB", bytes / kMiB);
+  }
+  return buf;
+}
+
 // Refuses an area bound whose mesh cannot fit in the memory budget, before any refinement: every
 // domain triangle has area at most max_area, so there are at least area / max_area of them, and
 // refinement makes about twice that (its triangles are not all as large as the bound).
 void check_memory_for_area_bound(const Mesh& cdt, const TriangulateOptions& options) {
-  constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
   if (!(options.max_area > 0.0) || !(options.memory_budget_bytes > 0.0)) return;
   const double area = cdt.domain_area();
   const double least = area / options.max_area;  // a lower bound on the triangles
   const double expected = 2.0 * least;
   if (!(estimated_bytes(options.method, least) > options.memory_budget_bytes)) return;
-  char text[512];
-  std::snprintf(text, sizeof text,
-                "--max-area %g on a domain of area %g would make about %.3g triangles (at least %.3g), "
-                "needing about %.3g GiB, more than the memory budget of %.3g GiB (--max-memory): give a larger "
-                "--max-area, or a larger --max-memory if the machine has it",
-                options.max_area, area, expected, least, estimated_bytes(options.method, expected) / kGiB,
-                options.memory_budget_bytes / kGiB);
-  throw ResourceError(text);
+  char text[256];
+  std::snprintf(text, sizeof text, "--max-area %g on a domain of area %g would make about %.3g triangles (at least %.3g), ",
+                options.max_area, area, expected, least);
+  throw ResourceError(std::string(text) + "needing about " + bytes_text(estimated_bytes(options.method, expected)) +
+                      ", more than the memory budget of " + bytes_text(options.memory_budget_bytes) +
+                      " (--max-memory): give a larger --max-area, or a larger --max-memory if the machine has it");
 }
 
 std::string plural(std::size_t n, const char* one, const char* many) {
@@ -558,13 +567,14 @@ StopReason settle_stop_reason(const Mesh& mesh, const TriangulateOptions& option
   return StopReason{StopKind::kBoundReached, 0, {}};
 }
 
-// Peak resident bytes per output triangle of `mwst triangulate --max-area` (the whole process:
-// the mesh, the refinement's queues, the output text), measured on a unit square at 1e6–4e6
-// triangles (see the comment at estimated_bytes' use): dr and brh about 200, opt more (it keeps
-// its starts).
+// Peak resident bytes per output triangle of `mwst triangulate --max-area` (the whole process: the
+// mesh, the refinement's queues, the output text), measured on the unit square: dr and brh at
+// 1e-6 (1.55M triangles, 159 and 161 MB: 102 and 104 bytes each), opt at 1e-5 (140k triangles,
+// 49 MB, 290 bytes each beyond the process's 8 MB: it keeps the CDT, its starts and their copies).
+// Rounded down, so that with the lower bound area / max_area on the triangles a request refused
+// by check_memory_for_area_bound cannot fit.
 double estimated_bytes(Method method, double triangles) {
-  double per_triangle = 200.0;
-  if (method == Method::kOpt) per_triangle = 400.0;
+  const double per_triangle = method == Method::kOpt ? 250.0 : 100.0;
   return per_triangle * triangles;
 }
 
@@ -702,6 +712,11 @@ Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* ou
       report.warnings.push_back("the bundle number was not computed: the time budget (--time-limit) ran out");
     }
     bundle_phase.finish();
+  }
+  if (report.stop.kind == StopKind::kLeftBelowBound) {
+    report.warnings.push_back(plural(report.stop.count, "triangle does", "triangles do") +
+                              " not meet the bounds: refinement could not place their Steiner points (double "
+                              "precision, or the supported coordinate range of magnitudes 1e-50 to 1e50)");
   }
   report.stop_reason = to_string(report.stop);
 

@@ -46,8 +46,11 @@ std::string one_line(std::string s) {
 // Memory ran out: one line, built without the heap that has just run out.
 void report_out_of_memory() {
   char budget[64] = "";
-  if (memory_budget() > 0.0) {
-    std::snprintf(budget, sizeof budget, " of %.2f GiB", memory_budget() / (1024.0 * 1024.0 * 1024.0));
+  constexpr double kMiB = 1024.0 * 1024.0;
+  if (memory_budget() >= 1024.0 * kMiB) {
+    std::snprintf(budget, sizeof budget, " of %.3g GiB", memory_budget() / (1024.0 * kMiB));
+  } else if (memory_budget() > 0.0) {
+    std::snprintf(budget, sizeof budget, " of %.3g MiB", memory_budget() / kMiB);
   }
   std::fprintf(stderr,
                "mwst: out of memory: the run needed more than its memory budget%s (--max-memory); try a "
