@@ -146,6 +146,186 @@ std::size_t segment_count(const std::string& path) {
   return mwst::io::read_poly(path).segments.size();
 }
 
+// ---- stop reasons and weights, checked from the files alone --------------------------------------
+
+// An input angle: segments from `apex` to `a` and to `b` (their far ends).
+struct InputAngle {
+  mwst::Point apex, a, b;
+};
+
+// The input angles under 60°: two segments of a .poly sharing an endpoint, or two consecutive edges
+// of the convex hull of a .node point set (refinement makes the hull its boundary).
+std::vector<InputAngle> small_input_angles(const mwst::Pslg& input) {
+  const auto small = [](const mwst::Point& j, const mwst::Point& a, const mwst::Point& b) {
+    const double ux = a.x - j.x, uy = a.y - j.y, vx = b.x - j.x, vy = b.y - j.y;
+    const double dot = ux * vx + uy * vy;
+    return dot > 0.0 && dot * dot > 0.25 * (ux * ux + uy * uy) * (vx * vx + vy * vy);
+  };
+  std::vector<InputAngle> angles;
+  const auto& p = input.points;
+  if (!input.segments.empty()) {
+    for (std::size_t i = 0; i < input.segments.size(); ++i) {
+      for (std::size_t k = i + 1; k < input.segments.size(); ++k) {
+        const auto& s = input.segments[i];
+        const auto& t = input.segments[k];
+        for (const std::uint32_t j : {s.a, s.b}) {
+          if (j != t.a && j != t.b) continue;
+          const std::uint32_t a = s.a == j ? s.b : s.a, b = t.a == j ? t.b : t.a;
+          if (a != b && small(p[j], p[a], p[b])) angles.push_back({p[j], p[a], p[b]});
+        }
+      }
+    }
+    return angles;
+  }
+  // Andrew's monotone chain (strict corners only).
+  std::vector<mwst::Point> sorted = p;
+  std::sort(sorted.begin(), sorted.end(), [](const mwst::Point& u, const mwst::Point& w) {
+    return u.x < w.x || (u.x == w.x && u.y < w.y);
+  });
+  sorted.erase(std::unique(sorted.begin(), sorted.end(),
+                           [](const mwst::Point& u, const mwst::Point& w) { return u.x == w.x && u.y == w.y; }),
+               sorted.end());
+  std::vector<mwst::Point> hull(2 * sorted.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < sorted.size(); ++i) {
+    while (k >= 2 && mwst::orient2d(hull[k - 2], hull[k - 1], sorted[i]) <= 0) --k;
+    hull[k++] = sorted[i];
+  }
+  for (std::size_t i = sorted.size() - 1, lower = k + 1; i-- > 0;) {
+    while (k >= lower && mwst::orient2d(hull[k - 2], hull[k - 1], sorted[i]) <= 0) --k;
+    hull[k++] = sorted[i];
+  }
+  hull.resize(k - 1);
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    const mwst::Point& j = hull[i];
+    const mwst::Point& a = hull[(i + 1) % hull.size()];
+    const mwst::Point& b = hull[(i + hull.size() - 1) % hull.size()];
+    if (small(j, a, b)) angles.push_back({j, a, b});
+  }
+  return angles;
+}
+
+double smallest_angle_deg(const mwst::Point& p, const mwst::Point& q, const mwst::Point& r) {
+  const auto at = [](const mwst::Point& c, const mwst::Point& u, const mwst::Point& w) {
+    const double ux = u.x - c.x, uy = u.y - c.y, wx = w.x - c.x, wy = w.y - c.y;
+    return std::atan2(std::fabs(ux * wy - uy * wx), ux * wx + uy * wy) * 180.0 / 3.14159265358979323846;
+  };
+  return std::min({at(p, q, r), at(q, r, p), at(r, p, q)});
+}
+
+// Is the triangle next to the input angle: a corner at its apex, with the triangle inside the
+// angle, or a vertex on each of its two segments (within rounding)?
+bool next_to(const InputAngle& g, const std::array<mwst::Point, 3>& tri) {
+  const auto on = [&](const mwst::Point& v, const mwst::Point& far) {
+    const double ux = far.x - g.apex.x, uy = far.y - g.apex.y, vx = v.x - g.apex.x, vy = v.y - g.apex.y;
+    const double cross = ux * vy - uy * vx, dot = ux * vx + uy * vy;
+    return dot > 0.0 && dot <= (ux * ux + uy * uy) * (1.0 + 1e-9) &&
+           std::fabs(cross) <= 1e-9 * std::hypot(ux, uy) * std::hypot(vx, vy);
+  };
+  bool on_a = false, on_b = false, at_apex = false;
+  for (const mwst::Point& v : tri) {
+    if (v.x == g.apex.x && v.y == g.apex.y) {
+      at_apex = true;
+      continue;
+    }
+    on_a = on_a || on(v, g.a);
+    on_b = on_b || on(v, g.b);
+  }
+  if (on_a && on_b) return true;
+  if (!at_apex) return false;
+  // Inside the angle: the centroid strictly between the two rays.
+  const mwst::Point c{(tri[0].x + tri[1].x + tri[2].x) / 3.0, (tri[0].y + tri[1].y + tri[2].y) / 3.0};
+  const int turn = mwst::orient2d(g.apex, g.a, g.b);
+  return turn != 0 && mwst::orient2d(g.apex, g.a, c) == turn && mwst::orient2d(g.apex, c, g.b) == turn;
+}
+
+// What the files show against a Delaunay refinement's stop reason at `min_angle`: one line per
+// contradiction (empty: the reason holds). "bound reached" admits no triangle below the bound;
+// "N triangles left near small input angles" admits at most N, each next to an input angle under
+// 60°; a budget stop admits anything.
+std::vector<std::string> stop_reason_contradictions(const mwst::Pslg& input, const mwst::io::MeshFiles& mesh,
+                                                    double min_angle, const std::string& stop_reason) {
+  std::size_t admitted = 0;
+  static const std::regex left("^([0-9]+) triangles left near small input angles$");
+  std::smatch m;
+  if (stop_reason == "bound reached") {
+    admitted = 0;
+  } else if (std::regex_match(stop_reason, m, left)) {
+    admitted = std::stoul(m[1]);
+  } else if (stop_reason == "steiner budget" || stop_reason == "time budget") {
+    return {};
+  } else {
+    return {"unknown stop reason '" + stop_reason + "'"};
+  }
+  const std::vector<InputAngle> angles = small_input_angles(input);
+  std::vector<std::string> problems;
+  std::size_t below = 0;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const std::array<mwst::Point, 3> tri = {mesh.points[mesh.triangles[t][0]], mesh.points[mesh.triangles[t][1]],
+                                            mesh.points[mesh.triangles[t][2]]};
+    const double angle = smallest_angle_deg(tri[0], tri[1], tri[2]);
+    if (!(angle < min_angle - 1e-9)) continue;
+    ++below;
+    const bool near = std::any_of(angles.begin(), angles.end(), [&](const InputAngle& g) { return next_to(g, tri); });
+    if (!near) {
+      problems.push_back("triangle " + std::to_string(t + 1) + " (smallest angle " + std::to_string(angle) +
+                         ") is below the bound and next to no input angle under 60 degrees");
+    }
+  }
+  if (below > admitted) {
+    problems.push_back(std::to_string(below) + " triangles below the bound, the stop reason '" + stop_reason +
+                       "' admits " + std::to_string(admitted));
+  }
+  return problems;
+}
+
+// The weight of the mesh files, independently: every edge once (total), and the boundary part:
+// the edges of one triangle only, or listed in PREFIX.poly.
+std::pair<double, double> weight_of_files(const mwst::io::MeshFiles& mesh) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
+  for (const auto& t : mesh.triangles) {
+    for (unsigned k = 0; k < 3; ++k) {
+      const std::uint32_t u = t[k], w = t[(k + 1) % 3];
+      ++uses[{std::min(u, w), std::max(u, w)}];
+    }
+  }
+  std::set<std::pair<std::uint32_t, std::uint32_t>> segments;
+  for (const auto& s : mesh.segments) segments.insert({std::min(s.a, s.b), std::max(s.a, s.b)});
+  long double total = 0.0L, boundary = 0.0L;
+  for (const auto& [edge, count] : uses) {
+    const mwst::Point& p = mesh.points[edge.first];
+    const mwst::Point& q = mesh.points[edge.second];
+    const long double length = std::hypot(static_cast<long double>(p.x) - q.x, static_cast<long double>(p.y) - q.y);
+    total += length;
+    if (count == 1 || segments.count(edge)) boundary += length;
+  }
+  return {static_cast<double>(total), static_cast<double>(boundary)};
+}
+
+// The checker above can fail: a planted false stop reason. A square with a point near its bottom
+// side (a sliver) and a 10° wedge; its Delaunay triangulation claimed "bound reached" or "1
+// triangles left near small input angles" at 20° is refused, while the wedge's own skinny
+// triangle at its 10° angle is admitted as "left near small input angles".
+TEST(Cli, StopReasonCheckerCatchesAPlantedFalseReason) {
+  Sandbox box;
+  box.put("sliver.poly", "5 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n5 0.5 0.02\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n");
+  const Outcome r = box.run({"triangulate", "sliver.poly", "-o", "s", "-q"});
+  ASSERT_EQ(r.exit_code, 0) << describe(r);
+  const mwst::Pslg sliver = mwst::io::read_input(box.path("sliver.poly"));
+  const mwst::io::MeshFiles mesh = mwst::io::read_mesh(box.path("s"));
+  EXPECT_FALSE(stop_reason_contradictions(sliver, mesh, 20.0, "bound reached").empty());
+  EXPECT_FALSE(stop_reason_contradictions(sliver, mesh, 20.0, "1 triangles left near small input angles").empty());
+  EXPECT_TRUE(stop_reason_contradictions(sliver, mesh, 20.0, "steiner budget").empty());
+  // A single triangle with a 10° angle between two segments: next to it, so admitted as left.
+  box.put("wedge.poly", "3 2 0 0\n1 0 0\n2 1 0\n3 0.98480775301220802 0.17364817766693033\n3 0\n1 1 2\n2 2 3\n3 3 1\n0\n");
+  ASSERT_EQ(box.run({"triangulate", "wedge.poly", "-o", "w", "-q"}).exit_code, 0);
+  const mwst::Pslg wedge = mwst::io::read_input(box.path("wedge.poly"));
+  const mwst::io::MeshFiles w = mwst::io::read_mesh(box.path("w"));
+  ASSERT_EQ(w.triangles.size(), 1u);
+  EXPECT_TRUE(stop_reason_contradictions(wedge, w, 20.0, "1 triangles left near small input angles").empty());
+  EXPECT_FALSE(stop_reason_contradictions(wedge, w, 20.0, "bound reached").empty());
+}
+
 // ---- 1. bad input: exit 1, one line, no output ------------------------------------------------
 
 struct BadInput {
@@ -411,6 +591,155 @@ TEST(Cli, MaxSteinerBoundsOpt) {
   }
 }
 
+// ---- limits that hold, stop reasons that are true (regression inputs in tests/regression/) --------
+
+std::string regression(const std::string& name) { return std::string(MWST_TEST_DATA_DIR) + "/../regression/" + name; }
+
+// The output files a triangulate run with prefix "u" and report "u.json" may write.
+bool wrote_nothing(const Sandbox& box) {
+  for (const std::string& name : box.entries()) {
+    if (name.rfind("u.", 0) == 0) return false;
+  }
+  return true;
+}
+
+// --max-area 1e-12 on the unit square would make about 2e12 triangles: refused up front by every
+// refinement method with exit code 4, one line giving the number, and no output files (it ran
+// until 5.5 GB and then said "internal error: out of memory", exit 3).
+TEST(Cli, AreaBoundThatCannotFitIsRefusedUpFront) {
+  Sandbox box;
+  for (const std::string method : {"dr", "brh", "opt"}) {
+    SCOPED_TRACE(method);
+    const Outcome r = box.run({"triangulate", regression("unit_square_area_runaway.poly"), "-o", "u", "--method",
+                               method, "--max-area", "1e-12", "--json", "u.json"});
+    EXPECT_EQ(r.exit_code, 4) << describe(r);
+    ASSERT_EQ(r.err_lines().size(), 1u) << describe(r);
+    EXPECT_NE(r.err.find("would make about 2e+12 triangles"), std::string::npos) << describe(r);
+    EXPECT_NE(r.err.find("--max-memory"), std::string::npos) << describe(r);
+    EXPECT_TRUE(r.out.empty());
+    EXPECT_TRUE(wrote_nothing(box));
+  }
+  // With a budget that holds it, the same request at a larger area bound runs.
+  const Outcome ok = box.run({"triangulate", regression("unit_square_area_runaway.poly"), "-o", "u", "-q",
+                              "--method", "dr", "--max-area", "1e-3", "--max-memory", "1G"});
+  EXPECT_EQ(ok.exit_code, 0) << describe(ok);
+}
+
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr bool kAddressLimit = false;  // sanitizer builds set no address-space limit (limits.cpp)
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
+constexpr bool kAddressLimit = false;
+#else
+constexpr bool kAddressLimit = true;
+#endif
+#else
+constexpr bool kAddressLimit = true;
+#endif
+
+// A run that passes the estimate but needs more than --max-memory: 1e-5 on the unit square (about
+// 1.5e5 triangles, some 20 MB of mesh, more of address space) under a budget of 40 MB stops with
+// std::bad_alloc at the address-space limit: exit code 4, one line saying what ran out and what to
+// try, no output files.
+TEST(Cli, MaxMemoryStopsARunawayWithExitCode4AndNoFiles) {
+  if (!kAddressLimit) GTEST_SKIP() << "sanitizer build: no address-space limit";
+  Sandbox box;
+  const Outcome r = box.run({"triangulate", regression("unit_square_area_runaway.poly"), "-o", "u", "--method", "dr",
+                             "--max-area", "1e-5", "--max-memory", "40M", "--json", "u.json"});
+  EXPECT_EQ(r.exit_code, 4) << describe(r);
+  ASSERT_EQ(r.err_lines().size(), 1u) << describe(r);
+  EXPECT_EQ(r.err.rfind("mwst: out of memory: ", 0), 0u) << describe(r);
+  EXPECT_NE(r.err.find("--max-memory"), std::string::npos) << describe(r);
+  EXPECT_TRUE(r.out.empty());
+  EXPECT_TRUE(wrote_nothing(box)) << "left behind after running out of memory";
+}
+
+TEST(Cli, MaxMemoryValues) {
+  Sandbox box;
+  box.put("in.node", kSquare);
+  for (const std::string bad : {"0", "-5M", "12X", "M", "1e400", "nan"}) {
+    const Outcome r = box.run({"triangulate", "in.node", "--max-memory", bad});
+    EXPECT_EQ(r.exit_code, 2) << bad << "\n" << describe(r);
+    EXPECT_EQ(r.err_lines().size(), 2u) << describe(r);  // the error and the hint to --help
+  }
+  for (const std::string good : {"512M", "1.5G", "2000000000", "1T", "300000k"}) {
+    const Outcome r = box.run({"triangulate", "in.node", "-o", "g", "-q", "--max-memory", good});
+    EXPECT_EQ(r.exit_code, 0) << good << "\n" << describe(r);
+  }
+}
+
+// Stop reasons checked against the final mesh (issue: each was false).
+TEST(Cli, StopReasonsAreTrue) {
+  Sandbox box;
+  {  // A square of side 1e-50 and --max-area 1e-103: no Steiner point can be placed (the
+     // coordinates fall below 1e-50); it said "2 triangles left near small input angles" of a
+     // square whose angles are 45° and 90°.
+    const Outcome r = box.run({"triangulate", regression("tiny_square_area_underflow.poly"), "-o", "u", "--method",
+                               "dr", "--max-area", "1e-103", "--json", "u.json"});
+    ASSERT_EQ(r.exit_code, 0) << describe(r);
+    const auto j = nlohmann::json::parse(box.get("u.json"));
+    EXPECT_GT(j.at("max_triangle_area").get<double>(), 1e-103);
+    EXPECT_EQ(j.at("stop_reason").get<std::string>(), "2 triangles left outside the bounds");
+    EXPECT_NE(r.err.find("mwst: warning: 2 triangles do not meet the bounds"), std::string::npos) << describe(r);
+  }
+  {  // opt with an area bound its steiner budget cannot reach: "steiner budget", not "local minimum".
+    const Outcome r = box.run({"triangulate", regression("unit_square_area_runaway.poly"), "-o", "u", "-q",
+                               "--method", "opt", "--max-area", "1e-2", "--max-steiner", "10", "--opt-trials", "0",
+                               "--json", "u.json"});
+    ASSERT_EQ(r.exit_code, 0) << describe(r);
+    const auto j = nlohmann::json::parse(box.get("u.json"));
+    EXPECT_GT(j.at("max_triangle_area").get<double>(), 1e-2);
+    EXPECT_EQ(j.at("stop_reason").get<std::string>(), "steiner budget");
+  }
+  {  // dr --flip: the flips leave triangles below 20°; it said "bound reached". The number is the
+     // files' count (smallest angle below 20° by atan2; none of them lies at an input angle
+     // under 60°... or if one does, it is still below the bound after the flips).
+    const std::string input = regression("dr_flip_angles_below_bound.poly");
+    const Outcome r = box.run({"triangulate", input, "-o", "u", "-q", "--method", "dr", "--flip", "--json", "u.json"});
+    ASSERT_EQ(r.exit_code, 0) << describe(r);
+    const std::string stop = nlohmann::json::parse(box.get("u.json")).at("stop_reason").get<std::string>();
+    const mwst::io::MeshFiles mesh = mwst::io::read_mesh(box.path("u"));
+    std::size_t below = 0;
+    for (const auto& t : mesh.triangles) {
+      below += smallest_angle_deg(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]) < 20.0 - 1e-9;
+    }
+    ASSERT_GT(below, 0u);
+    EXPECT_EQ(stop, std::to_string(below) + " triangles below the angle bound after the flips");
+    EXPECT_FALSE(stop_reason_contradictions(mwst::io::read_input(input), mesh, 20.0, "bound reached").empty());
+    // Without the flips the same input reaches the bound, as the files show.
+    const Outcome plain = box.run({"triangulate", input, "-o", "p", "-q", "--method", "dr", "--json", "p.json"});
+    ASSERT_EQ(plain.exit_code, 0) << describe(plain);
+    const std::string plain_stop = nlohmann::json::parse(box.get("p.json")).at("stop_reason").get<std::string>();
+    const auto problems =
+        stop_reason_contradictions(mwst::io::read_input(input), mwst::io::read_mesh(box.path("p")), 20.0, plain_stop);
+    EXPECT_TRUE(problems.empty()) << plain_stop << "\n" << problems.front();
+  }
+}
+
+// --bundle within --time-limit: past the budget the bundle number is not computed (it grows
+// quadratically on points on a circle) and a warning says so; the stop reason is the budget's.
+TEST(Cli, TimeLimitBoundsTheBundleNumber) {
+  Sandbox box;
+  const Outcome r = box.run({"triangulate", data("Superior.poly"), "-o", "u", "--method", "dr", "--bundle",
+                             "--max-area", "1e-6", "--time-limit", "1e-6", "--json", "u.json"});
+  ASSERT_EQ(r.exit_code, 0) << describe(r);
+  const auto j = nlohmann::json::parse(box.get("u.json"));
+  EXPECT_EQ(j.at("stop_reason").get<std::string>(), "time budget");
+  EXPECT_FALSE(j.contains("bundle_number"));
+  EXPECT_NE(r.err.find("the bundle number was not computed"), std::string::npos) << describe(r);
+  EXPECT_EQ(box.run({"check", data("Superior.poly"), "u"}).exit_code, 0);
+}
+
+// The progress line is for terminals only: a run of more than 2 s whose stderr is a file writes no
+// progress (no carriage return), with or without --quiet.
+TEST(Cli, NoProgressLineWhenStderrIsNotATerminal) {
+  Sandbox box;
+  const Outcome r = box.run({"triangulate", data("Superior.poly"), "-o", "u", "--method", "opt", "--time-limit", "2.5"});
+  ASSERT_EQ(r.exit_code, 0) << describe(r);
+  EXPECT_EQ(r.err.find('\r'), std::string::npos) << describe(r);
+  EXPECT_EQ(r.err.find("mwst: opt:"), std::string::npos) << describe(r);
+}
+
 // --exact-polish (opt): accepted, reported, valid, and never heavier than opt without it.
 TEST(Cli, ExactPolishIsReportedValidAndNeverHeavier) {
   Sandbox box;
@@ -594,7 +923,18 @@ TEST_P(DataSetTest, TriangulationsPassCheck) {
     // Every violation is one of the triangles refinement says it left.
     EXPECT_LE(r.err_lines().size(), left) << "stop reason: " << stop << "\n" << describe(r);
   }
-  EXPECT_GE(dr["weight_interior"].get<double>(), 0.0);
+  // ... and each of those really lies next to an input angle under 60° (from the files alone).
+  const mwst::io::MeshFiles dr_mesh = mwst::io::read_mesh(box.path("dr"));
+  const std::vector<std::string> contradictions =
+      stop_reason_contradictions(mwst::io::read_input(input), dr_mesh, 20.0, stop);
+  EXPECT_TRUE(contradictions.empty()) << "stop reason: " << stop << "\n" << contradictions.front();
+  // The report's weights are the files' (every edge once; boundary = edges of one triangle or in
+  // the .poly), and interior = total - boundary.
+  const auto [total, boundary] = weight_of_files(dr_mesh);
+  EXPECT_NEAR(dr["weight_total"].get<double>(), total, 1e-12 * total);
+  EXPECT_NEAR(dr["weight_boundary"].get<double>(), boundary, 1e-12 * total);
+  EXPECT_NEAR(dr["weight_interior"].get<double>(), total - boundary, 1e-12 * total);
+  EXPECT_GT(total - boundary, 0.0);
   EXPECT_NEAR(dr["weight_boundary"].get<double>(), dt["weight_boundary"].get<double>(),
               1e-9 * dt["weight_boundary"].get<double>())
       << "refinement splits boundary segments but keeps their total length";

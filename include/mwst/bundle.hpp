@@ -57,6 +57,8 @@ struct BundleOptions {
   // Worker threads (0: std::thread::hardware_concurrency()). Small inputs run on one thread. The
   // result does not depend on the number of threads.
   unsigned threads = 0;
+  // bundle_number(Mesh) throws KBundleTimeout once this passes (time_point::max(): never).
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
 };
 
 struct BundleResult {

@@ -8,9 +8,12 @@
 // include/mwst/metrics.hpp. The Report holds what the JSON report prints.
 #pragma once
 
+#include <chrono>
 #include <cstddef>
+#include <functional>
 #include <limits>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -41,6 +44,36 @@ MWST_API std::optional<Method> parse_method(std::string_view name);
 MWST_API std::string_view steiner_rule_name(SteinerRule rule);
 MWST_API std::optional<SteinerRule> parse_steiner_rule(std::string_view name);
 
+// Where a run is, for a progress line: the method, its phase, `done` of `total` steps of the method
+// (phases; opt: its starts and searches), the seconds since the run began, and the seconds left
+// at most (the time limit's rest) or -1 when no estimate exists.
+struct Progress {
+  std::string_view method;
+  std::string_view phase;
+  std::size_t done = 0;
+  std::size_t total = 0;
+  double elapsed_seconds = 0.0;
+  double seconds_left = -1.0;
+};
+// Called by triangulate() when a phase begins (a few times per run, never inside a loop).
+using ProgressCallback = std::function<void(const Progress&)>;
+// The progress line: "mwst: dr: refine (2/3), 12.4 s, at most 37.6 s left" — the estimate only
+// when one exists (seconds_left ≥ 0), the steps only when total > 0.
+std::string format_progress(const Progress& progress);
+
+// A resource ran out, or a request cannot fit in it: the memory budget
+// (TriangulateOptions::memory_budget_bytes; an --max-area whose mesh would not fit). The message
+// says what ran out and what to try. The command line exits with its own code (4).
+class ResourceError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// The memory a mesh of `triangles` domain triangles needs at the peak of a refinement by `method`
+// that makes it (measured peak resident bytes per output triangle of `mwst triangulate`, writing
+// its files included, rounded down: see the comment in pipeline.cpp).
+double estimated_bytes(Method method, double triangles);
+
 inline constexpr std::size_t kDefaultOptTrials = std::numeric_limits<std::size_t>::max();
 
 struct TriangulateOptions {
@@ -63,7 +96,55 @@ struct TriangulateOptions {
   // qtr: the most leaves its quadtree may have before the method falls back
   // (QuadtreeOptions::max_leaves; 0 = automatic). The fuzz harness keeps its meshes small with it.
   std::size_t quadtree_max_leaves = 0;
+  // The memory the run may use, in bytes (0: no budget). An --max-area whose mesh cannot fit (at
+  // least domain area / max_area triangles, estimated_bytes of them; refinement makes about twice
+  // that) is refused with a ResourceError before any refinement.
+  double memory_budget_bytes = 0.0;
+  // Called at every phase (may be empty).
+  ProgressCallback progress;
 };
+
+// Why a refinement method (dr, brh, opt) stopped, checked against the final mesh (after --flip and
+// opt's moves) and the budgets: see settle_stop_reason().
+enum class StopKind {
+  kUnset,                 // dt, qtr: no stop reason
+  kBoundReached,          // every triangle meets the angle and area bounds ("bound reached")
+  kSmallInputAngles,      // all but `count` triangles next to input angles under 60° do
+  kSteinerBudget,         // --max-steiner ran out first
+  kTimeBudget,            // --time-limit passed first
+  kLocalMinimum,          // opt: no move lowers the weight, and the area bound holds
+  kRoundLimit,            // brh: its pass limit
+  kBelowBoundAfterFlips,  // --flip: `count` triangles below the bound after the flips
+  kSkinnyInBundles,       // brh --flip: `count` skinny triangles in K-bundles after the flips
+  kLeftBelowBound,        // `count` triangles miss the bound, none of the reasons above holds
+  kOther,                 // a reason an engine gave in its own words (`text`)
+};
+struct StopReason {
+  StopKind kind = StopKind::kUnset;
+  std::size_t count = 0;  // kSmallInputAngles, kBelowBoundAfterFlips, kSkinnyInBundles, kLeftBelowBound
+  std::string text;       // kOther
+  friend bool operator==(const StopReason&, const StopReason&) = default;
+};
+// The words of the report: "bound reached", "N triangles left near small input angles",
+// "steiner budget", "time budget", "local minimum", "round limit", "N triangles below the angle
+// bound after the flips", "N skinny triangles in K-bundles after the flips", "N triangles left
+// outside the bounds", or the engine's text; "" for kUnset.
+std::string to_string(const StopReason& reason);
+// The reason an engine (RefineStats::stop_reason, BrhStats::stop_reason) gives in words.
+StopReason parse_stop_reason(std::string_view text);
+// The true stop reason of `method`'s result `mesh` under `options`, given the reason its engine
+// gave (`engine`) and whether --flip ran after it. The bounds are checked on the mesh (check_bounds
+// of metrics.hpp: angle for dr, area for dr, brh, opt): a mesh that meets them (exemptions: the
+// triangles next to input angles under 60°) is "bound reached" or "N triangles left near small
+// input angles" (dr; brh's K-bundle test stands for its angle bound, checked again after flips
+// with in_k_bundle), opt's "local minimum" unless it ran out of time; a mesh that does not is a
+// budget stop (steiner or time) when the engine ran out of one, "below the angle bound after the
+// flips" when the flips broke it, and otherwise "N triangles left outside the bounds". Never a
+// reason the mesh contradicts.
+// brh --flip's exact test stops at `deadline` (the time budget's), and the reason is then "time budget".
+StopReason settle_stop_reason(const Mesh& mesh, const TriangulateOptions& options, const StopReason& engine,
+                              bool flipped,
+                              std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max());
 
 // The paper's lemma: a triangulation with minimum angle α is (4π/α + 3)-bundle-free, so the default
 // bundle size for BRH is ⌈4π/α⌉ + 3 (α = 30° gives 27). Computed as ⌈720/deg⌉ + 3 so that whole
@@ -97,7 +178,8 @@ struct MWST_API Report {
   double max_triangle_area = 0.0;  // the largest domain triangle's area (what --max-area bounds)
   // Wall-clock seconds of each phase, in the order the phases ran.
   std::vector<std::pair<std::string, double>> seconds;
-  std::string stop_reason;       // refinement methods only (see RefineStats::stop_reason)
+  StopReason stop;               // refinement methods only (settle_stop_reason)
+  std::string stop_reason;       // to_string(stop)
   std::size_t duplicates = 0;    // duplicate input points merged
   std::size_t crossings = 0;     // crossing points inserted where segments cross
   std::vector<std::string> warnings;  // printed as "mwst: warning: ..." by the command line
@@ -110,7 +192,7 @@ struct MWST_API Report {
 
 // Runs options.method on the input. If `out` is not null the final mesh is moved there.
 // Throws InputError for input the mesher refuses (naming pslg.source and, where known, the line),
-// std::invalid_argument for unusable options (a bundle size below 3, an angle outside [0, 60), ...),
+// ResourceError for a request that cannot fit in options.memory_budget_bytes, std::invalid_argument for unusable options (a bundle size below 3, an angle outside [0, 60), ...),
 // and InternalError for broken invariants.
 MWST_API Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* out = nullptr);
 

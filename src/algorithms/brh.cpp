@@ -530,6 +530,11 @@ BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
     ro.max_steiner = steiner_budget;
     record_skinny = true;
     if (!clean.empty()) clean.snapshot(mesh);
+    // Each pass gets what is left of the budget, not all of it again.
+    if (options.refine.time_budget_seconds > 0.0) {
+      ro.time_budget_seconds = std::max(1e-9, options.refine.time_budget_seconds -
+                                                  std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    }
     const RefineStats rs = refine(mesh, ro);
     if (!clean.empty()) clean.update(mesh);
     skinny_updated = record_skinny;

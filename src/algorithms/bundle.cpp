@@ -1748,7 +1748,7 @@ std::string triangle_name(std::size_t i) { return "triangle " + std::to_string(i
 
 BundleResult bundle_number(const Mesh& mesh, const BundleOptions& options) {
   BundleResult result;
-  Shared sh(mesh);
+  Shared sh(mesh, options.deadline);
   if (!sh.build()) {
     if (options.per_triangle) result.per_triangle.assign(mesh.triangle_slots(), 0);
     return result;
@@ -1760,7 +1760,10 @@ BundleResult bundle_number(const Mesh& mesh, const BundleOptions& options) {
   auto workers = make_workers(sh, threads, options.per_triangle, !options.per_triangle);
   build_lists(sh, workers);
   for_ranges(workers, sh.pencils.size(), [&](Worker& w, std::size_t begin, std::size_t end, std::size_t) {
-    for (std::size_t i = begin; i < end; ++i) w.sweep(i);
+    for (std::size_t i = begin; i < end; ++i) {
+      sh.check_deadline();
+      w.sweep(i);
+    }
   });
   // Merge: the largest count, ties to the first pencil.
   const Worker* best = workers[0].get();

@@ -3,6 +3,9 @@
 #include "mwst/metrics.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
+#include <utility>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -164,6 +167,174 @@ Metrics measure(const Mesh& mesh) {
     }
   }
   r.weight_interior = r.weight_total - r.weight_boundary;
+  return r;
+}
+
+bool below_angle_bound(const Point& a, const Point& b, const Point& c, double bound_cos2) {
+  const double abx = b.x - a.x, aby = b.y - a.y;
+  const double bcx = c.x - b.x, bcy = c.y - b.y;
+  const double cax = a.x - c.x, cay = a.y - c.y;
+  const double l2 = abx * abx + aby * aby;  // opposite corner c
+  const double l0 = bcx * bcx + bcy * bcy;  // opposite corner a
+  const double l1 = cax * cax + cay * cay;  // opposite corner b
+  double dot, la, lb;
+  if (l0 <= l1 && l0 <= l2) {
+    dot = -(abx * cax + aby * cay);  // (b−a)·(c−a)
+    la = l2;
+    lb = l1;
+  } else if (l1 <= l2) {
+    dot = -(abx * bcx + aby * bcy);  // (a−b)·(c−b)
+    la = l2;
+    lb = l0;
+  } else {
+    dot = -(bcx * cax + bcy * cay);  // (b−c)·(a−c)
+    la = l0;
+    lb = l1;
+  }
+  const double cos2 = dot > 0.0 ? dot * dot / (la * lb) : 0.0;
+  return cos2 > bound_cos2;
+}
+
+std::vector<std::uint8_t> near_small_input_angles(const Mesh& mesh) {
+  const std::size_t slots = mesh.triangles.size();
+  std::vector<std::uint8_t> near(slots, 0);
+  const auto constraint = [&](Handle h) { return mesh.is_segment(h) || !mesh.in_domain(mesh.sym(h) >> 2); };
+  const auto split_point = [&](VertexId v) {
+    return v < mesh.vertex_kind.size() && mesh.vertex_kind[v] == VertexKind::kSteinerOnSegment;
+  };
+  // The two chain neighbours of every split point (a split point lies inside one input segment:
+  // exactly two subsegments meet there).
+  constexpr VertexId kNo = static_cast<VertexId>(-1);
+  std::vector<std::array<VertexId, 2>> along(mesh.points.size(), {kNo, kNo});
+  const auto link = [&](VertexId v, VertexId w) {
+    if (!split_point(v)) return;
+    auto& n = along[v];
+    if (n[0] == w || n[1] == w) return;
+    (n[0] == kNo ? n[0] : n[1]) = w;
+  };
+  bool any_constraint = false;
+  for (TriangleId t = 0; t < slots; ++t) {
+    if (!mesh.in_domain(t)) continue;
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle h = make_handle(t, e);
+      if (!constraint(h)) continue;
+      any_constraint = true;
+      link(mesh.org(h), mesh.dest(h));
+      link(mesh.dest(h), mesh.org(h));
+    }
+  }
+  if (!any_constraint) return near;
+  // Follows the chain of subsegments from `from` through `next` to its far end (the first vertex
+  // that is not a split point), appending the vertices after `from` to `out`; returns the far end.
+  std::vector<VertexId> chain[2];
+  const auto follow = [&](VertexId from, VertexId next, std::vector<VertexId>& out) {
+    out.clear();
+    VertexId previous = from, at = next;
+    for (std::size_t steps = 0; steps <= mesh.points.size(); ++steps) {
+      out.push_back(at);
+      if (!split_point(at)) break;
+      const auto& n = along[at];
+      const VertexId ahead = n[0] == previous ? n[1] : n[0];
+      if (ahead == kNo) break;
+      previous = at;
+      at = ahead;
+    }
+    return out.back();
+  };
+  // (vertex, wedge · 2 + side) for the chain vertices of every small wedge.
+  std::vector<std::pair<VertexId, std::uint32_t>> labels;
+  std::uint32_t wedges = 0;
+  std::vector<TriangleId> fan;
+  for (TriangleId t = 0; t < slots; ++t) {
+    if (!mesh.in_domain(t)) continue;
+    for (unsigned k = 0; k < 3; ++k) {
+      const VertexId j = mesh.triangles[t].v[k];
+      if (split_point(j)) continue;
+      const Handle first = make_handle(t, prev3(k));  // j → v[k+1]: the wedge starts on its left
+      if (!constraint(first)) continue;
+      // The fan of in-domain triangles around j, counter-clockwise from `first` to the next
+      // constraint edge.
+      fan.assign(1, t);
+      Handle last = Mesh::lprev(first);  // v[k+2] → j
+      while (!constraint(last) && fan.size() <= slots) {
+        last = Mesh::lprev(mesh.sym(last));
+        fan.push_back(last >> 2);
+      }
+      const VertexId a = follow(j, mesh.dest(first), chain[0]);
+      const VertexId b = follow(j, mesh.org(last), chain[1]);
+      const Point& pj = mesh.points[j];
+      const double ux = mesh.points[a].x - pj.x, uy = mesh.points[a].y - pj.y;
+      const double vx = mesh.points[b].x - pj.x, vy = mesh.points[b].y - pj.y;
+      const double cross = ux * vy - uy * vx, dot = ux * vx + uy * vy;
+      // Under 60°, counter-clockwise from a to b: cross > 0, cos > 1/2.
+      if (!(cross > 0.0 && dot > 0.0 && dot * dot > 0.25 * (ux * ux + uy * uy) * (vx * vx + vy * vy))) continue;
+      for (const TriangleId f : fan) near[f] = 1;
+      for (unsigned side = 0; side < 2; ++side) {
+        for (const VertexId v : chain[side]) labels.emplace_back(v, 2 * wedges + side);
+      }
+      ++wedges;
+    }
+  }
+  if (labels.empty()) return near;
+  std::sort(labels.begin(), labels.end());
+  const auto labels_of = [&](VertexId v) {
+    const auto lo = std::lower_bound(labels.begin(), labels.end(), std::pair<VertexId, std::uint32_t>{v, 0});
+    auto hi = lo;
+    while (hi != labels.end() && hi->first == v) ++hi;
+    return std::pair{lo, hi};
+  };
+  for (TriangleId t = 0; t < slots; ++t) {
+    if (near[t] || !mesh.in_domain(t)) continue;
+    const auto& v = mesh.triangles[t].v;
+    // A vertex on one side of a wedge and another vertex on the other side of the same wedge.
+    for (unsigned k = 0; k < 3 && !near[t]; ++k) {
+      const auto [lo, hi] = labels_of(v[k]);
+      for (auto it = lo; it != hi && !near[t]; ++it) {
+        const std::uint32_t other = it->second ^ 1u;
+        for (unsigned m = 0; m < 3 && !near[t]; ++m) {
+          if (m == k) continue;
+          const auto [olo, ohi] = labels_of(v[m]);
+          for (auto o = olo; o != ohi; ++o) {
+            if (o->second == other) {
+              near[t] = 1;
+              break;
+            }
+          }
+        }
+      }
+    }
+  }
+  return near;
+}
+
+BoundCheck check_bounds(const Mesh& mesh, double min_angle_deg, double max_area) {
+  BoundCheck r;
+  const bool angle = min_angle_deg > 0.0;
+  const double c = std::cos(std::max(0.0, min_angle_deg) * std::numbers::pi / 180.0);
+  const double bound_cos2 = c * c;
+  std::vector<std::uint8_t> near;
+  bool near_known = false;
+  for (TriangleId t = 0; t < mesh.triangles.size(); ++t) {
+    if (!mesh.in_domain(t)) continue;
+    const auto& v = mesh.triangles[t].v;
+    const Point &a = mesh.points[v[0]], &b = mesh.points[v[1]], &p = mesh.points[v[2]];
+    const bool small = angle && below_angle_bound(a, b, p, bound_cos2);
+    const bool large = max_area > 0.0 && triangle_area(a, b, p) > max_area;
+    r.below_angle += small;
+    r.above_area += large;
+    if (!small && !large) continue;
+    if (small && !large) {
+      if (!near_known) {
+        near = near_small_input_angles(mesh);
+        near_known = true;
+      }
+      if (near[t]) {
+        ++r.exempt;
+        continue;
+      }
+    }
+    ++r.violations;
+  }
   return r;
 }
 

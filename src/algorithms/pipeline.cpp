@@ -12,7 +12,9 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <numeric>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -27,6 +29,7 @@
 #include "mwst/quadtree.hpp"
 #include "mwst/refine.hpp"
 #include "mwst/version.hpp"
+#include "algorithms/time_budget.hpp"
 
 namespace mwst {
 
@@ -61,6 +64,49 @@ double budget_left(const TriangulateOptions& options, Clock::time_point start) {
 bool budget_spent(const TriangulateOptions& options, Clock::time_point start) {
   return options.time_budget_seconds > 0.0 &&
          std::chrono::duration<double>(Clock::now() - start).count() >= options.time_budget_seconds;
+}
+
+// Tells TriangulateOptions::progress that `phase`, step `done` of `total`, begins.
+void announce(const TriangulateOptions& options, Clock::time_point start, std::string_view phase, std::size_t done,
+              std::size_t total) {
+  if (!options.progress) return;
+  Progress p;
+  p.method = method_name(options.method);
+  p.phase = phase;
+  p.done = done;
+  p.total = total;
+  p.elapsed_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  if (options.time_budget_seconds > 0.0) p.seconds_left = std::max(0.0, options.time_budget_seconds - p.elapsed_seconds);
+  options.progress(p);
+}
+
+// "1.5 GiB", "300 MiB".
+std::string bytes_text(double bytes) {
+  constexpr double kMiB = 1024.0 * 1024.0, kGiB = 1024.0 * kMiB;
+  char buf[64];
+  if (bytes >= kGiB) {
+    std::snprintf(buf, sizeof buf, "%.3g GiB", bytes / kGiB);
+  } else {
+    std::snprintf(buf, sizeof buf, "%.3g MiB", bytes / kMiB);
+  }
+  return buf;
+}
+
+// Refuses an area bound whose mesh cannot fit in the memory budget, before any refinement: every
+// domain triangle has area at most max_area, so there are at least area / max_area of them, and
+// refinement makes about twice that (its triangles are not all as large as the bound).
+void check_memory_for_area_bound(const Mesh& cdt, const TriangulateOptions& options) {
+  if (!(options.max_area > 0.0) || !(options.memory_budget_bytes > 0.0)) return;
+  const double area = cdt.domain_area();
+  const double least = area / options.max_area;  // a lower bound on the triangles
+  const double expected = 2.0 * least;
+  if (!(estimated_bytes(options.method, least) > options.memory_budget_bytes)) return;
+  char text[256];
+  std::snprintf(text, sizeof text, "--max-area %g on a domain of area %g would make about %.3g triangles (at least %.3g), ",
+                options.max_area, area, expected, least);
+  throw ResourceError(std::string(text) + "needing about " + bytes_text(estimated_bytes(options.method, expected)) +
+                      ", more than the memory budget of " + bytes_text(options.memory_budget_bytes) +
+                      " (--max-memory): give a larger --max-area, or a larger --max-memory if the machine has it");
 }
 
 std::string plural(std::size_t n, const char* one, const char* many) {
@@ -113,7 +159,7 @@ void refine_phase(Mesh& mesh, const TriangulateOptions& options, Clock::time_poi
   Phase phase(report, "refine");
   const RefineStats stats = refine(mesh, refine_options);
   phase.finish();
-  report.stop_reason = stats.stop_reason;
+  report.stop = parse_stop_reason(stats.stop_reason);
   report.extra["refine"] = {{"steiner_inserted", stats.steiner_inserted},
                             {"segment_splits", stats.segment_splits},
                             {"left_small_angle", stats.left_small_angle}};
@@ -131,7 +177,7 @@ void brh_phase(Mesh& mesh, const TriangulateOptions& options, Clock::time_point 
   Phase phase(report, "brh");
   const BrhStats stats = bundle_removal(mesh, brh);
   phase.finish();
-  report.stop_reason = stats.stop_reason;
+  report.stop = parse_stop_reason(stats.stop_reason);
   report.extra["brh"] = {{"bundle_k", brh.bundle_k},
                          {"rounds", stats.rounds},
                          {"exact_evaluations", stats.exact_evaluations},
@@ -166,6 +212,7 @@ void flip_phase(Mesh& mesh, const TriangulateOptions& options, Report& report) {
 Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::time_point start,
                     Report& report) {
   Mesh best = constrained_delaunay_phase(pslg, options, report);
+  check_memory_for_area_bound(best, options);
   const Mesh cdt = best;
   Phase phase(report, "optimize");
   // --max-steiner bounds the Steiner points beyond the CDT's (its crossing points) in every start
@@ -179,6 +226,12 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
   // max_area): the refined starts get it, and the CDT and the seeded starts are refined to it with
   // no angle bound (Delaunay refinement splitting only the triangles larger than the bound).
   bool out_of_time = false;  // the budget has passed (a refinement or search was cut, or a step skipped)
+  bool out_of_steiner = false;  // a start's refinement ran out of --max-steiner
+  const auto note_refinement = [&](const std::string& stop_reason) {
+    const StopKind kind = parse_stop_reason(stop_reason).kind;
+    out_of_time |= kind == StopKind::kTimeBudget;
+    out_of_steiner |= kind == StopKind::kSteinerBudget;
+  };
   const auto area_bounded = [&](Mesh m) {
     if (options.max_area > 0.0) {
       RefineOptions ro;
@@ -187,7 +240,7 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
       ro.rule = options.steiner;
       ro.max_steiner = options.max_steiner;
       ro.time_budget_seconds = budget_left(options, start);
-      out_of_time |= refine(m, ro).stop_reason == "time budget";
+      note_refinement(refine(m, ro).stop_reason);
     }
     return m;
   };
@@ -201,12 +254,17 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
     return out_of_time;
   };
   {
+    announce(options, start, "start brh+efh", 0, 1);
     Mesh m = cdt;
     Report scratch;
     TriangulateOptions o = options;
     if (!(o.min_angle_deg > 0.0)) o.min_angle_deg = 20.0;
     brh_phase(m, o, start, scratch);
-    out_of_time = scratch.stop_reason == "time budget";
+    out_of_time |= scratch.stop.kind == StopKind::kTimeBudget;
+    out_of_steiner |= scratch.stop.kind == StopKind::kSteinerBudget;
+    // (The flips even past the budget: they take a fraction of a second on a million triangles
+    // and lower the weight most, e.g. the Delaunay triangulation of 20k points on an ellipse from
+    // 12737 to 130.)
     flip_to_local_minimum(m, options.max_area);
     starts.push_back({"brh+efh", std::move(m)});
   }
@@ -219,6 +277,7 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
   if (!large && !time_is_up()) {
     for (const double angle : {5.0, 10.0, 15.0, 20.0}) {
       if (time_is_up()) break;
+      announce(options, start, "start dr", starts.size(), 8);
       Mesh m = cdt;
       RefineOptions ro;
       ro.min_angle_deg = angle;
@@ -226,10 +285,13 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
       ro.rule = options.steiner;
       ro.max_steiner = options.max_steiner;
       ro.time_budget_seconds = budget_left(options, start);
-      out_of_time |= refine(m, ro).stop_reason == "time budget";
+      note_refinement(refine(m, ro).stop_reason);
       starts.push_back({"dr" + std::to_string(static_cast<int>(angle)), std::move(m)});
     }
-    starts.push_back({"dt", area_bounded(cdt)});
+    if (!time_is_up()) {
+      announce(options, start, "start dt", starts.size(), 8);
+      starts.push_back({"dt", area_bounded(cdt)});
+    }
     // Seeded starts (seed_steiner_points) for polygonal domains: the CDT with Steiner points where
     // its dual branches (an approximate medial axis), and with one at every triangle's centroid.
     // They pay where the domain has strips between boundary chains (the coastlines: 0.1–0.5 points)
@@ -238,6 +300,8 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
     if (!pslg.segments.empty() && !time_is_up()) {
       for (const auto& [name, seeds] : {std::pair{"dt+junctions", SeedPoints::kJunctionCircumcenters},
                                         std::pair{"dt+centroids", SeedPoints::kCentroids}}) {
+        if (time_is_up()) break;
+        announce(options, start, "start seeded", starts.size(), 8);
         Mesh m = cdt;
         seed_steiner_points(m, seeds);
         m = area_bounded(std::move(m));
@@ -268,6 +332,7 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
   std::vector<double> local_weight;
   double lightest = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < starts.size(); ++i) {
+    announce(options, start, "local search", i, starts.size());
     local.time_budget_seconds = budget_left(options, start);
     const OptimizeStats os = optimize(starts[i].mesh, local);
     out_of_time |= os.out_of_time;
@@ -285,7 +350,8 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
   for (std::size_t i = 0; i < starts.size(); ++i) {
     Start& s = starts[i];
     OptimizeStats& os = result[i];
-    if (local_weight[i] <= 1.05 * lightest) {
+    if (local_weight[i] <= 1.05 * lightest && !time_is_up()) {
+      announce(options, start, "kicks", i, starts.size());
       // The iterated local search of optimize.hpp (perturbation_trials) follows the kicks; its
       // budget counts trials, scaled by this start's own size (each trial copies the mesh), so
       // that the exact polish's extra starts leave every original start's search unchanged.
@@ -318,6 +384,7 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
   // only if lighter; no gain, no change.
   CrossoverStats crossed;
   if (order.size() > 1 && !time_is_up()) {
+    announce(options, start, "crossover", 0, 1);
     Mesh child = best;
     for (std::size_t k = 1; k < order.size(); ++k) {
       crossed.taken += partition_crossover(child, starts[order[k]].mesh).taken;
@@ -328,7 +395,7 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
     const bool within_area = !(options.max_area > 0.0) ||
                              measure(child).max_triangle_area <=
                                  std::max(options.max_area, measure(best).max_triangle_area);
-    if (crossed.taken > 0 && within_steiner_budget(child) && within_area) {
+    if (crossed.taken > 0 && within_steiner_budget(child) && within_area && !time_is_up()) {
       local.time_budget_seconds = budget_left(options, start);
       const OptimizeStats polished = optimize(child, local);
       out_of_time |= polished.out_of_time;
@@ -340,7 +407,9 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
     }
   }
   phase.finish();
-  report.stop_reason = out_of_time ? "time budget" : "local minimum";
+  report.stop.kind = out_of_time      ? StopKind::kTimeBudget
+                     : out_of_steiner ? StopKind::kSteinerBudget
+                                      : StopKind::kLocalMinimum;
   report.extra["optimize"] = {{"start", best_name},
                               {"starts", tried},
                               {"rounds", best_stats.rounds},
@@ -399,6 +468,117 @@ std::optional<SteinerRule> parse_steiner_rule(std::string_view name) {
   return std::nullopt;
 }
 
+std::string format_progress(const Progress& p) {
+  std::string line = "mwst: ";
+  line += p.method;
+  line += ": ";
+  line += p.phase;
+  if (p.total > 0) line += " (" + std::to_string(std::min(p.done + 1, p.total)) + "/" + std::to_string(p.total) + ")";
+  char buf[96];
+  std::snprintf(buf, sizeof buf, ", %.1f s", p.elapsed_seconds);
+  line += buf;
+  if (p.seconds_left >= 0.0) {
+    std::snprintf(buf, sizeof buf, ", at most %.1f s left", p.seconds_left);
+    line += buf;
+  }
+  return line;
+}
+
+std::string to_string(const StopReason& r) {
+  switch (r.kind) {
+    case StopKind::kUnset: return "";
+    case StopKind::kBoundReached: return "bound reached";
+    case StopKind::kSmallInputAngles: return std::to_string(r.count) + " triangles left near small input angles";
+    case StopKind::kSteinerBudget: return "steiner budget";
+    case StopKind::kTimeBudget: return "time budget";
+    case StopKind::kLocalMinimum: return "local minimum";
+    case StopKind::kRoundLimit: return "round limit";
+    case StopKind::kBelowBoundAfterFlips:
+      return std::to_string(r.count) + " triangles below the angle bound after the flips";
+    case StopKind::kSkinnyInBundles: return std::to_string(r.count) + " skinny triangles in K-bundles after the flips";
+    case StopKind::kLeftBelowBound: return std::to_string(r.count) + " triangles left outside the bounds";
+    case StopKind::kOther: return r.text;
+  }
+  throw InternalError("to_string: unknown stop reason");
+}
+
+StopReason parse_stop_reason(std::string_view text) {
+  StopReason r;
+  if (text.empty()) return r;
+  for (const StopKind kind : {StopKind::kBoundReached, StopKind::kSteinerBudget, StopKind::kTimeBudget,
+                              StopKind::kLocalMinimum, StopKind::kRoundLimit}) {
+    if (to_string(StopReason{kind, 0, {}}) == text) return StopReason{kind, 0, {}};
+  }
+  // "N triangles left near small input angles"
+  constexpr std::string_view kSmall = " triangles left near small input angles";
+  if (text.size() > kSmall.size() && text.ends_with(kSmall)) {
+    const std::string_view digits = text.substr(0, text.size() - kSmall.size());
+    if (std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }) && digits.size() < 19) {
+      return StopReason{StopKind::kSmallInputAngles, std::stoull(std::string(digits)), {}};
+    }
+  }
+  return StopReason{StopKind::kOther, 0, std::string(text)};
+}
+
+StopReason settle_stop_reason(const Mesh& mesh, const TriangulateOptions& options, const StopReason& engine,
+                              bool flipped, std::chrono::steady_clock::time_point deadline) {
+  // Reasons that say the run was cut short, or that the engine explains in its own words.
+  const bool cut_short = engine.kind == StopKind::kSteinerBudget || engine.kind == StopKind::kTimeBudget ||
+                         engine.kind == StopKind::kRoundLimit || engine.kind == StopKind::kOther;
+  // dr's bound is the angle and the area; brh's the area (its angle bound is the K-bundle test, as
+  // the paper states it: a skinny triangle is left if it is in no K-bundle); opt's the area.
+  const double angle = options.method == Method::kDr ? options.min_angle_deg : 0.0;
+  const BoundCheck check = check_bounds(mesh, angle, options.max_area);
+  if (check.violations > 0) {
+    if (cut_short) return engine;
+    // The refinement reached its bound and the flips broke it (flips keep the area bound).
+    if (flipped && check.above_area == 0) return StopReason{StopKind::kBelowBoundAfterFlips, check.violations, {}};
+    return StopReason{StopKind::kLeftBelowBound, check.violations, {}};
+  }
+  // The mesh meets the bound checked here.
+  if (options.method == Method::kOpt) {
+    // A start cut by --max-steiner does not matter once the result meets the area bound.
+    return engine.kind == StopKind::kTimeBudget ? engine : StopReason{StopKind::kLocalMinimum, 0, {}};
+  }
+  if (cut_short) return engine;
+  if (options.method == Method::kBrh) {
+    if (!flipped) return engine;  // BRH's own exact test confirmed its skinny triangles
+    // The flips may have put skinny triangles into K-bundles: the exact test on every skinny one
+    // not next to a small input angle.
+    const double c = std::cos(std::max(0.0, options.min_angle_deg) * std::numbers::pi / 180.0);
+    const std::vector<std::uint8_t> near = near_small_input_angles(mesh);
+    std::vector<TriangleId> skinny;
+    for (TriangleId t = 0; t < mesh.triangles.size(); ++t) {
+      if (!mesh.in_domain(t) || near[t]) continue;
+      const auto& v = mesh.triangles[t].v;
+      if (below_angle_bound(mesh.points[v[0]], mesh.points[v[1]], mesh.points[v[2]], c * c)) skinny.push_back(t);
+    }
+    if (skinny.empty()) return engine;
+    const std::size_t k = options.bundle_k != 0 ? options.bundle_k : default_bundle_k(options.min_angle_deg);
+    std::vector<std::uint8_t> in_bundle;
+    try {
+      in_bundle = in_k_bundle(mesh, static_cast<std::uint32_t>(k), skinny, nullptr, 0, nullptr, deadline);
+    } catch (const KBundleTimeout&) {
+      return StopReason{StopKind::kTimeBudget, 0, {}};
+    }
+    const auto count = static_cast<std::size_t>(std::count(in_bundle.begin(), in_bundle.end(), std::uint8_t{1}));
+    return count > 0 ? StopReason{StopKind::kSkinnyInBundles, count, {}} : engine;
+  }
+  if (check.exempt > 0) return StopReason{StopKind::kSmallInputAngles, check.exempt, {}};
+  return StopReason{StopKind::kBoundReached, 0, {}};
+}
+
+// Peak resident bytes per output triangle of `mwst triangulate --max-area` (the whole process: the
+// mesh, the refinement's queues, the output text), measured on the unit square: dr and brh at
+// 1e-6 (1.55M triangles, 159 and 161 MB: 102 and 104 bytes each), opt at 1e-5 (140k triangles,
+// 49 MB, 290 bytes each beyond the process's 8 MB: it keeps the CDT, its starts and their copies).
+// Rounded down, so that with the lower bound area / max_area on the triangles a request refused
+// by check_memory_for_area_bound cannot fit.
+double estimated_bytes(Method method, double triangles) {
+  const double per_triangle = method == Method::kOpt ? 250.0 : 100.0;
+  return per_triangle * triangles;
+}
+
 std::size_t default_bundle_k(double min_angle_deg) {
   if (!(min_angle_deg > 0.0)) {
     throw std::invalid_argument("the default bundle size ceil(4*pi/alpha)+3 needs --min-angle > 0; "
@@ -452,6 +632,10 @@ Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* ou
   report.method = std::string(method_name(options.method));
   report.options = options;
 
+  // Phases of the progress line: the input's triangulation, the method, the flips, the bundle number.
+  const std::size_t phases = 2 + (options.flip ? 1 : 0) + (options.bundle ? 1 : 0);
+  std::size_t phase_number = 0;
+  announce(options, start, "delaunay", phase_number++, phases);
   Mesh mesh;
   switch (options.method) {
     case Method::kDt:
@@ -459,13 +643,18 @@ Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* ou
       break;
     case Method::kDr:
       mesh = constrained_delaunay_phase(pslg, options, report);
+      check_memory_for_area_bound(mesh, options);
+      announce(options, start, "refine", phase_number++, phases);
       refine_phase(mesh, options, start, report);
       break;
     case Method::kBrh:
       mesh = constrained_delaunay_phase(pslg, options, report);
+      check_memory_for_area_bound(mesh, options);
+      announce(options, start, "brh", phase_number++, phases);
       brh_phase(mesh, options, start, report);
       break;
     case Method::kQtr: {
+      announce(options, start, "quadtree", phase_number++, phases);
       // Quadtree refinement (include/mwst/quadtree.hpp); it cleans the input with the CDT itself.
       QuadtreeOptions quadtree_options;
       quadtree_options.convex_hull = options.convex_hull;
@@ -495,19 +684,42 @@ Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* ou
       break;
     }
     case Method::kOpt:
+      announce(options, start, "optimize", phase_number++, phases);
       mesh = optimize_phase(pslg, options, start, report);
       break;
   }
-  if (options.flip) flip_phase(mesh, options, report);
-  if (options.bundle) {
-    // The exact bundle number of the result (mwst/bundle.hpp), with a witness disk.
-    Phase bundle_phase(report, "bundle");
-    const BundleResult bundle = bundle_number(mesh);
-    bundle_phase.finish();
-    report.extra["bundle_number"] = bundle.bundle_number;
-    report.extra["bundle_disk"] = {{"x", bundle.disk_center.x}, {"y", bundle.disk_center.y}, {"r", bundle.disk_radius}};
-    report.extra["bundle_circumdisk_bound"] = bundle.circumdisk_bound;
+  if (options.flip) {
+    announce(options, start, "flip", phase_number++, phases);
+    flip_phase(mesh, options, report);
   }
+  // The stop reason the final mesh bears out (the flips, opt's moves and the budgets included).
+  if (options.method == Method::kDr || options.method == Method::kBrh || options.method == Method::kOpt) {
+    report.stop = settle_stop_reason(mesh, options, report.stop, options.flip,
+                                     detail::deadline_after(start, options.time_budget_seconds));
+  }
+  if (options.bundle) {
+    // The exact bundle number of the result (mwst/bundle.hpp), with a witness disk; within what is
+    // left of the time budget (past it the report has no bundle number, and a warning says why).
+    announce(options, start, "bundle", phase_number++, phases);
+    Phase bundle_phase(report, "bundle");
+    BundleOptions bundle_options;
+    bundle_options.deadline = detail::deadline_after(start, options.time_budget_seconds);
+    try {
+      const BundleResult bundle = bundle_number(mesh, bundle_options);
+      report.extra["bundle_number"] = bundle.bundle_number;
+      report.extra["bundle_disk"] = {{"x", bundle.disk_center.x}, {"y", bundle.disk_center.y}, {"r", bundle.disk_radius}};
+      report.extra["bundle_circumdisk_bound"] = bundle.circumdisk_bound;
+    } catch (const KBundleTimeout&) {
+      report.warnings.push_back("the bundle number was not computed: the time budget (--time-limit) ran out");
+    }
+    bundle_phase.finish();
+  }
+  if (report.stop.kind == StopKind::kLeftBelowBound) {
+    report.warnings.push_back(plural(report.stop.count, "triangle does", "triangles do") +
+                              " not meet the bounds: refinement could not place their Steiner points (double "
+                              "precision, or the supported coordinate range of magnitudes 1e-50 to 1e50)");
+  }
+  report.stop_reason = to_string(report.stop);
 
   Phase measure_phase(report, "measure");
   const Metrics metrics = measure(mesh);

@@ -251,6 +251,8 @@ class Refiner {
   bool worst_first_ = false;
   bool stop_ = false;
   std::string stop_reason_;
+  const Clock::time_point started_ = Clock::now();  // the time budget counts from here
+  std::size_t segment_splits_timed_ = 0;            // split_all_pending's clock reads, 1 in 16
 
   BucketQueue queue_;
   std::vector<Pending> pending_;
@@ -680,6 +682,13 @@ bool Refiner::split_all_pending() {
       stop_reason_ = "steiner budget";
       break;
     }
+    // Segment splits can cascade for long (points on a circle: every hull edge encroached).
+    if (opt_.time_budget_seconds > 0.0 && (++segment_splits_timed_ & 15) == 0 &&
+        seconds_since(started_) > opt_.time_budget_seconds) {
+      stop_ = true;
+      stop_reason_ = "time budget";
+      break;
+    }
     if (split_subsegment(h)) any = true;
   }
   return any;
@@ -1080,7 +1089,9 @@ void Refiner::run() {
       stop_reason_ = "steiner budget";
       break;
     }
-    if (opt_.time_budget_seconds > 0.0 && (++iterations & 255) == 0 &&
+    // (One clock read in 16 splits: a split costs far more, and on inputs where each split flips
+    // thousands of edges, such as points on a circle, 256 splits could take seconds.)
+    if (opt_.time_budget_seconds > 0.0 && (++iterations & 15) == 0 &&
         seconds_since(t0) > opt_.time_budget_seconds) {
       stop_ = true;
       stop_reason_ = "time budget";

@@ -1,10 +1,11 @@
 // `mwst triangulate INPUT [-o PREFIX] [--method dt|dr|brh|qtr|opt] [--min-angle DEG]
 //  [--steiner offcenter|circumcenter] [--bundle-k K] [--flip] [--max-area A] [--max-steiner N]
 //  [--convex-hull] [--strict] [--bundle] [--time-limit SECONDS] [--exact-polish] [--opt-trials N] [--json FILE]
-//  [--draw FILE] [--quiet]`
+//  [--draw FILE] [--max-memory BYTES] [--quiet]`
 // Reads a Triangle .node/.poly, runs triangulate() (mwst/pipeline.hpp: the methods of Boyacı,
 // Erten, Üngör, "Triangulations Loosing Bundles and Weight", and ours) and writes PREFIX.node,
-// PREFIX.ele, PREFIX.poly and the JSON report, all only after the computation succeeded.
+// PREFIX.ele, PREFIX.poly and the JSON report, all only after the computation succeeded. A run
+// longer than 2 s shows a progress line on stderr when stderr is a terminal (not with --quiet).
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -42,6 +43,7 @@ struct TriangulateArgs {
   std::string json;
   std::string draw;
   bool quiet = false;
+  std::string max_memory;  // --max-memory (parse_bytes); empty: the default budget
 };
 
 std::string fixed(double v, int digits) {
@@ -80,6 +82,8 @@ int run_triangulate(const TriangulateArgs& a) {
   options.time_budget_seconds = a.time_limit;
   options.exact_polish = a.exact_polish;
   options.opt_trials = a.opt_trials;
+  if (!a.max_memory.empty()) set_memory_budget(*parse_bytes(a.max_memory));  // CLI11 checked it
+  options.memory_budget_bytes = memory_budget();
   try {
     check_options(options);
   } catch (const std::invalid_argument& e) {
@@ -98,9 +102,12 @@ int run_triangulate(const TriangulateArgs& a) {
   for (const char* ext : {".node", ".ele", ".poly"}) refuse_overwrite(a.input, prefix + ext);
   if (!a.json.empty() && a.json != "-") refuse_overwrite(a.input, a.json);
 
+  ProgressLine progress(!a.quiet);
+  options.progress = progress.callback();
   const Pslg pslg = io::read_input(a.input);
   Mesh mesh;
   Report report = triangulate(pslg, options, &mesh);
+  progress.finish();
   // An option the method does not read is said so, not silently dropped.
   for (const std::string& option : a.given) {
     if (!method_reads_option(options.method, option)) {
@@ -159,8 +166,9 @@ void register_triangulate(CLI::App& app, Action& action) {
   sub->add_flag("--strict", args->strict, "Refuse crossing segments instead of splitting them");
   sub->add_flag("--bundle", args->bundle, "Add the exact bundle number to the report");
   sub->add_option("--time-limit", args->time_limit,
-                  "Stop dr, brh and opt after about this many seconds in all (opt: its refinements and "
-                  "searches); the mesh is still valid and the report's stop_reason says \"time budget\"")
+                  "Stop dr, brh and opt after about this many seconds in all, counted from the start of the "
+                  "run (opt: its starts, refinements and searches; --bundle: the bundle number too); the mesh is "
+                  "still valid and the report's stop_reason says \"time budget\"")
       ->type_name("SECONDS")
       ->check(number_above(0.0));
   sub->add_flag("--exact-polish", args->exact_polish,
@@ -175,7 +183,13 @@ void register_triangulate(CLI::App& app, Action& action) {
   sub->add_option("--json", args->json, "Write the JSON report to FILE ('-' = standard output)")
       ->type_name("FILE");
   sub->add_option("--draw", args->draw, "Draw the mesh to FILE.png, .svg or .pdf")->type_name("FILE");
-  sub->add_flag("-q,--quiet", args->quiet, "No summary and no warnings");
+  sub->add_option("--max-memory", args->max_memory,
+                  "Memory budget in bytes, with K, M, G or T (powers of 1024): past it the run stops with exit "
+                  "code 4 and no output, and an --max-area whose mesh cannot fit is refused up front "
+                  "(default: 75% of the machine's memory, or less if the process may use less)")
+      ->type_name("BYTES")
+      ->check(byte_count());
+  sub->add_flag("-q,--quiet", args->quiet, "No summary, no warnings and no progress line");
   sub->callback([args, max_steiner, sub, &action] {
     args->max_steiner_given = max_steiner->count() > 0;
     for (const CLI::Option* option : sub->get_options([](const CLI::Option* o) { return o->count() > 0; })) {

@@ -9,6 +9,7 @@
 // exit code; errors are thrown and turned into exit codes in one place (main.cpp):
 //   InputError → 1, printed as "mwst: FILE:LINE: what is wrong" (exactly one line);
 //   UsageError, std::invalid_argument, CLI11 parse errors → 2;
+//   ResourceError, std::bad_alloc (memory ran out: the --max-memory budget) → 4;
 //   InternalError and anything else → 3.
 // Nothing may be written to an output file before all computation succeeded: collect outputs in
 // an OutputFiles and commit() at the end.
@@ -17,7 +18,10 @@
 #include <CLI/CLI.hpp>
 
 #include <functional>
+#include <memory>
+#include <optional>
 #include <stdexcept>
+#include <thread>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -25,6 +29,7 @@
 #include <nlohmann/json.hpp>
 
 #include "mwst/mesh.hpp"
+#include "mwst/pipeline.hpp"
 
 namespace mwst::cli {
 
@@ -33,6 +38,7 @@ inline constexpr int kExitOk = 0;
 inline constexpr int kExitBadInput = 1;  // also: `mwst check` found violations
 inline constexpr int kExitUsage = 2;
 inline constexpr int kExitInternal = 3;
+inline constexpr int kExitResource = 4;  // out of memory, or a request that cannot fit (--max-memory)
 
 // What a subcommand runs after a successful parse; returns the exit code.
 using Action = std::function<int()>;
@@ -96,6 +102,40 @@ class OutputFiles {
   std::vector<std::string> remove_at_commit_;
   std::string stdout_text_;
   bool committed_ = false;
+};
+
+// ---- limits (limits.cpp) -------------------------------------------------------------------------
+
+// A byte count as --max-memory takes it: a positive number with an optional suffix K, M, G or T
+// (powers of 1024): "512M", "1.5G", "100000". std::nullopt if it is none.
+std::optional<double> parse_bytes(std::string_view text);
+CLI::Validator byte_count();
+// 75% of the machine's memory (MemTotal), or the process's address-space limit or its control
+// group's memory limit if lower; 0 if none is known.
+double default_memory_budget();
+// Makes `bytes` the process's address-space limit (RLIMIT_AS; not in sanitizer builds), so that
+// allocating past it throws std::bad_alloc, and remembers it for memory_budget() and the message.
+void set_memory_budget(double bytes);
+double memory_budget();
+
+// The progress line (format_progress of mwst/pipeline.hpp) of a run longer than
+// kProgressAfterSeconds, on stderr, redrawn in place every 0.2 s by a thread of its own, and only
+// when stderr is a terminal and `enabled` (not --quiet). callback() is what
+// TriangulateOptions::progress takes (empty when there is no line); finish() clears the line.
+inline constexpr double kProgressAfterSeconds = 2.0;
+class ProgressLine {
+ public:
+  explicit ProgressLine(bool enabled);
+  ProgressLine(const ProgressLine&) = delete;
+  ProgressLine& operator=(const ProgressLine&) = delete;
+  ~ProgressLine();
+  ProgressCallback callback();
+  void finish();
+
+ private:
+  struct State;
+  std::shared_ptr<State> state_;
+  std::thread ticker_;
 };
 
 }  // namespace mwst::cli

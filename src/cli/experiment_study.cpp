@@ -22,7 +22,7 @@ constexpr double kRunBudgetSeconds = 60.0;
 constexpr double kOptRunBudgetSeconds = 900.0;
 
 bool stopped_by_budget(const Report& r) {
-  return r.stop_reason == "time budget" || r.stop_reason == "steiner budget";
+  return r.stop.kind == StopKind::kTimeBudget || r.stop.kind == StopKind::kSteinerBudget;
 }
 
 // The Table 1 column a sweep run competes for, if any (DR at 0° is Figure 3's DT end point only).

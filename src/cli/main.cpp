@@ -1,18 +1,26 @@
 // The `mwst` command: light Steiner triangulations after Boyacı, Erten, Üngör, "Triangulations
 // Loosing Bundles and Weight". Registers the subcommands (src/cli/commands.hpp), parses the command
 // line with CLI11, runs the chosen subcommand and turns its errors into the exit codes of the
-// contract in DESIGN.md: 0 done, 1 bad input, 2 bad usage, 3 internal error.
+// contract in DESIGN.md: 0 done, 1 bad input, 2 bad usage, 3 internal error, 4 out of resources
+// (memory: the budget of --max-memory, by default 75% of the machine's, ran out, or a request
+// cannot fit in it; one line saying so and what to try, and no output files).
+//
+// The memory budget is the process's address-space limit (limits.cpp), set before anything runs,
+// so that a runaway gets std::bad_alloc (caught here) long before the kernel would kill it.
 #include <CLI/CLI.hpp>
 
 #include <exception>
 #include <iostream>
+#include <cstdio>
 #include <new>
 #include <stdexcept>
 #include <string>
+#include <system_error>
 
 #include "cli/commands.hpp"
 #include "mwst/error.hpp"
 #include "mwst/version.hpp"
+#include "mwst/pipeline.hpp"
 
 namespace {
 
@@ -36,6 +44,21 @@ std::string one_line(std::string s) {
   return s;
 }
 
+// Memory ran out: one line, built without the heap that has just run out.
+void report_out_of_memory() {
+  char budget[64] = "";
+  constexpr double kMiB = 1024.0 * 1024.0;
+  if (memory_budget() >= 1024.0 * kMiB) {
+    std::snprintf(budget, sizeof budget, " of %.3g GiB", memory_budget() / (1024.0 * kMiB));
+  } else if (memory_budget() > 0.0) {
+    std::snprintf(budget, sizeof budget, " of %.3g MiB", memory_budget() / kMiB);
+  }
+  std::fprintf(stderr,
+               "mwst: out of memory: the run needed more than its memory budget%s (--max-memory); try a "
+               "larger --max-area, a --max-steiner or --time-limit, or a larger --max-memory if the machine has it\n",
+               budget);
+}
+
 int run(const Action& action) {
   try {
     return action();
@@ -51,8 +74,19 @@ int run(const Action& action) {
   } catch (const mwst::InternalError& e) {
     std::cerr << "mwst: internal error: " << one_line(e.what()) << '\n';
     return kExitInternal;
+  } catch (const mwst::ResourceError& e) {
+    std::cerr << "mwst: " << one_line(e.what()) << '\n';
+    return kExitResource;
   } catch (const std::bad_alloc&) {
-    std::cerr << "mwst: internal error: out of memory\n";
+    report_out_of_memory();
+    return kExitResource;
+  } catch (const std::system_error& e) {
+    // A thread that could not be made for want of memory.
+    if (e.code() == std::errc::resource_unavailable_try_again || e.code() == std::errc::not_enough_memory) {
+      report_out_of_memory();
+      return kExitResource;
+    }
+    std::cerr << "mwst: internal error: " << one_line(e.what()) << '\n';
     return kExitInternal;
   } catch (const std::exception& e) {
     std::cerr << "mwst: internal error: " << one_line(e.what()) << '\n';
@@ -68,6 +102,7 @@ int main(int argc, char** argv) {
                "mwst"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("mwst ") + mwst::kVersionString, "Print the version and exit");
+  set_memory_budget(default_memory_budget());
   Action action;
   try {
     for (const Registrar add : kCommands) add(app, action);
