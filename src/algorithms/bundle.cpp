@@ -2011,21 +2011,24 @@ Attempt in_k_bundle_attempt(Shared& sh, std::uint32_t k, const std::vector<Trian
           return;
         }
       }
+      // The fan around the seed corner, one triangle at a time, each followed by the flood it
+      // starts (a vertex of DT(V) may have thousands of neighbours, e.g. on a circle: a query
+      // decided near its first fan triangle does not walk the whole fan).
       const Handle start = dt_vertex_edge[tv[corner]];
       Handle h = start;
+      bool decided = false;
       do {
         if (subset) part.fan.push_back(triangle_of(h));
         consider(triangle_of(h));
+        while (!stack.empty()) {
+          const TriangleId d = stack.back();
+          stack.pop_back();
+          decided = large_disk(w, part, d) && w.disk_meets(d, t);
+          if (decided) break;
+          for (unsigned e = 0; e < 3; ++e) consider(triangle_of(dt.sym(make_handle(d, e))));
+        }
         h = dt.onext(h);
-      } while (h != start);
-      bool decided = false;
-      while (!stack.empty() && !decided) {
-        const TriangleId d = stack.back();
-        stack.pop_back();
-        decided = large_disk(w, part, d) && w.disk_meets(d, t);
-        if (decided) break;
-        for (unsigned e = 0; e < 3; ++e) consider(triangle_of(dt.sym(make_handle(d, e))));
-      }
+      } while (h != start && !decided);
       if (decided) {
         answer[qi] = 1;
         ++part.decided;
