@@ -57,10 +57,28 @@ struct BundleOptions {
   // Worker threads (0: std::thread::hardware_concurrency()). Small inputs run on one thread. The
   // result does not depend on the number of threads.
   unsigned threads = 0;
+  // 0: no budget, the exact answer whatever it costs. Otherwise the most (circumdisk, triangle)
+  // candidate pairs kept (4 bytes each), which bounds memory and time: each circumdisk's list is
+  // first capped at an equal share of the budget, then the lists cut short get equal shares of
+  // what is left. If a list is still cut short (a circumdisk meeting that many triangles: points on
+  // a circle, where every circumdisk is about the whole circle and meets about every triangle),
+  // BundleResult::exact may be false and the result holds exact bounds instead (see there). When
+  // no list is cut short the result is the exact one, the same as without a budget. Ignored with
+  // per_triangle.
+  std::size_t candidate_budget = 0;
 };
 
 struct BundleResult {
-  std::uint32_t bundle_number = 0;  // 0 only for an empty triangulation
+  std::uint32_t bundle_number = 0;  // 0 only for an empty triangulation; lower_bound if !exact
+  // With a candidate budget (BundleOptions::candidate_budget) that cuts some list short:
+  // lower_bound ≤ the bundle number ≤ upper_bound, both exact; exact is true if they meet. The
+  // pencils with no list cut short are swept exactly; the lower bound is the best of those and of
+  // a few circumdisks cut short counted in full (one flood each, no list kept); the witness below
+  // is then its disk and triangles. The upper bound is the number of triangles (a vertex-empty disk
+  // meets at most all of them). Without a cut: exact, lower_bound = upper_bound = bundle_number.
+  bool exact = true;
+  std::uint32_t lower_bound = 0, upper_bound = 0;
+  std::size_t truncated_disks = 0;  // circumdisks whose lists were cut short
   // A witness: an open disk (centre and radius rounded to double) containing no vertex and meeting
   // the interiors of bundle_number triangles, and those triangles (ascending; Mesh version: triangle
   // slots; triangle-list version: indices into the list). Radius 0 if there is no triangle.
@@ -70,6 +88,7 @@ struct BundleResult {
   // The largest number of triangles met by a circumdisk of a triangle of DT(V): the lower bound a
   // circumdisk-only check gives (≤ bundle_number). Read off the ends of the pencils swept; for the
   // pencils skipped (see `pencils` below) counted as circumdisk_bundle_per_triangle() counts.
+  // (Without `exact`: the largest found, itself a lower bound.)
   std::uint32_t circumdisk_bound = 0;
   // If BundleOptions::per_triangle: indexed like `triangles` above (Mesh: by slot, 0 for slots that
   // are not in the domain; list: by index).

@@ -689,6 +689,8 @@ struct Shared {
   std::vector<std::uint32_t> list_begin;    // per DT slot: its candidates in `list`
   std::vector<TriangleId> list;
   std::vector<Handle> pencils;              // per Delaunay edge: a DT handle with a finite left side
+  // Per DT slot (empty: none): its list was cut at the budget's cap (bundle_number with a budget).
+  std::vector<std::uint8_t> truncated;
   bool kept_dt = false;                     // dt is a kept DT(V) with the new vertices inserted
 
   Handle sym(Handle h) const { return slots[h >> 2].n[h & 3]; }
@@ -1087,6 +1089,18 @@ class Worker {
     return count;
   }
 
+  // The in-domain triangles meeting the open circumdisk of Delaunay triangle `dtt` (exactly), all
+  // of them, by one flood: no list is kept but `met`.
+  void collect_meeting(TriangleId dtt, std::vector<TriangleId>& met) {
+    const auto& v = sh_.dt.triangles[dtt].v;
+    start_disk();
+    met.clear();
+    flood_each(dtt, [&](TriangleId t) {
+      if (meets_circumdisk(t, v[0], v[1], v[2])) met.push_back(t);
+      return true;
+    });
+  }
+
   // Does mesh triangle t meet the open circumdisk of Delaunay triangle `dtt`? (Exact.)
   bool disk_meets(TriangleId dtt, TriangleId t) {
     const auto& v = sh_.dt.triangles[dtt].v;
@@ -1125,6 +1139,10 @@ class Worker {
     // s_lo = s_hi: the four vertices are cocircular; the only disk is a circumdisk, which the
     // neighbouring pencils reach as a limit (see the file comment).
     if (rv != kInfinite && incircle(pc_.p, pc_.q, sh_.pts[lv], sh_.pts[rv]) == 0) return;
+    // A list cut at the budget's cap: the sweep would not be exact (bundle_number bounds it).
+    if (!sh_.truncated.empty() && (sh_.truncated[triangle_of(h)] || (rv != kInfinite && sh_.truncated[triangle_of(hs)]))) {
+      return;
+    }
     ++pencils;
 
     bump(candidate_mark_, [this] { std::fill(candidate_stamp_.begin(), candidate_stamp_.end(), 0); });
@@ -1737,9 +1755,12 @@ void for_ranges(std::vector<std::unique_ptr<Worker>>& workers, std::size_t n, Bo
 
 // Fills sh.list / sh.list_begin: the candidates of every Delaunay triangle (or of those flagged in
 // `needed`; the others get empty lists), by floods.
+// With `cap`, a list stops at cap triangles and its flag in sh.truncated is set if the flood had
+// more to give.
 void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers,
                  const std::vector<std::uint8_t>* needed = nullptr,
-                 std::vector<std::array<double, 4>>* boxes = nullptr) {
+                 std::vector<std::array<double, 4>>* boxes = nullptr,
+                 std::uint32_t cap = std::numeric_limits<std::uint32_t>::max()) {
   if (boxes) boxes->assign(sh.dt.triangle_slots(), {kInf, kInf, -kInf, -kInf});
   for (auto& w : workers) w->want_flood_box = boxes != nullptr;
   const std::size_t slots = sh.dt.triangle_slots();
@@ -1754,7 +1775,21 @@ void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers,
       local_begin[t] = static_cast<std::uint32_t>(part.size());
       const auto dtt = static_cast<TriangleId>(t);
       if (sh.dt.is_dead(dtt) || sh.dt.is_ghost(dtt) || (needed && (*needed)[t] == 0)) continue;
-      w.flood(dtt, one);
+      if (cap == std::numeric_limits<std::uint32_t>::max()) {
+        w.flood(dtt, one);
+      } else {
+        one.clear();
+        bool over = false;
+        w.flood_each(dtt, [&](TriangleId c) {
+          if (one.size() == cap) {
+            over = true;
+            return false;
+          }
+          one.push_back(c);
+          return true;
+        });
+        sh.truncated[t] = over ? 1 : 0;
+      }
       if (boxes) (*boxes)[t] = w.flood_box;
       part.insert(part.end(), one.begin(), one.end());
     }
@@ -1786,6 +1821,66 @@ std::string triangle_name(std::size_t i) { return "triangle " + std::to_string(i
 
 }  // namespace
 
+namespace {
+
+// bundle_number's lists within options.candidate_budget: every list capped at an equal share of
+// the budget, then the lists cut short again with an equal share of what is left. False if some
+// list is still cut short (sh.truncated says which).
+bool build_lists_within_budget(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers, std::size_t budget) {
+  const std::size_t slots = sh.dt.triangle_slots();
+  std::size_t disks = 0;
+  for (TriangleId d = 0; d < slots; ++d) disks += sh.dt.is_dead(d) || sh.dt.is_ghost(d) ? 0 : 1;
+  const auto share = [](std::size_t total, std::size_t parts) {
+    return static_cast<std::uint32_t>(std::min<std::size_t>(total / std::max<std::size_t>(parts, 1), 0xFFFFFFF0u));
+  };
+  const std::uint32_t first_cap = std::max<std::uint32_t>(16, share(budget, disks));
+  sh.truncated.assign(slots, 0);
+  build_lists(sh, workers, nullptr, nullptr, first_cap);
+  std::vector<std::uint8_t> again(slots, 0);
+  std::size_t cut = 0;
+  for (TriangleId d = 0; d < slots; ++d) {
+    again[d] = sh.truncated[d];
+    cut += again[d];
+  }
+  if (cut == 0) {
+    sh.truncated.clear();
+    return true;
+  }
+  const std::size_t used = sh.list.size();
+  const std::uint32_t second_cap = share(budget > used ? budget - used : 0, cut);
+  if (second_cap > first_cap) {
+    std::vector<TriangleId> first_list = std::move(sh.list);
+    std::vector<std::uint32_t> first_begin = std::move(sh.list_begin);
+    build_lists(sh, workers, &again, nullptr, second_cap);
+    std::vector<TriangleId> list;
+    std::vector<std::uint32_t> begin(slots + 1, 0);
+    list.reserve(first_list.size() + sh.list.size());
+    cut = 0;
+    for (TriangleId d = 0; d < slots; ++d) {
+      begin[d] = static_cast<std::uint32_t>(list.size());
+      if (again[d]) {
+        list.insert(list.end(), sh.list.begin() + sh.list_begin[d], sh.list.begin() + sh.list_begin[d + 1]);
+        cut += sh.truncated[d];
+      } else {
+        list.insert(list.end(), first_list.begin() + first_begin[d], first_list.begin() + first_begin[d + 1]);
+      }
+    }
+    begin[slots] = static_cast<std::uint32_t>(list.size());
+    sh.list = std::move(list);
+    sh.list_begin = std::move(begin);
+    for (TriangleId d = 0; d < slots; ++d) {
+      if (!again[d]) sh.truncated[d] = 0;
+    }
+  }
+  if (cut == 0) sh.truncated.clear();
+  return cut == 0;
+}
+
+// How many circumdisks cut short bundle_number counts in full for its lower bound.
+constexpr std::size_t kFullCounts = 4;
+
+}  // namespace
+
 BundleResult bundle_number(const Mesh& mesh, const BundleOptions& options) {
   BundleResult result;
   Shared sh(mesh);
@@ -1798,7 +1893,13 @@ BundleResult bundle_number(const Mesh& mesh, const BundleOptions& options) {
   // cannot improve it and is skipped (the first pencil reaching the maximum is never skipped, so
   // the witness does not depend on the number of threads).
   auto workers = make_workers(sh, threads, options.per_triangle, !options.per_triangle);
-  build_lists(sh, workers);
+  const bool budgeted = options.candidate_budget > 0 && !options.per_triangle;
+  bool complete = true;
+  if (budgeted) {
+    complete = build_lists_within_budget(sh, workers, options.candidate_budget);
+  } else {
+    build_lists(sh, workers);
+  }
   for_ranges(workers, sh.pencils.size(), [&](Worker& w, std::size_t begin, std::size_t end, std::size_t) {
     for (std::size_t i = begin; i < end; ++i) w.sweep(i);
   });
@@ -1817,6 +1918,42 @@ BundleResult bundle_number(const Mesh& mesh, const BundleOptions& options) {
   result.disk_center = best->best_center;
   result.disk_radius = best->best_radius;
   result.triangles = best->best_triangles;
+  result.lower_bound = result.upper_bound = result.bundle_number;
+  if (!complete) {
+    // Some circumdisks meet more triangles than the budget lets their lists hold (points on a
+    // circle: every circumdisk is about the whole circle). The pencils with a list cut short were
+    // not swept; what was swept is exact. Lower bound: that, or a circumdisk counted in full
+    // (those whose cut lists met the most triangles; a circumdisk of DT(V) is vertex-empty, so it
+    // is a witness). Upper bound: no disk meets more than every triangle.
+    std::vector<std::pair<std::uint32_t, TriangleId>> cut;  // (met within the cut list, slot)
+    for (TriangleId d = 0; d < sh.truncated.size(); ++d) {
+      if (!sh.truncated[d]) continue;
+      ++result.truncated_disks;
+      const std::uint32_t size = sh.list_begin[d + 1] - sh.list_begin[d];
+      cut.emplace_back(workers[0]->circumdisk_count(d, sh.list.data() + sh.list_begin[d], size, nullptr), d);
+    }
+    const std::size_t full = std::min(kFullCounts, cut.size());
+    std::partial_sort(cut.begin(), cut.begin() + static_cast<std::ptrdiff_t>(full), cut.end(),
+                      [](const auto& x, const auto& y) { return x.first > y.first || (x.first == y.first && x.second < y.second); });
+    std::vector<TriangleId> met;
+    for (std::size_t i = 0; i < full; ++i) {
+      const TriangleId d = cut[i].second;
+      workers[0]->collect_meeting(d, met);
+      const auto count = static_cast<std::uint32_t>(met.size());
+      result.circumdisk_bound = std::max(result.circumdisk_bound, count);
+      if (count <= result.lower_bound) continue;
+      result.lower_bound = count;
+      const auto& v = sh.dt.triangles[d].v;
+      result.disk_center = circumcenter(sh.pts[v[0]], sh.pts[v[1]], sh.pts[v[2]]);
+      result.disk_radius = distance(result.disk_center, sh.pts[v[0]]);
+      result.triangles = met;
+    }
+    std::uint32_t domain = 0;
+    for (TriangleId t = 0; t < mesh.triangle_slots(); ++t) domain += mesh.in_domain(t) ? 1 : 0;
+    result.upper_bound = std::max(domain, result.lower_bound);
+    result.bundle_number = result.lower_bound;
+    result.exact = result.lower_bound == result.upper_bound;
+  }
   std::sort(result.triangles.begin(), result.triangles.end());
   if (options.per_triangle) {
     result.per_triangle = std::move(workers[0]->per_triangle());
