@@ -142,8 +142,11 @@ struct KBundleStats {
 // For each in-domain triangle slot in `queries`: does it belong to a k-bundle (some vertex-empty
 // open disk meeting it meets at least k in-domain triangles)? 1 or 0, in the order of `queries`
 // (0 for slots not in the domain). Exactly as BundleResult::per_triangle[t] >= k, but it looks only
-// near the queries: the Delaunay triangles whose circumdisks meet a query (S(t)) and their
-// neighbours are flooded; a circumdisk meeting k triangles decides cheaply; otherwise only the
+// near the queries, and it stops counting at k. First, per query, the Delaunay triangles whose
+// circumdisks meet it (S(t)) are walked until one is found whose circumdisk meets the query and at
+// least k triangles — counted by a flood that stops at k, once per Delaunay triangle — which
+// decides: O(k) per query even where every circumdisk meets most of the mesh (points on a circle
+// or an ellipse). For the queries left, S(t) and its neighbours are flooded in full and only the
 // pencils of edges of S(t) whose two candidate lists hold at least k triangles are swept. With few
 // queries (fewer than 1/256 of the triangle slots) it first tries the Delaunay triangulation of
 // the vertices within 12 rings of mesh triangles around them instead of DT(V), over a copy of the
@@ -166,9 +169,9 @@ class KBundleCache {
   ~KBundleCache();
   KBundleCache(const KBundleCache&) = delete;
   KBundleCache& operator=(const KBundleCache&) = delete;
-  // After a call that used the cache: per query (in the order of `queries`), a box (x0, y0, x1,
-  // y1; closed) holding every mesh triangle that meets some vertex-empty open disk meeting the
-  // query. A query answered 0 stays 0 while its triangle, the vertices and the triangles meeting
+  // After a call that used the cache: per query answered 0 (in the order of `queries`), a box (x0,
+  // y0, x1, y1; closed) holding every mesh triangle that meets some vertex-empty open disk meeting
+  // the query (a query answered 1 gets the box of its own corners). A query answered 0 stays 0 while its triangle, the vertices and the triangles meeting
   // this box are unchanged, and the hull is (bundle removal relies on it between its passes: a
   // disk putting it in a k-bundle after a change must meet a triangle made by the change).
   std::vector<std::array<double, 4>> reach;
