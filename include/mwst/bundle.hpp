@@ -59,10 +59,28 @@ struct BundleOptions {
   unsigned threads = 0;
   // bundle_number(Mesh) throws KBundleTimeout once this passes (time_point::max(): never).
   std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+  // 0: no budget, the exact answer whatever it costs. Otherwise the most (circumdisk, triangle)
+  // candidate pairs kept (4 bytes each), which bounds memory and time: each circumdisk's list is
+  // first capped at an equal share of the budget, then the lists cut short get equal shares of
+  // what is left. If a list is still cut short (a circumdisk meeting that many triangles: points on
+  // a circle, where every circumdisk is about the whole circle and meets about every triangle),
+  // BundleResult::exact may be false and the result holds exact bounds instead (see there). When
+  // no list is cut short the result is the exact one, the same as without a budget. Ignored with
+  // per_triangle.
+  std::size_t candidate_budget = 0;
 };
 
 struct BundleResult {
-  std::uint32_t bundle_number = 0;  // 0 only for an empty triangulation
+  std::uint32_t bundle_number = 0;  // 0 only for an empty triangulation; lower_bound if !exact
+  // With a candidate budget (BundleOptions::candidate_budget) that cuts some list short:
+  // lower_bound ≤ the bundle number ≤ upper_bound, both exact; exact is true if they meet. The
+  // pencils with no list cut short are swept exactly; the lower bound is the best of those and of
+  // a few circumdisks cut short counted in full (one flood each, no list kept); the witness below
+  // is then its disk and triangles. The upper bound is the number of triangles (a vertex-empty disk
+  // meets at most all of them). Without a cut: exact, lower_bound = upper_bound = bundle_number.
+  bool exact = true;
+  std::uint32_t lower_bound = 0, upper_bound = 0;
+  std::size_t truncated_disks = 0;  // circumdisks whose lists were cut short
   // A witness: an open disk (centre and radius rounded to double) containing no vertex and meeting
   // the interiors of bundle_number triangles, and those triangles (ascending; Mesh version: triangle
   // slots; triangle-list version: indices into the list). Radius 0 if there is no triangle.
@@ -72,6 +90,7 @@ struct BundleResult {
   // The largest number of triangles met by a circumdisk of a triangle of DT(V): the lower bound a
   // circumdisk-only check gives (≤ bundle_number). Read off the ends of the pencils swept; for the
   // pencils skipped (see `pencils` below) counted as circumdisk_bundle_per_triangle() counts.
+  // (Without `exact`: the largest found, itself a lower bound.)
   std::uint32_t circumdisk_bound = 0;
   // If BundleOptions::per_triangle: indexed like `triangles` above (Mesh: by slot, 0 for slots that
   // are not in the domain; list: by index).
@@ -111,6 +130,8 @@ MWST_API std::vector<std::uint32_t> circumdisk_bundle_per_triangle(const Mesh& m
 // What in_k_bundle did.
 struct KBundleStats {
   std::size_t flooded = 0;                 // Delaunay triangles whose candidate lists were built
+  std::size_t disks_counted = 0;           // circumdisks counted up to k (the first stage)
+  std::size_t flood_visits = 0;            // mesh triangles the floods of both stages popped
   std::size_t decided_by_circumdisks = 0;  // queries met by a circumdisk meeting ≥ k triangles
   std::size_t decided_by_bound = 0;        // queries no pencil of which could reach k candidates
   std::size_t decided_by_pencils = 0;      // queries found in a k-bundle by the pencil sweep
@@ -123,8 +144,11 @@ struct KBundleStats {
 // For each in-domain triangle slot in `queries`: does it belong to a k-bundle (some vertex-empty
 // open disk meeting it meets at least k in-domain triangles)? 1 or 0, in the order of `queries`
 // (0 for slots not in the domain). Exactly as BundleResult::per_triangle[t] >= k, but it looks only
-// near the queries: the Delaunay triangles whose circumdisks meet a query (S(t)) and their
-// neighbours are flooded; a circumdisk meeting k triangles decides cheaply; otherwise only the
+// near the queries, and it stops counting at k. First, per query, the Delaunay triangles whose
+// circumdisks meet it (S(t)) are walked until one is found whose circumdisk meets the query and at
+// least k triangles — counted by a flood that stops at k, once per Delaunay triangle — which
+// decides: O(k) per query even where every circumdisk meets most of the mesh (points on a circle
+// or an ellipse). For the queries left, S(t) and its neighbours are flooded in full and only the
 // pencils of edges of S(t) whose two candidate lists hold at least k triangles are swept. With few
 // queries (fewer than 1/256 of the triangle slots) it first tries the Delaunay triangulation of
 // the vertices within 12 rings of mesh triangles around them instead of DT(V), over a copy of the
@@ -147,9 +171,9 @@ class MWST_API KBundleCache {
   ~KBundleCache();
   KBundleCache(const KBundleCache&) = delete;
   KBundleCache& operator=(const KBundleCache&) = delete;
-  // After a call that used the cache: per query (in the order of `queries`), a box (x0, y0, x1,
-  // y1; closed) holding every mesh triangle that meets some vertex-empty open disk meeting the
-  // query. A query answered 0 stays 0 while its triangle, the vertices and the triangles meeting
+  // After a call that used the cache: per query answered 0 (in the order of `queries`), a box (x0,
+  // y0, x1, y1; closed) holding every mesh triangle that meets some vertex-empty open disk meeting
+  // the query (a query answered 1 gets the box of its own corners). A query answered 0 stays 0 while its triangle, the vertices and the triangles meeting
   // this box are unchanged, and the hull is (bundle removal relies on it between its passes: a
   // disk putting it in a k-bundle after a change must meet a triangle made by the change).
   std::vector<std::array<double, 4>> reach;

@@ -160,10 +160,10 @@ class LocalBundleTest {
     if (cache_.size() < m.triangle_slots()) cache_.resize(m.triangle_slots() + m.triangle_slots() / 4 + 64);
     Cached& c = cache_[t];
     if (c.epoch == epoch_ && c.v == m.triangles[t].v) return c.value == 2;
-    bool found = circumdisk_count(m, t) >= k_;
+    bool found = disk_count(m, t) >= k_;
     for (unsigned e = 0; e < 3 && !found; ++e) {
       const TriangleId n = triangle_of(m.triangles[t].n[e]);
-      if (!m.is_ghost(n) && !m.is_dead(n)) found = circumdisk_count(m, n) >= k_;
+      if (!m.is_ghost(n) && !m.is_dead(n)) found = disk_count(m, n) >= k_;
     }
     c.v = m.triangles[t].v;
     c.value = found ? 2 : 1;
@@ -172,6 +172,19 @@ class LocalBundleTest {
   }
 
  private:
+  // circumdisk_count(m, c), remembered while the mesh is unchanged: the refinement only inserts
+  // vertices, so the mesh is the same while its vertex and slot counts are (the triangles made by
+  // one insertion are tested one after another, each with its neighbours, many of them made by the
+  // same insertion: without this, one disk would be flooded up to four times).
+  std::uint32_t disk_count(const Mesh& m, TriangleId c) {
+    const std::uint64_t version = std::uint64_t{m.points.size()} << 32 | m.triangles.size();
+    if (disk_cache_.size() < m.triangle_slots()) disk_cache_.resize(m.triangle_slots() + m.triangle_slots() / 4 + 64);
+    DiskCount& d = disk_cache_[c];
+    if (d.version == version && d.v == m.triangles[c].v) return d.count;
+    d = {m.triangles[c].v, version, circumdisk_count(m, c)};
+    return d.count;
+  }
+
   struct Cached {
     std::array<VertexId, 3> v{kNone, kNone, kNone};
     std::uint8_t value = 0;   // 1 no, 2 yes
@@ -261,6 +274,12 @@ class LocalBundleTest {
   std::vector<TriangleId> stack_;
   std::array<ValueSlot, kValueCache> value_{};
   std::vector<Cached> cache_;
+  struct DiskCount {
+    std::array<VertexId, 3> v{kNone, kNone, kNone};
+    std::uint64_t version = 0;
+    std::uint32_t count = 0;
+  };
+  std::vector<DiskCount> disk_cache_;
   std::uint16_t epoch_ = 1;
 };
 

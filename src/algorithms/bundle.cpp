@@ -55,6 +55,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
 #include <chrono>
 #include <cmath>
@@ -688,6 +689,8 @@ struct Shared {
   std::vector<std::uint32_t> list_begin;    // per DT slot: its candidates in `list`
   std::vector<TriangleId> list;
   std::vector<Handle> pencils;              // per Delaunay edge: a DT handle with a finite left side
+  // Per DT slot (empty: none): its list was cut at the budget's cap (bundle_number with a budget).
+  std::vector<std::uint8_t> truncated;
   bool kept_dt = false;                     // dt is a kept DT(V) with the new vertices inserted
 
   Handle sym(Handle h) const { return slots[h >> 2].n[h & 3]; }
@@ -992,6 +995,7 @@ class Worker {
   std::vector<TriangleId> best_triangles;
   std::uint32_t circumdisk_best = 0;
   std::size_t pencils = 0, candidate_pairs = 0, exact_comparisons = 0;
+  std::size_t flood_visits = 0;      // triangles popped by floods (in the domain or not)
   std::uint32_t min_candidates = 0;  // pencils with fewer candidates are not swept
   bool escaped = false;              // a flood reached Shared::outside (see Shared::build_region)
   // The bounding box (x0, y0, x1, y1) of the corners of every triangle the last flood visited
@@ -1014,6 +1018,16 @@ class Worker {
   // hull is convex, and a path inside it avoiding vertices crosses edges at points inside the disk.
   void flood(TriangleId dtt, std::vector<TriangleId>& out) {
     out.clear();
+    flood_each(dtt, [&out](TriangleId t) {
+      out.push_back(t);
+      return true;
+    });
+  }
+
+  // The flood of flood(), calling visit(t) for each in-domain triangle t it reaches (a superset of
+  // those meeting the disk), in the same order; it stops when visit returns false.
+  template <class Visit>
+  void flood_each(TriangleId dtt, Visit visit) {
     flood_box = {kInf, kInf, -kInf, -kInf};
     const auto& v = sh_.dt.triangles[dtt].v;
     circle_[0] = sh_.pts[v[0]];
@@ -1033,7 +1047,8 @@ class Worker {
     while (!stack_.empty()) {
       const TriangleId t = stack_.back();
       stack_.pop_back();
-      if (sh_.in_domain(t)) out.push_back(t);
+      ++flood_visits;
+      if (sh_.in_domain(t) && !visit(t)) return;
       for (unsigned i = 0; i < 3 && want_flood_box; ++i) {
         const VertexId c = sh_.slots[t].v[i];
         const Point& pt = sh_.pts[c];
@@ -1059,17 +1074,46 @@ class Worker {
     }
   }
 
+  // The number of in-domain triangles meeting the open circumdisk of Delaunay triangle `dtt`
+  // (exactly: meets_circumdisk), counted along its flood, which stops as soon as `enough` are
+  // found: on a disk meeting many triangles (points on a circle: every circumdisk is the whole
+  // circle) the cost is that of `enough` triangles, not of all it meets.
+  std::uint32_t count_meeting(TriangleId dtt, std::uint32_t enough) {
+    const auto& v = sh_.dt.triangles[dtt].v;
+    start_disk();
+    std::uint32_t count = 0;
+    flood_each(dtt, [&](TriangleId t) {
+      if (meets_circumdisk(t, v[0], v[1], v[2])) ++count;
+      return count < enough;
+    });
+    return count;
+  }
+
+  // The in-domain triangles meeting the open circumdisk of Delaunay triangle `dtt` (exactly), all
+  // of them, by one flood: no list is kept but `met`.
+  void collect_meeting(TriangleId dtt, std::vector<TriangleId>& met) {
+    const auto& v = sh_.dt.triangles[dtt].v;
+    start_disk();
+    met.clear();
+    flood_each(dtt, [&](TriangleId t) {
+      if (meets_circumdisk(t, v[0], v[1], v[2])) met.push_back(t);
+      return true;
+    });
+  }
+
+  // Does mesh triangle t meet the open circumdisk of Delaunay triangle `dtt`? (Exact.)
+  bool disk_meets(TriangleId dtt, TriangleId t) {
+    const auto& v = sh_.dt.triangles[dtt].v;
+    start_disk();
+    return meets_circumdisk(t, v[0], v[1], v[2]);
+  }
+
   // The number of triangles of `list` meeting the open circumdisk of Delaunay triangle `dtt`
   // (see meets_circumdisk); appends them to `met` if it is not null.
   std::uint32_t circumdisk_count(TriangleId dtt, const TriangleId* list, std::size_t size,
                                  std::vector<TriangleId>* met) {
     const auto& v = sh_.dt.triangles[dtt].v;
-    // (Stamps below 2^31: edge_meets_ keeps the stamp shifted by one bit.)
-    if (++disk_stamp_ == (1u << 31)) {
-      for (auto& d : disk_side_) d.stamp = 0;
-      std::fill(edge_meets_.begin(), edge_meets_.end(), 0u);
-      disk_stamp_ = 1;
-    }
+    start_disk();
     std::uint32_t count = 0;
     for (std::size_t i = 0; i < size; ++i) {
       if (meets_circumdisk(list[i], v[0], v[1], v[2])) {
@@ -1095,6 +1139,10 @@ class Worker {
     // s_lo = s_hi: the four vertices are cocircular; the only disk is a circumdisk, which the
     // neighbouring pencils reach as a limit (see the file comment).
     if (rv != kInfinite && incircle(pc_.p, pc_.q, sh_.pts[lv], sh_.pts[rv]) == 0) return;
+    // A list cut at the budget's cap: the sweep would not be exact (bundle_number bounds it).
+    if (!sh_.truncated.empty() && (sh_.truncated[triangle_of(h)] || (rv != kInfinite && sh_.truncated[triangle_of(hs)]))) {
+      return;
+    }
     ++pencils;
 
     bump(candidate_mark_, [this] { std::fill(candidate_stamp_.begin(), candidate_stamp_.end(), 0); });
@@ -1317,6 +1365,16 @@ class Worker {
     std::int8_t side = 0;  // +1 left of p→q ("above"), −1 right, 0 on the line, kSideP, kSideQ
     Point local;           // local coordinates: p = (−1, 0), q = (1, 0)
   };
+
+  // A new disk for meets_circumdisk's caches. (Stamps below 2^31: edge_meets_ keeps the stamp
+  // shifted by one bit.)
+  void start_disk() {
+    if (++disk_stamp_ == (1u << 31)) {
+      for (auto& d : disk_side_) d.stamp = 0;
+      std::fill(edge_meets_.begin(), edge_meets_.end(), 0u);
+      disk_stamp_ = 1;
+    }
+  }
 
   // Advances a stamp; on wrap-around clears the marks it guards.
   template <class Clear>
@@ -1697,9 +1755,12 @@ void for_ranges(std::vector<std::unique_ptr<Worker>>& workers, std::size_t n, Bo
 
 // Fills sh.list / sh.list_begin: the candidates of every Delaunay triangle (or of those flagged in
 // `needed`; the others get empty lists), by floods.
+// With `cap`, a list stops at cap triangles and its flag in sh.truncated is set if the flood had
+// more to give.
 void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers,
                  const std::vector<std::uint8_t>* needed = nullptr,
-                 std::vector<std::array<double, 4>>* boxes = nullptr) {
+                 std::vector<std::array<double, 4>>* boxes = nullptr,
+                 std::uint32_t cap = std::numeric_limits<std::uint32_t>::max()) {
   if (boxes) boxes->assign(sh.dt.triangle_slots(), {kInf, kInf, -kInf, -kInf});
   for (auto& w : workers) w->want_flood_box = boxes != nullptr;
   const std::size_t slots = sh.dt.triangle_slots();
@@ -1714,7 +1775,21 @@ void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers,
       local_begin[t] = static_cast<std::uint32_t>(part.size());
       const auto dtt = static_cast<TriangleId>(t);
       if (sh.dt.is_dead(dtt) || sh.dt.is_ghost(dtt) || (needed && (*needed)[t] == 0)) continue;
-      w.flood(dtt, one);
+      if (cap == std::numeric_limits<std::uint32_t>::max()) {
+        w.flood(dtt, one);
+      } else {
+        one.clear();
+        bool over = false;
+        w.flood_each(dtt, [&](TriangleId c) {
+          if (one.size() == cap) {
+            over = true;
+            return false;
+          }
+          one.push_back(c);
+          return true;
+        });
+        sh.truncated[t] = over ? 1 : 0;
+      }
       if (boxes) (*boxes)[t] = w.flood_box;
       part.insert(part.end(), one.begin(), one.end());
     }
@@ -1746,6 +1821,66 @@ std::string triangle_name(std::size_t i) { return "triangle " + std::to_string(i
 
 }  // namespace
 
+namespace {
+
+// bundle_number's lists within options.candidate_budget: every list capped at an equal share of
+// the budget, then the lists cut short again with an equal share of what is left. False if some
+// list is still cut short (sh.truncated says which).
+bool build_lists_within_budget(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers, std::size_t budget) {
+  const std::size_t slots = sh.dt.triangle_slots();
+  std::size_t disks = 0;
+  for (TriangleId d = 0; d < slots; ++d) disks += sh.dt.is_dead(d) || sh.dt.is_ghost(d) ? 0 : 1;
+  const auto share = [](std::size_t total, std::size_t parts) {
+    return static_cast<std::uint32_t>(std::min<std::size_t>(total / std::max<std::size_t>(parts, 1), 0xFFFFFFF0u));
+  };
+  const std::uint32_t first_cap = std::max<std::uint32_t>(16, share(budget, disks));
+  sh.truncated.assign(slots, 0);
+  build_lists(sh, workers, nullptr, nullptr, first_cap);
+  std::vector<std::uint8_t> again(slots, 0);
+  std::size_t cut = 0;
+  for (TriangleId d = 0; d < slots; ++d) {
+    again[d] = sh.truncated[d];
+    cut += again[d];
+  }
+  if (cut == 0) {
+    sh.truncated.clear();
+    return true;
+  }
+  const std::size_t used = sh.list.size();
+  const std::uint32_t second_cap = share(budget > used ? budget - used : 0, cut);
+  if (second_cap > first_cap) {
+    std::vector<TriangleId> first_list = std::move(sh.list);
+    std::vector<std::uint32_t> first_begin = std::move(sh.list_begin);
+    build_lists(sh, workers, &again, nullptr, second_cap);
+    std::vector<TriangleId> list;
+    std::vector<std::uint32_t> begin(slots + 1, 0);
+    list.reserve(first_list.size() + sh.list.size());
+    cut = 0;
+    for (TriangleId d = 0; d < slots; ++d) {
+      begin[d] = static_cast<std::uint32_t>(list.size());
+      if (again[d]) {
+        list.insert(list.end(), sh.list.begin() + sh.list_begin[d], sh.list.begin() + sh.list_begin[d + 1]);
+        cut += sh.truncated[d];
+      } else {
+        list.insert(list.end(), first_list.begin() + first_begin[d], first_list.begin() + first_begin[d + 1]);
+      }
+    }
+    begin[slots] = static_cast<std::uint32_t>(list.size());
+    sh.list = std::move(list);
+    sh.list_begin = std::move(begin);
+    for (TriangleId d = 0; d < slots; ++d) {
+      if (!again[d]) sh.truncated[d] = 0;
+    }
+  }
+  if (cut == 0) sh.truncated.clear();
+  return cut == 0;
+}
+
+// How many circumdisks cut short bundle_number counts in full for its lower bound.
+constexpr std::size_t kFullCounts = 4;
+
+}  // namespace
+
 BundleResult bundle_number(const Mesh& mesh, const BundleOptions& options) {
   BundleResult result;
   Shared sh(mesh, options.deadline);
@@ -1758,7 +1893,13 @@ BundleResult bundle_number(const Mesh& mesh, const BundleOptions& options) {
   // cannot improve it and is skipped (the first pencil reaching the maximum is never skipped, so
   // the witness does not depend on the number of threads).
   auto workers = make_workers(sh, threads, options.per_triangle, !options.per_triangle);
-  build_lists(sh, workers);
+  const bool budgeted = options.candidate_budget > 0 && !options.per_triangle;
+  bool complete = true;
+  if (budgeted) {
+    complete = build_lists_within_budget(sh, workers, options.candidate_budget);
+  } else {
+    build_lists(sh, workers);
+  }
   for_ranges(workers, sh.pencils.size(), [&](Worker& w, std::size_t begin, std::size_t end, std::size_t) {
     for (std::size_t i = begin; i < end; ++i) {
       sh.check_deadline();
@@ -1780,6 +1921,42 @@ BundleResult bundle_number(const Mesh& mesh, const BundleOptions& options) {
   result.disk_center = best->best_center;
   result.disk_radius = best->best_radius;
   result.triangles = best->best_triangles;
+  result.lower_bound = result.upper_bound = result.bundle_number;
+  if (!complete) {
+    // Some circumdisks meet more triangles than the budget lets their lists hold (points on a
+    // circle: every circumdisk is about the whole circle). The pencils with a list cut short were
+    // not swept; what was swept is exact. Lower bound: that, or a circumdisk counted in full
+    // (those whose cut lists met the most triangles; a circumdisk of DT(V) is vertex-empty, so it
+    // is a witness). Upper bound: no disk meets more than every triangle.
+    std::vector<std::pair<std::uint32_t, TriangleId>> cut;  // (met within the cut list, slot)
+    for (TriangleId d = 0; d < sh.truncated.size(); ++d) {
+      if (!sh.truncated[d]) continue;
+      ++result.truncated_disks;
+      const std::uint32_t size = sh.list_begin[d + 1] - sh.list_begin[d];
+      cut.emplace_back(workers[0]->circumdisk_count(d, sh.list.data() + sh.list_begin[d], size, nullptr), d);
+    }
+    const std::size_t full = std::min(kFullCounts, cut.size());
+    std::partial_sort(cut.begin(), cut.begin() + static_cast<std::ptrdiff_t>(full), cut.end(),
+                      [](const auto& x, const auto& y) { return x.first > y.first || (x.first == y.first && x.second < y.second); });
+    std::vector<TriangleId> met;
+    for (std::size_t i = 0; i < full; ++i) {
+      const TriangleId d = cut[i].second;
+      workers[0]->collect_meeting(d, met);
+      const auto count = static_cast<std::uint32_t>(met.size());
+      result.circumdisk_bound = std::max(result.circumdisk_bound, count);
+      if (count <= result.lower_bound) continue;
+      result.lower_bound = count;
+      const auto& v = sh.dt.triangles[d].v;
+      result.disk_center = circumcenter(sh.pts[v[0]], sh.pts[v[1]], sh.pts[v[2]]);
+      result.disk_radius = distance(result.disk_center, sh.pts[v[0]]);
+      result.triangles = met;
+    }
+    std::uint32_t domain = 0;
+    for (TriangleId t = 0; t < mesh.triangle_slots(); ++t) domain += mesh.in_domain(t) ? 1 : 0;
+    result.upper_bound = std::max(domain, result.lower_bound);
+    result.bundle_number = result.lower_bound;
+    result.exact = result.lower_bound == result.upper_bound;
+  }
   std::sort(result.triangles.begin(), result.triangles.end());
   if (options.per_triangle) {
     result.per_triangle = std::move(workers[0]->per_triangle());
@@ -1887,60 +2064,135 @@ Attempt in_k_bundle_attempt(Shared& sh, std::uint32_t k, const std::vector<Trian
   // circumdisks hold x form the connected Bowyer–Watson cavity of x, and the cavities of nearby
   // points share triangles), and it holds a triangle around each corner of t (the one overlapping
   // t's corner): a flood with the permissive test from the triangles around one corner finds it.
-  std::vector<std::uint32_t> s_begin(queries.size() + 1, 0);
-  std::vector<TriangleId> s_list, stack, fan;
-  std::vector<std::uint32_t> dt_stamp(dt_slots, 0);
-  std::vector<std::uint8_t> needed(dt_slots, 0);  // 1: in some S(t); 2: a partner across an edge
-  std::vector<std::uint8_t> is_query(sh.slots.size(), 0);
-  for (std::size_t qi = 0; qi < queries.size(); ++qi) {
-    const TriangleId t = queries[qi];
-    s_begin[qi] = static_cast<std::uint32_t>(s_list.size());
-    if (!in_domain(t)) continue;
-    sh.check_deadline();
-    is_query[t] = 1;
-    const auto& tv = sh.slots[t].v;
-    const Point* const corners[3] = {&sh.pts[tv[0]], &sh.pts[tv[1]], &sh.pts[tv[2]]};
-    const auto stamp = static_cast<std::uint32_t>(qi + 1);
-    auto consider = [&](TriangleId d) {
-      if (dt_stamp[d] == stamp || dt.is_ghost(d)) return;
-      dt_stamp[d] = stamp;
+  //
+  // Stage 1, per query, stopping at the first answer: each Delaunay triangle d of S(t) the flood
+  // reaches is asked whether its circumdisk (vertex-empty) meets at least k triangles — counted
+  // by a flood over the mesh that stops at k (Worker::count_meeting), once per d for all queries
+  // — and if so whether it meets t (exactly). So a query in a large circumdisk costs O(k), not
+  // what the disk meets (points on a circle: every circumdisk is the whole circle and meets every
+  // triangle). Only the queries left undecided keep their S(t), for the pencils of stage 2.
+  const unsigned threads = thread_count(threads_requested, 64 * queries.size());
+  auto workers = make_workers(sh, threads, true, false);
+  // Per Delaunay triangle: 0 not yet counted; 1 its circumdisk meets fewer than k triangles; 2 at
+  // least k; 3 at least k, but not shown vertex-empty in V (local attempt; stage 2 then gives up).
+  const std::unique_ptr<std::atomic<std::uint8_t>[]> disk_state(new std::atomic<std::uint8_t>[dt_slots]());
+  struct Part {
+    std::vector<TriangleId> s_list, fan;
+    std::vector<std::uint32_t> dt_stamp;
+    std::size_t decided = 0, disks_counted = 0;
+    bool gave_up = false;
+  };
+  std::vector<Part> parts(workers.size());
+  std::vector<std::uint32_t> s_count(queries.size(), 0);
+  auto large_disk = [&](Worker& w, Part& part, TriangleId d) {
+    std::uint8_t state = disk_state[d].load(std::memory_order_relaxed);
+    if (state != 0) return state == 2;
+    ++part.disks_counted;
+    state = w.count_meeting(d, k) >= k ? 2 : 1;
+    if (state == 2 && subset) {
+      // DT(W) is Delaunay for W only: the disk must hold no other vertex of V, which would be a
+      // corner of an in-domain triangle meeting it (a full flood, which must stay in the region).
+      std::vector<TriangleId> list;
+      const bool escaped_before = w.escaped;
+      w.escaped = false;
+      w.flood(d, list);
       const auto& dv = dt.triangles[d].v;
-      if (!circumdisk_may_meet(sh.pts[dv[0]], sh.pts[dv[1]], sh.pts[dv[2]], corners)) return;
-      stack.push_back(d);
-      s_list.push_back(d);
-    };
-    // The seed corner: with a subset, one whose fan in DT(W) has no ghost (a corner on the hull
-    // of V has ghosts around it in any Delaunay triangulation; another corner serves as well).
-    unsigned corner = 0;
-    if (subset) {
-      corner = 3;
-      for (unsigned c = 0; c < 3 && corner == 3; ++c) {
-        if (tv[c] >= sh.used) return Attempt::kGaveUp;  // a corner outside W
-        const Handle first = dt_vertex_edge[tv[c]];
-        Handle g = first;
-        bool ghost = false;
-        do {
-          ghost = ghost || dt.is_ghost(triangle_of(g));
-          g = dt.onext(g);
-        } while (g != first);
-        if (!ghost) corner = c;
+      bool empty = !w.escaped;
+      for (std::size_t i = 0; i < list.size() && empty; ++i) {
+        for (const VertexId v : sh.slots[list[i]].v) {
+          if (v >= sh.used && incircle(sh.pts[dv[0]], sh.pts[dv[1]], sh.pts[dv[2]], sh.pts[v]) > 0) empty = false;
+        }
       }
-      if (corner == 3) return Attempt::kGaveUp;
+      w.escaped = escaped_before;
+      if (!empty) state = 3;
     }
-    const Handle start = dt_vertex_edge[tv[corner]];
-    Handle h = start;
-    do {
-      if (subset) fan.push_back(triangle_of(h));
-      consider(triangle_of(h));
-      h = dt.onext(h);
-    } while (h != start);
-    while (!stack.empty()) {
-      const TriangleId d = stack.back();
-      stack.pop_back();
-      for (unsigned e = 0; e < 3; ++e) consider(triangle_of(dt.sym(make_handle(d, e))));
+    disk_state[d].store(state, std::memory_order_relaxed);
+    return state == 2;
+  };
+  for_ranges(workers, queries.size(), [&](Worker& w, std::size_t begin, std::size_t end, std::size_t k_part) {
+    Part& part = parts[k_part];
+    part.dt_stamp.assign(dt_slots, 0);
+    std::vector<TriangleId> stack;
+    for (std::size_t qi = begin; qi < end; ++qi) {
+      const TriangleId t = queries[qi];
+      if (!in_domain(t)) continue;
+      sh.check_deadline();
+      const auto& tv = sh.slots[t].v;
+      const Point* const corners[3] = {&sh.pts[tv[0]], &sh.pts[tv[1]], &sh.pts[tv[2]]};
+      const auto stamp = static_cast<std::uint32_t>(qi - begin + 1);
+      const std::size_t first = part.s_list.size(), first_fan = part.fan.size();
+      stack.clear();
+      auto consider = [&](TriangleId d) {
+        if (part.dt_stamp[d] == stamp || dt.is_ghost(d)) return;
+        part.dt_stamp[d] = stamp;
+        const auto& dv = dt.triangles[d].v;
+        if (!circumdisk_may_meet(sh.pts[dv[0]], sh.pts[dv[1]], sh.pts[dv[2]], corners)) return;
+        stack.push_back(d);
+        part.s_list.push_back(d);
+      };
+      // The seed corner: with a subset, one whose fan in DT(W) has no ghost (a corner on the hull
+      // of V has ghosts around it in any Delaunay triangulation; another corner serves as well).
+      unsigned corner = 0;
+      if (subset) {
+        corner = 3;
+        for (unsigned c = 0; c < 3 && corner == 3; ++c) {
+          if (tv[c] >= sh.used) break;  // a corner outside W
+          const Handle first_edge = dt_vertex_edge[tv[c]];
+          Handle g = first_edge;
+          bool ghost = false;
+          do {
+            ghost = ghost || dt.is_ghost(triangle_of(g));
+            g = dt.onext(g);
+          } while (g != first_edge);
+          if (!ghost) corner = c;
+        }
+        if (corner == 3) {
+          part.gave_up = true;
+          return;
+        }
+      }
+      // The fan around the seed corner, one triangle at a time, each followed by the flood it
+      // starts (a vertex of DT(V) may have thousands of neighbours, e.g. on a circle: a query
+      // decided near its first fan triangle does not walk the whole fan).
+      const Handle start = dt_vertex_edge[tv[corner]];
+      Handle h = start;
+      bool decided = false;
+      do {
+        if (subset) part.fan.push_back(triangle_of(h));
+        consider(triangle_of(h));
+        while (!stack.empty()) {
+          const TriangleId d = stack.back();
+          stack.pop_back();
+          decided = large_disk(w, part, d) && w.disk_meets(d, t);
+          if (decided) break;
+          for (unsigned e = 0; e < 3; ++e) consider(triangle_of(dt.sym(make_handle(d, e))));
+        }
+        h = dt.onext(h);
+      } while (h != start && !decided);
+      if (decided) {
+        answer[qi] = 1;
+        ++part.decided;
+        part.s_list.resize(first);
+        part.fan.resize(first_fan);
+      } else {
+        s_count[qi] = static_cast<std::uint32_t>(part.s_list.size() - first);
+      }
     }
+  });
+  std::vector<std::uint32_t> s_begin(queries.size() + 1, 0);
+  std::vector<TriangleId> s_list, fan;
+  for (Part& part : parts) {
+    if (part.gave_up) return Attempt::kGaveUp;
+    st.decided_by_circumdisks += part.decided;
+    st.disks_counted += part.disks_counted;
+    s_list.insert(s_list.end(), part.s_list.begin(), part.s_list.end());
+    fan.insert(fan.end(), part.fan.begin(), part.fan.end());
+    part = Part{};
   }
-  s_begin[queries.size()] = static_cast<std::uint32_t>(s_list.size());
+  for (std::size_t qi = 0; qi < queries.size(); ++qi) s_begin[qi + 1] = s_begin[qi] + s_count[qi];
+  // Stage 2, for the queries left: S(t) and its neighbours across edges are flooded in full (the
+  // candidate lists of the pencils).
+  std::vector<std::uint8_t> needed(dt_slots, 0);  // 1: in some S(t); 2: a partner across an edge
   for (const TriangleId d : s_list) {
     needed[d] = 1;
     for (unsigned e = 0; e < 3; ++e) {
@@ -1968,20 +2220,27 @@ Attempt in_k_bundle_attempt(Shared& sh, std::uint32_t k, const std::vector<Trian
   for (const TriangleId d : fan) {
     if (needed[d] == 0) needed[d] = 2;
   }
-  std::vector<TriangleId> cover;  // the Delaunay triangles in some S(t)
   for (TriangleId d = 0; d < dt_slots; ++d) {
     if (needed[d] != 0) ++st.flooded;
-    if (needed[d] == 1) cover.push_back(d);
   }
-  const unsigned threads = thread_count(threads_requested, st.flooded);
-  auto workers = make_workers(sh, threads, true, false);
+  for (auto& w : workers) w->escaped = false;  // (stage 1's floods that left a region were cut short)
   std::vector<std::array<double, 4>> boxes;
   build_lists(sh, workers, &needed, cache ? &boxes : nullptr);
   if (cache) {
     // Per query, the box of every mesh triangle meeting a circumdisk of S(t) or of a neighbour of
     // S(t): every vertex-empty disk meeting t lies in two such circumdisks (or, on the hull side of
     // a pencil, meets the mesh only inside one), so every triangle it meets is in the box.
+    // A query answered 1 gets its own box (bundle removal keeps the boxes of queries answered 0
+    // only).
     cache->reach.assign(queries.size(), {kInf, kInf, -kInf, -kInf});
+    for (std::size_t qi = 0; qi < queries.size(); ++qi) {
+      if (!answer[qi]) continue;
+      auto& r = cache->reach[qi];
+      for (const VertexId v : sh.slots[queries[qi]].v) {
+        const Point& p = sh.pts[v];
+        r = {std::min(r[0], p.x), std::min(r[1], p.y), std::max(r[2], p.x), std::max(r[3], p.y)};
+      }
+    }
     auto widen = [&](std::array<double, 4>& r, TriangleId d) {
       const auto& b = boxes[d];
       r = {std::min(r[0], b[0]), std::min(r[1], b[1]), std::max(r[2], b[2]), std::max(r[3], b[3])};
@@ -2029,37 +2288,12 @@ Attempt in_k_bundle_attempt(Shared& sh, std::uint32_t k, const std::vector<Trian
     if (w->escaped) return Attempt::kEscaped;
   }
 
-  // Cheap first: a circumdisk (an empty disk) meeting at least k triangles, the query among them.
-  std::vector<std::vector<TriangleId>> hits(workers.size());
-  for_ranges(workers, cover.size(), [&](Worker& w, std::size_t begin, std::size_t end, std::size_t part) {
-    std::vector<TriangleId> met;
-    for (std::size_t i = begin; i < end; ++i) {
-      sh.check_deadline();
-      const TriangleId d = cover[i];
-      const std::uint32_t size = list_size(d);
-      if (size < k) continue;
-      met.clear();
-      if (w.circumdisk_count(d, sh.list.data() + sh.list_begin[d], size, &met) < k) continue;
-      for (const TriangleId c : met) {
-        if (is_query[c]) hits[part].push_back(c);
-      }
-    }
-  });
-  std::vector<std::uint8_t> inside(sh.slots.size(), 0);
-  for (const auto& part : hits) {
-    for (const TriangleId c : part) inside[c] = 1;
-  }
   // The rest: pencils of the edges of S(t) whose two candidate lists together reach k (the only
   // ones whose disks can meet t and k triangles), swept exactly.
   std::vector<Handle> pencils;
   for (std::size_t qi = 0; qi < queries.size(); ++qi) {
     const TriangleId t = queries[qi];
-    if (!in_domain(t)) continue;
-    if (inside[t]) {
-      answer[qi] = 1;
-      ++st.decided_by_circumdisks;
-      continue;
-    }
+    if (!in_domain(t) || answer[qi]) continue;
     bool any = false;
     for (std::uint32_t i = s_begin[qi]; i < s_begin[qi + 1]; ++i) {
       const TriangleId d = s_list[i];
@@ -2115,6 +2349,7 @@ Attempt in_k_bundle_attempt(Shared& sh, std::uint32_t k, const std::vector<Trian
       if (answer[qi]) ++st.decided_by_pencils;
     }
   }
+  for (const auto& w : workers) st.flood_visits += w->flood_visits;
   return Attempt::kAnswered;
 }
 

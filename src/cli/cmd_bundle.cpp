@@ -5,7 +5,15 @@
 // holes included); INPUT is the graph the mesh was made for (read for its name and to report a bad
 // path early; the mesh files alone define the triangulation). Triangles are named by their position
 // in PREFIX.ele counted from 1, as `mwst check` does. --json prints
-// {"bundle_number": K, "disk": {"x":…, "y":…, "r":…}, "triangles": [...], ...} on stdout.
+// {"bundle_number": K, "exact": true, "lower_bound": K, "upper_bound": K, "disk": {"x":…, "y":…,
+// "r":…}, "triangles": [...], ...} on stdout.
+//
+// Budget (--candidate-budget, BundleOptions::candidate_budget): by default at most 24 (circumdisk,
+// triangle) candidate pairs per triangle plus 2^20 are kept, which bounds memory (4 bytes a pair)
+// and time. When a circumdisk meets more triangles than that allows (points on a circle: every
+// circumdisk is about the whole circle), the exact number may be out of reach; the output then
+// says so ("exact": false) and gives exact lower and upper bounds, with a witness disk for the
+// lower one. --candidate-budget 0 asks for the exact number whatever it costs.
 #include <chrono>
 #include <iostream>
 #include <memory>
@@ -25,7 +33,12 @@ struct BundleArgs {
   std::string input;
   std::string prefix;
   bool json = false;
+  long long candidate_budget = -1;  // −1: 24 per triangle + 2^20; 0: none
 };
+
+std::size_t options_budget(const BundleArgs& a, std::size_t triangles) {
+  return a.candidate_budget >= 0 ? static_cast<std::size_t>(a.candidate_budget) : 24 * triangles + (std::size_t{1} << 20);
+}
 
 int run_bundle(const BundleArgs& a) {
   const Pslg input = io::read_input(a.input);
@@ -33,7 +46,9 @@ int run_bundle(const BundleArgs& a) {
   const auto start = std::chrono::steady_clock::now();
   BundleResult r;
   try {
-    r = bundle_number(mesh.points, mesh.triangles);
+    BundleOptions options;
+    options.candidate_budget = options_budget(a, mesh.triangles.size());
+    r = bundle_number(mesh.points, mesh.triangles, options);
   } catch (const InputError& e) {
     throw InputError(a.prefix + ".ele", 0, e.what());
   }
@@ -47,6 +62,9 @@ int run_bundle(const BundleArgs& a) {
         {"mesh", a.prefix},
         {"triangle_count", mesh.triangles.size()},
         {"bundle_number", r.bundle_number},
+        {"exact", r.exact},
+        {"lower_bound", r.lower_bound},
+        {"upper_bound", r.upper_bound},
         {"disk", {{"x", r.disk_center.x}, {"y", r.disk_center.y}, {"r", r.disk_radius}}},
         {"triangles", triangles},
         {"circumdisk_bound", r.circumdisk_bound},
@@ -57,12 +75,19 @@ int run_bundle(const BundleArgs& a) {
     out.commit();
     return kExitOk;
   }
-  std::cout << a.prefix << ": bundle number " << r.bundle_number << " (" << mesh.triangles.size()
-            << " triangles; circumdisks of the Delaunay triangles alone give " << r.circumdisk_bound << ")\n";
+  if (r.exact) {
+    std::cout << a.prefix << ": bundle number " << r.bundle_number << " (" << mesh.triangles.size()
+              << " triangles; circumdisks of the Delaunay triangles alone give " << r.circumdisk_bound << ")\n";
+  } else {
+    std::cout << a.prefix << ": bundle number between " << r.lower_bound << " and " << r.upper_bound
+              << " (not exact: " << r.truncated_disks << " circumdisks meet more triangles than the candidate budget of "
+              << options_budget(a, mesh.triangles.size()) << " pairs lets them hold; --candidate-budget 0 computes it "
+              << "exactly, at a cost that grows with the square of such disks)\n";
+  }
   if (r.bundle_number > 0) {
     std::cout.precision(17);
-    std::cout << "  witness: the open disk centred (" << r.disk_center.x << ", " << r.disk_center.y
-              << ") of radius " << r.disk_radius << " contains no vertex and meets triangles";
+    std::cout << "  witness" << (r.exact ? "" : " of the lower bound") << ": the open disk centred (" << r.disk_center.x
+              << ", " << r.disk_center.y << ") of radius " << r.disk_radius << " contains no vertex and meets triangles";
     for (const std::uint32_t t : r.triangles) std::cout << ' ' << t + 1;
     std::cout << '\n';
   }
@@ -80,6 +105,10 @@ void register_bundle(CLI::App& app, Action& action) {
   sub->add_flag("--json", args->json,
                 "Print {\"bundle_number\": K, \"disk\": {\"x\", \"y\", \"r\"}, \"triangles\": [...]} "
                 "(triangles numbered from 1 in PREFIX.ele)");
+  sub->add_option("--candidate-budget", args->candidate_budget,
+                  "Keep at most N (circumdisk, triangle) pairs (default 24 per triangle + 2^20); past it the "
+                  "output gives exact lower and upper bounds instead of the exact number; 0: no budget")
+      ->check(CLI::NonNegativeNumber);
   sub->callback([args, &action] { action = [args] { return run_bundle(*args); }; });
 }
 
