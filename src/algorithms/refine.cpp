@@ -261,6 +261,12 @@ class Refiner {
 
   // Scratch (no allocation per insertion).
   std::vector<TriangleId> cavity_;
+  // cavity_stamp_[t] == cavity_round_ iff slot t is in the cavity being grown: an O(1) membership
+  // test (a linear search of cavity_ made an insertion quadratic in its cavity size, and the first
+  // insertions into the fan of skinny triangles a point set on a circle gives have cavities of
+  // the whole mesh).
+  std::vector<std::uint32_t> cavity_stamp_;
+  std::uint32_t cavity_round_ = 0;
   std::vector<Handle> boundary_;
   std::vector<Handle> stack_;
   struct BoundaryEdge {
@@ -519,7 +525,15 @@ Refiner::InsertKind Refiner::insert_free(const Point& p, TriangleId t0) {
   cavity_.clear();
   boundary_.clear();
   stack_.clear();
+  if (cavity_stamp_.size() < m_.triangles.size()) {
+    cavity_stamp_.resize(m_.triangles.size() + m_.triangles.size() / 4 + 64, 0);
+  }
+  if (++cavity_round_ == 0) {  // the stamp wrapped: clear the old ones
+    std::fill(cavity_stamp_.begin(), cavity_stamp_.end(), 0);
+    cavity_round_ = 1;
+  }
   cavity_.push_back(t0);
+  cavity_stamp_[t0] = cavity_round_;
   stack_.push_back(make_handle(t0, 2));
   stack_.push_back(make_handle(t0, 1));
   stack_.push_back(make_handle(t0, 0));
@@ -535,7 +549,8 @@ Refiner::InsertKind Refiner::insert_free(const Point& p, TriangleId t0) {
         // The cavity of a point in a constrained Delaunay triangulation is a triangulated disk
         // with no interior vertex, so its dual is a tree: meeting a cavity triangle again means
         // the exact invariants failed somewhere; fall back to Lawson flips.
-        if (std::find(cavity_.begin(), cavity_.end(), u) != cavity_.end()) return InsertKind::kFailed;
+        if (cavity_stamp_[u] == cavity_round_) return InsertKind::kFailed;
+        cavity_stamp_[u] = cavity_round_;
         cavity_.push_back(u);
         stack_.push_back(Mesh::lprev(s));
         stack_.push_back(Mesh::lnext(s));
