@@ -318,6 +318,10 @@ TEST(IoNodeErrors, LinesAreCountedWhateverTheirEnding) {
   // A lone-CR file whose header promises more than it holds is reported as truncated where it
   // ends, not as a count the file cannot hold.
   node_error("3 2 0 0\r1 0 0\r2 1 0\r", 3, "expected 3 vertices, found 2");
+  // A lone CR last in the text ends the text too (found by fuzz_node: it was taken for a CR LF,
+  // and the scan went one byte past the end, so the rest of the file seemed endless).
+  node_error("2 2 0 0\r", 1, "vertex count 2 is more than the rest of the file can hold");
+  node_error("# c\r2 2 0 0 ve\r", 2, "vertex count 2 is more than the rest of the file can hold");
 }
 
 TEST(IoNodeErrors, ByteOrderMarkOnlyAtTheStart) {

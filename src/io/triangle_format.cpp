@@ -231,9 +231,9 @@ class Scanner {
       if (next_lf_ < start) next_lf_ = find(start, '\n');
       if (next_cr_ < start) next_cr_ = find(start, '\r');
       // The line ends at the nearer of the two; a '\r' right before a '\n' ends it together with
-      // that '\n'.
+      // that '\n' (end_ stands for "none found": a '\r' last in the text is a lone one).
       const char* line_end = next_lf_ <= next_cr_ ? next_lf_ : next_cr_;
-      const bool crlf = line_end == next_cr_ && line_end + 1 == next_lf_;
+      const bool crlf = line_end == next_cr_ && line_end + 1 == next_lf_ && next_lf_ != end_;
       next_ = line_end == end_ ? end_ : line_end + (crlf ? 2 : 1);
       ++line_;
       while (start < line_end && is_blank(*start)) ++start;
