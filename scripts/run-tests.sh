@@ -14,6 +14,7 @@
 #   env:   JOBS (parallel build and test jobs, default 2)
 #          FUZZ_SECONDS (per harness, default 30; 0 skips step 3)
 #          SKIP_ASAN=1 skips step 2
+#          SHARED_EXAMPLES=1 also builds libmwst.so and runs examples/cpp/ against it (step 1)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs="${JOBS:-2}"
@@ -40,6 +41,15 @@ step "installed package and examples/cpp"
 consumers=$(mktemp -d)
 cmake --install build-ci --prefix "$consumers/prefix" >/dev/null
 bash examples/cpp/run.sh "$consumers/prefix" "$consumers/work"
+# The same against a shared libmwst.so (opt-in: a second build of the library and the CLI, several
+# CPU minutes more without ccache).
+if [ "${SHARED_EXAMPLES:-0}" = 1 ]; then
+  cmake -S . -B build-shared -G Ninja -DCMAKE_BUILD_TYPE=Release -DMWST_WERROR=ON -DBUILD_SHARED_LIBS=ON \
+    -DMWST_BUILD_TESTS=OFF -DMWST_BUILD_CGAL_TESTS=OFF
+  cmake --build build-shared -j "$jobs" --target mwst_cli
+  cmake --install build-shared --prefix "$consumers/shared" >/dev/null
+  bash examples/cpp/run.sh "$consumers/shared" "$consumers/work-shared"
+fi
 rm -rf "$consumers"
 echo "== run-tests: installed package: $((SECONDS - t)) s" >&2
 
