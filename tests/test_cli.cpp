@@ -545,13 +545,14 @@ TEST(Cli, RandomBytesGiveACheckedMeshOrACleanRefusal) {
 // --time-limit (TriangulateOptions::time_budget_seconds): a refinement or search stopped by it
 // still writes a valid mesh, and says why it stopped; opt makes no start after its BRH start once
 // the budget has passed. (Nothing here measures time: a budget of a microsecond is exhausted long
-// before a refinement of this size finishes, whatever the machine.)
+// before a refinement of this size finishes, whatever the machine. The area bound makes about
+// 1.6e5 triangles of Superior's 82131 square units; 1e-6 would make 1.6e11, now refused up front.)
 TEST(Cli, TimeLimitStopsRefinementWithAValidMesh) {
   Sandbox box;
   for (const std::string method : {"dr", "brh", "opt"}) {
     SCOPED_TRACE(method);
     const Outcome r = box.run({"triangulate", data("Superior.poly"), "-o", "t", "-q", "--method", method,
-                               "--min-angle", "30", "--max-area", "1e-6", "--time-limit", "1e-6",
+                               "--min-angle", "30", "--max-area", "1", "--time-limit", "1e-6",
                                "--json", "t.json"});
     ASSERT_EQ(r.exit_code, 0) << describe(r);
     const auto report = nlohmann::json::parse(box.get("t.json"));
@@ -721,7 +722,7 @@ TEST(Cli, StopReasonsAreTrue) {
 TEST(Cli, TimeLimitBoundsTheBundleNumber) {
   Sandbox box;
   const Outcome r = box.run({"triangulate", data("Superior.poly"), "-o", "u", "--method", "dr", "--bundle",
-                             "--max-area", "1e-6", "--time-limit", "1e-6", "--json", "u.json"});
+                             "--max-area", "1", "--time-limit", "1e-6", "--json", "u.json"});
   ASSERT_EQ(r.exit_code, 0) << describe(r);
   const auto j = nlohmann::json::parse(box.get("u.json"));
   EXPECT_EQ(j.at("stop_reason").get<std::string>(), "time budget");
