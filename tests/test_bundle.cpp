@@ -1058,6 +1058,149 @@ TEST(Bundle, InKBundleLocalRegionHandlesFarReachingDisks) {
 }
 
 // A Delaunay-refined mesh (20°): the paper's lemma bounds its bundle number by 4π/α + 3 = 39.
+// Points on a circle: every circumdisk of their Delaunay triangulation is (nearly) the whole circle
+// and meets (nearly) every triangle. in_k_bundle must stop counting at k: every query is decided
+// by the first circumdisk it meets, counted only up to k, so the floods' work is O(k) per query,
+// not O(n) (the bound asserted is far below the n² the old full lists cost: 16 million here).
+std::vector<Point> circle_points(std::size_t n, double rx = 1.0, double ry = 1.0) {
+  std::vector<Point> pts(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double a = 2.0 * 3.14159265358979323846 * static_cast<double>(i) / static_cast<double>(n);
+    pts[i] = {rx * std::cos(a), ry * std::sin(a)};
+  }
+  return pts;
+}
+
+std::vector<TriangleId> domain_triangles_of(const Mesh& m) {
+  std::vector<TriangleId> q;
+  for (TriangleId t = 0; t < m.triangle_slots(); ++t) {
+    if (m.in_domain(t)) q.push_back(t);
+  }
+  return q;
+}
+
+TEST(Bundle, InKBundleStopsCountingAtK) {
+  const std::uint32_t k = 10;
+  {
+    // Small: the answers are those of the per-triangle values.
+    const Mesh m = delaunay(circle_points(300));
+    const std::vector<TriangleId> queries = domain_triangles_of(m);
+    const BundleResult full = bundle_number(m, {.per_triangle = true});
+    for (const std::uint32_t kk : {k, full.bundle_number, full.bundle_number + 1}) {
+      const std::vector<std::uint8_t> in = in_k_bundle(m, kk, queries, nullptr, 1);
+      for (std::size_t i = 0; i < queries.size(); ++i) {
+        EXPECT_EQ(in[i] != 0, full.per_triangle[queries[i]] >= kk) << "k " << kk << " triangle " << queries[i];
+      }
+    }
+  }
+  const Mesh m = delaunay(circle_points(4000));
+  const std::vector<TriangleId> queries = domain_triangles_of(m);
+  for (const unsigned threads : {1u, 2u}) {
+    KBundleStats st;
+    const std::vector<std::uint8_t> in = in_k_bundle(m, k, queries, &st, threads);
+    EXPECT_EQ(static_cast<std::size_t>(std::count(in.begin(), in.end(), 1)), queries.size());
+    EXPECT_EQ(st.decided_by_circumdisks, queries.size());
+    EXPECT_EQ(st.pencils_swept, 0u);
+    EXPECT_EQ(st.flooded, 0u);  // no full list was built
+    EXPECT_LE(st.disks_counted, queries.size());
+    EXPECT_LE(st.flood_visits, 4 * std::size_t{k} * queries.size());
+  }
+}
+
+// A brute-force check of a witness: the disk, shrunk by a relative 1e-9 (it is rounded and vertices
+// lie on its boundary), contains no vertex and meets each triangle it names (exact rationals).
+void expect_witness(const std::vector<Point>& pts, const std::vector<Tri>& tris, const BundleResult& r) {
+  const Q cx(r.disk_center.x), cy(r.disk_center.y);
+  const Q radius(r.disk_radius * (1.0 - 1e-9));
+  const Q r2 = radius * radius;
+  std::vector<std::uint8_t> used(pts.size(), 0);
+  for (const Tri& t : tris) {
+    for (const std::uint32_t v : t) used[v] = 1;
+  }
+  for (std::uint32_t v = 0; v < pts.size(); ++v) {
+    if (!used[v]) continue;
+    const Q dx = Q(pts[v].x) - cx, dy = Q(pts[v].y) - cy;
+    EXPECT_GE(dx * dx + dy * dy, r2) << "witness contains vertex " << v;
+  }
+  EXPECT_EQ(r.triangles.size(), r.lower_bound);
+  for (const std::uint32_t t : r.triangles) {
+    const std::array<QPoint, 3> qt{QPoint{Q(pts[tris[t][0]].x), Q(pts[tris[t][0]].y)},
+                                   QPoint{Q(pts[tris[t][1]].x), Q(pts[tris[t][1]].y)},
+                                   QPoint{Q(pts[tris[t][2]].x), Q(pts[tris[t][2]].y)}};
+    EXPECT_TRUE(disk_meets({cx, cy}, r2, qt)) << "witness misses triangle " << t;
+  }
+}
+
+// With a candidate budget too small for the circumdisks of points on a circle or an ellipse, the
+// result gives exact bounds (lower ≤ the exact number ≤ upper, the oracle's on the small inputs)
+// with a witness for the lower one, checked by brute force; with a budget large enough, the exact
+// result itself, witness included.
+TEST(Bundle, BudgetGivesExactBoundsWithAWitness) {
+  std::mt19937_64 rng(41);
+  for (const double ry : {1.0, 0.5}) {
+    for (const std::size_t n : {24u, 40u, 400u}) {
+      SCOPED_TRACE(std::to_string(n) + " points, ry " + std::to_string(ry));
+      std::vector<Point> pts = circle_points(n, 1.0, ry);
+      // A few points inside: not every circumdisk is the whole circle.
+      std::uniform_real_distribution<double> u(-0.3, 0.3);
+      for (int i = 0; i < 3; ++i) pts.push_back({u(rng), u(rng) * ry});
+      const std::vector<Tri> tris = finite_triangles(delaunay(pts));
+      const BundleResult exact = bundle_number(pts, tris);
+      EXPECT_TRUE(exact.exact);
+      EXPECT_EQ(exact.lower_bound, exact.bundle_number);
+      EXPECT_EQ(exact.upper_bound, exact.bundle_number);
+      if (n <= 24) {
+        EXPECT_EQ(exact.bundle_number, oracle(pts, tris).bundle);
+      }
+      const BundleResult cut = bundle_number(pts, tris, {.candidate_budget = 1});
+      EXPECT_GT(cut.truncated_disks, 0u);
+      EXPECT_LE(cut.lower_bound, exact.bundle_number);
+      EXPECT_GE(cut.upper_bound, exact.bundle_number);
+      EXPECT_EQ(cut.exact, cut.lower_bound == cut.upper_bound);
+      EXPECT_EQ(cut.bundle_number, cut.lower_bound);
+      EXPECT_LE(cut.upper_bound, tris.size());
+      expect_witness(pts, tris, cut);
+      const BundleResult roomy = bundle_number(pts, tris, {.candidate_budget = tris.size() * tris.size() * 4});
+      EXPECT_TRUE(roomy.exact);
+      EXPECT_EQ(roomy.truncated_disks, 0u);
+      EXPECT_EQ(roomy.bundle_number, exact.bundle_number);
+      EXPECT_EQ(roomy.triangles, exact.triangles);
+      EXPECT_EQ(roomy.disk_center, exact.disk_center);
+    }
+  }
+}
+
+// On small random inputs (Delaunay, flipped, with holes) a budget changes nothing when it is not
+// exhausted, and otherwise gives bounds around the unbudgeted exact answer.
+TEST(Bundle, BudgetMatchesTheExactAnswerOnRandomInputs) {
+  std::mt19937_64 rng(43);
+  std::size_t cut_short = 0;
+  for (int c = 0; c < 60; ++c) {
+    const auto pts = random_points(8 + c % 30, rng);
+    const auto tris = random_triangulation(pts, c % 3 == 0 ? 0 : 15, c % 4 == 0 ? 0.7 : 1.0, rng);
+    const BundleResult exact = bundle_number(pts, tris);
+    for (const std::size_t budget : {std::size_t{1}, std::size_t{64}, std::size_t{100000}}) {
+      const BundleResult r = bundle_number(pts, tris, {.candidate_budget = budget});
+      if (r.truncated_disks == 0) {
+        EXPECT_TRUE(r.exact);
+        EXPECT_EQ(r.bundle_number, exact.bundle_number);
+        EXPECT_EQ(r.triangles, exact.triangles);
+        EXPECT_EQ(r.disk_center, exact.disk_center);
+        EXPECT_EQ(r.circumdisk_bound, exact.circumdisk_bound);
+      } else {
+        ++cut_short;
+        EXPECT_LE(r.lower_bound, exact.bundle_number);
+        EXPECT_GE(r.upper_bound, exact.bundle_number);
+        if (r.exact) {
+          EXPECT_EQ(r.bundle_number, exact.bundle_number);
+        }
+        expect_witness(pts, tris, r);
+      }
+    }
+  }
+  EXPECT_GT(cut_short, 0u);
+}
+
 TEST(Bundle, RefinedMeshRespectsAngleLemma) {
   const Pslg pslg = io::read_poly(std::string(MWST_DATA_DIR) + "/Superior.poly");
   Mesh m = constrained_delaunay(pslg);
@@ -1159,6 +1302,36 @@ TEST(BundleCli, TriangulateReportsTheBundleNumber) {
   EXPECT_EQ(j.at("bundle_circumdisk_bound").get<int>(), 5);
   EXPECT_GT(j.at("bundle_disk").at("r").get<double>(), 0.0);
   EXPECT_TRUE(j.at("seconds").contains("bundle"));
+  std::filesystem::remove_all(dir);
+}
+
+// `mwst bundle` reports the bounds when its budget is exhausted, and the exact number otherwise.
+TEST(BundleCli, BudgetExhaustedReportsBounds) {
+  const std::string dir = temp_dir("budget");
+  std::ostringstream node;
+  const std::vector<Point> pts = circle_points(200, 1.0, 0.5);
+  node.precision(17);
+  node << pts.size() << " 2 0 0\n";
+  for (std::size_t i = 0; i < pts.size(); ++i) node << i + 1 << ' ' << pts[i].x << ' ' << pts[i].y << '\n';
+  write_text(dir + "/e.node", node.str());
+  io::write_mesh(delaunay(pts), dir + "/e.1");
+  const CliRun cut_run = run_mwst(dir, "bundle e.node e.1 --json --candidate-budget 1");
+  const CliRun full_run = run_mwst(dir, "bundle e.node e.1 --json");
+  ASSERT_EQ(cut_run.exit_code, 0) << cut_run.err;
+  ASSERT_EQ(full_run.exit_code, 0) << full_run.err;
+  const nlohmann::json cut = nlohmann::json::parse(cut_run.out), full = nlohmann::json::parse(full_run.out);
+  EXPECT_TRUE(full.at("exact").get<bool>());
+  EXPECT_EQ(full.at("lower_bound"), full.at("bundle_number"));
+  EXPECT_EQ(full.at("upper_bound"), full.at("bundle_number"));
+  EXPECT_LE(cut.at("lower_bound").get<long long>(), full.at("bundle_number").get<long long>());
+  EXPECT_GE(cut.at("upper_bound").get<long long>(), full.at("bundle_number").get<long long>());
+  EXPECT_EQ(cut.at("exact").get<bool>(), cut.at("lower_bound") == cut.at("upper_bound"));
+  EXPECT_EQ(cut.at("triangles").size(), cut.at("lower_bound").get<std::size_t>());
+  const CliRun text = run_mwst(dir, "bundle e.node e.1 --candidate-budget 1");
+  EXPECT_EQ(text.exit_code, 0);
+  if (!cut.at("exact").get<bool>()) {
+    EXPECT_NE(text.out.find("bundle number between"), std::string::npos) << text.out;
+  }
   std::filesystem::remove_all(dir);
 }
 

@@ -60,8 +60,8 @@ struct BundleOptions {
   // bundle_number(Mesh) throws KBundleTimeout once this passes (time_point::max(): never).
   std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
   // 0: no budget, the exact answer whatever it costs. Otherwise the most (circumdisk, triangle)
-  // candidate pairs kept (4 bytes each), which bounds memory and time: each circumdisk's list is
-  // first capped at an equal share of the budget, then the lists cut short get equal shares of
+  // candidate pairs kept (4 bytes each; at least one per circumdisk), which bounds memory and
+  // time: each circumdisk's list is first capped at an equal share of the budget, then the lists cut short get equal shares of
   // what is left. If a list is still cut short (a circumdisk meeting that many triangles: points on
   // a circle, where every circumdisk is about the whole circle and meets about every triangle),
   // BundleResult::exact may be false and the result holds exact bounds instead (see there). When

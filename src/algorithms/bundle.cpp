@@ -1833,7 +1833,7 @@ bool build_lists_within_budget(Shared& sh, std::vector<std::unique_ptr<Worker>>&
   const auto share = [](std::size_t total, std::size_t parts) {
     return static_cast<std::uint32_t>(std::min<std::size_t>(total / std::max<std::size_t>(parts, 1), 0xFFFFFFF0u));
   };
-  const std::uint32_t first_cap = std::max<std::uint32_t>(16, share(budget, disks));
+  const std::uint32_t first_cap = std::max<std::uint32_t>(1, share(budget, disks));
   sh.truncated.assign(slots, 0);
   build_lists(sh, workers, nullptr, nullptr, first_cap);
   std::vector<std::uint8_t> again(slots, 0);
