@@ -21,6 +21,13 @@
 // edges and listed subsegments say which piece a vertex is on: each piece is first followed along
 // them, then, if that fails, along any mesh edges near its line. Mesh vertices and triangles are
 // named by their position in the files, counted from 1.
+//
+// Independently of that reference (whose crossing points come from the same code as the meshes'),
+// every input segment is checked against the input alone: from the mesh vertex at one end to the
+// one at the other, a chain of mesh edges whose vertices advance along the segment and lie within
+// 2048 ulps of the segment's largest coordinate magnitude of its line (exact orient2d); where the
+// segment leaves the mesh (in a hole) the rest is walked from the other end. And every vertex lies
+// in the supported coordinate range (geometry.hpp).
 #pragma once
 
 #include <array>

@@ -57,8 +57,10 @@
 //
 // Guarantees and measurements (tests/test_quadtree.cpp checks each):
 //  - Validity: validate() passes; every input vertex is a vertex; every input segment is a chain
-//    of subsegments; the domain's area equals the CDT's; Steiner points measure() counts lie in the
-//    closed domain (quadtree corners outside it stay in carved triangles and are not counted).
+//    of subsegments; the domain's area equals the CDT's; every Steiner point is a corner of a
+//    triangle of the domain and lies in the closed domain (the quadtree corners outside it are
+//    dropped, and the rest of the hull is triangulated anew); every vertex lies in the supported
+//    coordinate range (else the route gives way to the fallback), so the output reads back.
 //  - Leaf size s against the local feature size lfs (the radius of the smallest disk centred at x
 //    that meets two features that do not touch): s ≤ 2·lfs(x) at every x of a leaf that meets a
 //    feature (the splitting rule: a disk of radius below s/2 centred in C lies in C grown by s/2,
@@ -146,8 +148,9 @@ struct QuadtreeStats {
 // Quadtree refinement of a point set (.node: the domain is the convex hull) or a PSLG (.poly: the
 // domain the segments enclose minus the holes). Input points keep their ids (duplicates are
 // VertexKind::kDuplicate); Steiner points come after them, VertexKind::kSteinerOnSegment on input
-// segments and kSteiner elsewhere. Quadtree vertices outside the domain stay in carved (kOutside)
-// triangles and are not counted by measure(). Throws InputError for input the CDT refuses.
+// segments and kSteiner elsewhere, only those the domain's triangles use (quadtree corners outside
+// the domain are dropped; carved kOutside triangles of the kept vertices fill the rest of the
+// hull). Throws InputError for input the CDT refuses.
 MWST_API Mesh quadtree_refinement(const Pslg& pslg, const QuadtreeOptions& options = {},
                          QuadtreeStats* stats = nullptr);
 

@@ -3623,8 +3623,17 @@ void drop_unused_vertices(Mesh& m, const std::vector<char>& kept) {
       boundary.emplace_back(new_id[m.org(h)], new_id[m.dest(h)]);
     }
   }
+  // Input points in no triangle of the domain (in holes, or outside it) must be covered too; those
+  // the domain uses lie inside it and stay out of this triangulation.
+  std::vector<char> used(m.input_vertex_count, 0);
+  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+    if (new_slot[t] == kNone) continue;
+    for (const VertexId v : m.triangles[t].v) {
+      if (v < used.size()) used[v] = 1;
+    }
+  }
   for (VertexId v = 0; v < m.input_vertex_count && v < n; ++v) {
-    if (m.vertex_kind[v] != VertexKind::kDuplicate) in_cdt[v] = 1;
+    if (!used[v] && m.vertex_kind[v] != VertexKind::kDuplicate) in_cdt[v] = 1;
   }
   Pslg outer;
   std::vector<VertexId> cdt_vertex;  // CDT vertex → new id
