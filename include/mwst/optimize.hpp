@@ -27,6 +27,19 @@ struct OptimizeOptions {
   // refused when one of their new triangles would be; insertions only split triangles. A mesh
   // given with larger triangles keeps them until a move replaces them by smaller ones.
   double max_area = -1.0;
+  // Separation (no degenerate geometry): no move of the search places a Steiner vertex — a
+  // relocation (Weiszfeld step), a slide along a segment, an insertion, a kick, a perturbation —
+  // nearer than this distance to any other vertex, or to any segment or domain boundary edge it
+  // is not on (point_is_separated). So every edge the search makes to a vertex it placed is at
+  // least this long, and no such vertex lies within rounding of a segment. (Interior edges may
+  // pass nearer: light triangulations have flat triangles.) Flips, removals and
+  // re-triangulations only join vertices already there; vertices of the mesh given keep their
+  // places. < 0 (the default): default_min_separation(mesh given), kSeparationFraction × its
+  // shortest domain edge; method opt passes default_min_separation of the input's constrained
+  // Delaunay triangulation (pipeline.cpp), the input's smallest feature, for every start alike.
+  // 0: no separation (the strict orientation tests and in_kernel's rounding margin only).
+  static constexpr double kSeparationFraction = 0.25;
+  double min_separation = -1.0;
   bool relocate = true;            // move Steiner vertices to the geometric median of neighbours
   bool remove = true;              // remove Steiner vertices whose star re-triangulates lighter
   bool insert = true;              // try Steiner points at the Fermat points of heavy triangles
@@ -111,6 +124,22 @@ struct OptimizeStats {
 // exact_polish_start a second search runs from the MWT of the starting mesh, and the lighter of
 // the two results is kept. Either way the result is never heavier than without the polish.
 OptimizeStats optimize(Mesh& mesh, const OptimizeOptions& options = {});
+
+// OptimizeOptions::min_separation's test: may a Steiner vertex be placed at q, inside the polygon
+// of mesh triangles whose edges the handles `beyond` see from the triangles outside them (q's
+// star to be, or the triangles q splits)? True if q is at least `separation` from every vertex of
+// the mesh and from every segment and domain boundary edge other than the polygon's chords. The
+// search runs outward from the polygon's edges across the ones nearer than `separation` to q
+// (every nearer vertex lies beyond such edges), so it is local; past 256 triangles it says no.
+bool point_is_separated(const Mesh& mesh, const Point& q, const std::vector<Handle>& beyond, double separation);
+
+// Distance from p to the closed segment ab, in floating point (the separation it is compared with
+// is far above its rounding).
+double point_segment_distance(const Point& p, const Point& a, const Point& b);
+
+// OptimizeOptions::min_separation's default for a search of `mesh`: kSeparationFraction × its
+// shortest domain edge (0 for an empty domain).
+double default_min_separation(const Mesh& mesh);
 
 // One exact polish step on its own: compacts `mesh` and, within the exact_polish_* size limits of
 // `options`, replaces its triangulation by the exact MWT of its vertices with its segments

@@ -264,6 +264,7 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
   local.fixed_vertices = cdt.points.size();  // the input and the CDT's crossing points
   local.max_steiner = options.max_steiner;
   local.max_area = options.max_area;
+  local.min_separation = default_min_separation(cdt);  // one scale for every start: the input's CDT
   std::vector<double> local_weight;
   double lightest = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < starts.size(); ++i) {
@@ -277,6 +278,7 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
   kicks.fixed_vertices = local.fixed_vertices;
   kicks.max_steiner = local.max_steiner;
   kicks.max_area = local.max_area;
+  kicks.min_separation = local.min_separation;
   kicks.max_exact_polygon = 0;
   kicks.max_exact_convex_polygon = 0;
   kicks.exact_polish = options.exact_polish;  // and after the search (optimize.hpp)
