@@ -565,3 +565,60 @@ TEST(OptimizeRegression, NearCollinearChainKeepsSteinerPointsSeparated) {
 
 }  // namespace
 }  // namespace mwst
+
+namespace mwst {
+namespace {
+
+// Issue 32, opt at scale: disjoint copies of one input are independent, so opt of the copies
+// together weighs what the copies weigh alone (split_domain / merge_pieces: each piece gets the
+// search a whole input gets). An outline on a 1/8 grid, tiled 2 × 2 by translations of 64
+// (powers of two: every translated coordinate exact), against 4 × one copy.
+TEST(OptimizePieces, DisjointCopiesWeighTheirSum) {
+  // A 16 × 16 square with 40 points inside on a 1/8 grid (a seeded generator): its light mesh
+  // has Steiner points.
+  const std::vector<Point> outline{{0, 0}, {16, 0}, {16, 16}, {0, 16}};
+  std::vector<Point> inside;
+  std::mt19937_64 rng(32);
+  for (int i = 0; i < 40; ++i) {
+    inside.push_back({0.125 * static_cast<double>(1 + rng() % 127), 0.125 * static_cast<double>(1 + rng() % 127)});
+  }
+  const auto tiled = [&](int side) {
+    Pslg g;
+    g.is_poly = true;
+    for (int c = 0; c < side * side; ++c) {
+      const double dx = 64.0 * (c % side), dy = 64.0 * (c / side);
+      const auto first = static_cast<std::uint32_t>(g.points.size());
+      for (std::size_t i = 0; i < outline.size(); ++i) {
+        g.points.push_back({outline[i].x + dx, outline[i].y + dy});
+        g.point_markers.push_back(0);
+        g.segments.push_back({first + static_cast<std::uint32_t>(i),
+                              first + static_cast<std::uint32_t>((i + 1) % outline.size()), 1});
+      }
+      for (const Point& p : inside) {
+        g.points.push_back({p.x + dx, p.y + dy});
+        g.point_markers.push_back(0);
+      }
+    }
+    return g;
+  };
+  TriangulateOptions o;
+  o.method = Method::kOpt;
+  o.opt_trials = 20;
+  const Pslg one = tiled(1), four = tiled(2);
+  Mesh m1, m4;
+  const Report r1 = triangulate(one, o, &m1);
+  const Report r4 = triangulate(four, o, &m4);
+  ASSERT_TRUE(r4.extra.contains("optimize"));
+  EXPECT_EQ(r4.extra["optimize"].value("pieces", std::size_t{0}), 4u);
+  EXPECT_GT(measure(m1).steiner, 0u);  // the search did something to be repeated
+  EXPECT_TRUE(validate(m4).empty());
+  const CheckResult check = check_mesh(four, m4);
+  EXPECT_TRUE(check.ok()) << (check.messages.empty() ? "" : check.messages.front());
+  const double w1 = measure(m1).weight_total, w4 = measure(m4).weight_total;
+  EXPECT_NEAR(w4, 4.0 * w1, 1e-12 * w4);
+  EXPECT_EQ(m4.domain_triangle_count(), 4 * m1.domain_triangle_count());
+  EXPECT_EQ(measure(m4).steiner, 4 * measure(m1).steiner);
+}
+
+}  // namespace
+}  // namespace mwst

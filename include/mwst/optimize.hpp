@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "mwst/mesh.hpp"
+#include "mwst/pslg.hpp"
 
 namespace mwst {
 
@@ -146,6 +147,26 @@ double default_min_separation(const Mesh& mesh);
 // (exact_mwt, mwt.hpp) if that is solved and lighter by more than min_relative_gain. Returns true
 // if it did; vertices, segments and markers are unchanged either way.
 bool exact_polish_mesh(Mesh& mesh, const OptimizeOptions& options);
+
+// Independent pieces (issue 32, opt at scale): the search's budgets (trials per start, the starts
+// tried) are per mesh, so an input of many disjoint parts got a thinner search per part than each
+// part alone. split_domain cuts the input by the connected components of its carved CDT `cdt`'s
+// domain (triangles joined across any shared edge, segments included) into one input per piece,
+// with the input's points in their order (input_ids[p][i]: the input id of piece p's point i), its
+// segments and the hole seeds in its bounding box. False (and no pieces) unless there are two or
+// more and the input is plain: no crossing or duplicate points, every point on the domain, no two
+// pieces touching at a point. merge_pieces puts the pieces' meshes (from method opt run on each
+// alone) back together as one mesh of the input: the input points keep their ids, the pieces'
+// Steiner points follow in piece order, every piece's triangles are kept as they are, the rest is
+// triangulated and carved as before. It checks that the pieces add up to the domain (triangles,
+// area, weight) and is valid, and returns false otherwise.
+struct DomainPieces {
+  std::vector<Pslg> pslgs;
+  std::vector<std::vector<VertexId>> input_ids;
+};
+bool split_domain(const Pslg& input, const Mesh& cdt, DomainPieces& out);
+bool merge_pieces(const Pslg& input, const Mesh& cdt, const DomainPieces& pieces, const std::vector<Mesh>& results,
+                  Mesh& out);
 
 // Partition crossover (crossover.cpp): cuts the domain along the edges two triangulations of the
 // same input share, and replaces each piece of `a` by `b`'s triangles there when those are lighter

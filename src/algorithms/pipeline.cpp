@@ -9,12 +9,15 @@
 #include "mwst/pipeline.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <utility>
 
 #include "mwst/brh.hpp"
@@ -166,6 +169,40 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
                     Report& report) {
   Mesh best = constrained_delaunay_phase(pslg, options, report);
   const Mesh cdt = best;
+  // Independent pieces of the domain (optimize.hpp, split_domain): each searched alone, as if it
+  // were the whole input (its own starts and budgets), on all cores, and put back together.
+  if (DomainPieces pieces; !options.convex_hull && split_domain(pslg, cdt, pieces)) {
+    Phase phase(report, "optimize");
+    const std::size_t count = pieces.pslgs.size();
+    std::vector<Mesh> results(count);
+    std::vector<Report> reports(count);
+    std::vector<std::exception_ptr> errors(count);
+    std::atomic<std::size_t> next{0};
+    const auto work = [&] {
+      for (std::size_t i = next++; i < count; i = next++) {
+        try {
+          results[i] = optimize_phase(pieces.pslgs[i], options, start, reports[i]);
+        } catch (...) {
+          errors[i] = std::current_exception();
+        }
+      }
+    };
+    std::vector<std::thread> workers(std::min<std::size_t>(count, std::max(1u, std::thread::hardware_concurrency())) - 1);
+    for (std::thread& w : workers) w = std::thread(work);
+    work();
+    for (std::thread& w : workers) w.join();
+    for (const std::exception_ptr& e : errors) {
+      if (e) std::rethrow_exception(e);  // the first piece's error, whichever thread ran it
+    }
+    Mesh merged;
+    if (merge_pieces(pslg, cdt, pieces, results, merged)) {
+      phase.finish();
+      const bool cut = std::any_of(reports.begin(), reports.end(), [](const Report& r) { return r.stop_reason == "time budget"; });
+      report.stop_reason = cut ? "time budget" : "local minimum";
+      report.extra["optimize"] = {{"pieces", count}, {"weight_after", measure(merged).weight_total}};
+      return merged;
+    }
+  }
   Phase phase(report, "optimize");
   // --max-steiner bounds the Steiner points beyond the CDT's (its crossing points) in every start
   // and every search; a mesh over it (a seeded start, a crossover) is not taken.
