@@ -171,7 +171,9 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
   const Mesh cdt = best;
   // Independent pieces of the domain (optimize.hpp, split_domain): each searched alone, as if it
   // were the whole input (its own starts and budgets), on all cores, and put back together.
-  if (DomainPieces pieces; !options.convex_hull && split_domain(pslg, cdt, pieces)) {
+  // (Not with --max-steiner, a budget for the whole mesh.)
+  const bool whole_budget = options.max_steiner != std::numeric_limits<std::size_t>::max();
+  if (DomainPieces pieces; !options.convex_hull && !whole_budget && split_domain(pslg, cdt, pieces)) {
     Phase phase(report, "optimize");
     const std::size_t count = pieces.pslgs.size();
     std::vector<Mesh> results(count);
