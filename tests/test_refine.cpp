@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <initializer_list>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -145,7 +146,9 @@ Refined refine_and_check(const Pslg& g, const RefineOptions& options, const Cons
   EXPECT_EQ(free_points, r.stats.steiner_inserted);
   // The termination guard never stops a refinement at a bound where refinement terminates in
   // practice (33°, Triangle's documentation; measured in refine.cpp).
-  if (options.min_angle_deg <= 33.0) EXPECT_NE(r.stats.stop_reason, kStopBeyondFeatureSize);
+  if (options.min_angle_deg <= 33.0) {
+    EXPECT_NE(r.stats.stop_reason, kStopBeyondFeatureSize);
+  }
   // The angle bound, except the triangles counted as left, which sit at small input angles.
   if (options.min_angle_deg > 0.0 && r.stats.stop_reason != "steiner budget" &&
       r.stats.stop_reason != "time budget" && r.stats.stop_reason != kStopBeyondFeatureSize) {
@@ -181,25 +184,33 @@ std::vector<std::string> data_files() {
   return files;
 }
 
-class RefineDataSet : public ::testing::TestWithParam<std::string> {};
-
-TEST_P(RefineDataSet, BothRulesAtFourBounds) {
-  const Pslg g = io::read_input(std::string(MWST_DATA_DIR) + "/" + GetParam());
-  for (double bound : {5.0, 10.0, 20.0, 30.0}) {
+// Calls f with the options for each bound and both Steiner rules.
+template <class F>
+void for_bounds_and_rules(std::initializer_list<double> bounds, F f) {
+  for (double bound : bounds) {
     for (SteinerRule rule : {SteinerRule::kOffCenter, SteinerRule::kCircumcenter}) {
       SCOPED_TRACE(std::to_string(bound) + (rule == SteinerRule::kOffCenter ? " off-center" : " circumcenter"));
       RefineOptions o;
       o.min_angle_deg = bound;
       o.rule = rule;
-      const Refined r = refine_and_check(g, o);
-      if (bound >= 20.0) {
-        EXPECT_GT(r.stats.steiner_inserted + r.stats.segment_splits, 0u);
-      }
-      if (g.segments.empty()) {
-        EXPECT_GT(r.stats.hull_edges_marked, 0u);
-      }
+      f(o);
     }
   }
+}
+
+class RefineDataSet : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(RefineDataSet, BothRulesAtFourBounds) {
+  const Pslg g = io::read_input(std::string(MWST_DATA_DIR) + "/" + GetParam());
+  for_bounds_and_rules({5.0, 10.0, 20.0, 30.0}, [&](const RefineOptions& o) {
+    const Refined r = refine_and_check(g, o);
+    if (o.min_angle_deg >= 20.0) {
+      EXPECT_GT(r.stats.steiner_inserted + r.stats.segment_splits, 0u);
+    }
+    if (g.segments.empty()) {
+      EXPECT_GT(r.stats.hull_edges_marked, 0u);
+    }
+  });
 }
 
 INSTANTIATE_TEST_SUITE_P(Data, RefineDataSet, ::testing::ValuesIn(data_files()),
@@ -477,16 +488,9 @@ TEST(Refine, PointsOnACircle) {
     const double t = 2.0 * std::numbers::pi * k / n;
     g.points.push_back({std::cos(t), std::sin(t)});
   }
-  for (double bound : {20.0, 25.0, 30.0}) {
-    for (SteinerRule rule : {SteinerRule::kOffCenter, SteinerRule::kCircumcenter}) {
-      SCOPED_TRACE(std::to_string(bound) + (rule == SteinerRule::kOffCenter ? " off-center" : " circumcenter"));
-      RefineOptions o;
-      o.min_angle_deg = bound;
-      o.rule = rule;
-      const Refined r = refine_and_check(g, o);
-      EXPECT_EQ(r.stats.stop_reason, "bound reached");
-    }
-  }
+  for_bounds_and_rules({20.0, 25.0, 30.0}, [&](const RefineOptions& o) {
+    EXPECT_EQ(refine_and_check(g, o).stats.stop_reason, "bound reached");
+  });
 }
 
 TEST(RefineTermination, HoleAlmostTouchingTheBoundary) {
