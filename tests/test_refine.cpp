@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <initializer_list>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -143,9 +144,14 @@ Refined refine_and_check(const Pslg& g, const RefineOptions& options, const Cons
     if (!inside) break;
   }
   EXPECT_EQ(free_points, r.stats.steiner_inserted);
+  // The termination guard never stops a refinement at a bound where refinement terminates in
+  // practice (33°, Triangle's documentation; measured in refine.cpp).
+  if (options.min_angle_deg <= 33.0) {
+    EXPECT_NE(r.stats.stop_reason, kStopBeyondFeatureSize);
+  }
   // The angle bound, except the triangles counted as left, which sit at small input angles.
   if (options.min_angle_deg > 0.0 && r.stats.stop_reason != "steiner budget" &&
-      r.stats.stop_reason != "time budget") {
+      r.stats.stop_reason != "time budget" && r.stats.stop_reason != kStopBeyondFeatureSize) {
     const auto apices = small_angle_apices(covered);
     std::size_t below = 0;
     for (TriangleId t = 0; t < m.triangles.size(); ++t) {
@@ -178,25 +184,33 @@ std::vector<std::string> data_files() {
   return files;
 }
 
-class RefineDataSet : public ::testing::TestWithParam<std::string> {};
-
-TEST_P(RefineDataSet, BothRulesAtFourBounds) {
-  const Pslg g = io::read_input(std::string(MWST_DATA_DIR) + "/" + GetParam());
-  for (double bound : {5.0, 10.0, 20.0, 30.0}) {
+// Calls f with the options for each bound and both Steiner rules.
+template <class F>
+void for_bounds_and_rules(std::initializer_list<double> bounds, F f) {
+  for (double bound : bounds) {
     for (SteinerRule rule : {SteinerRule::kOffCenter, SteinerRule::kCircumcenter}) {
       SCOPED_TRACE(std::to_string(bound) + (rule == SteinerRule::kOffCenter ? " off-center" : " circumcenter"));
       RefineOptions o;
       o.min_angle_deg = bound;
       o.rule = rule;
-      const Refined r = refine_and_check(g, o);
-      if (bound >= 20.0) {
-        EXPECT_GT(r.stats.steiner_inserted + r.stats.segment_splits, 0u);
-      }
-      if (g.segments.empty()) {
-        EXPECT_GT(r.stats.hull_edges_marked, 0u);
-      }
+      f(o);
     }
   }
+}
+
+class RefineDataSet : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(RefineDataSet, BothRulesAtFourBounds) {
+  const Pslg g = io::read_input(std::string(MWST_DATA_DIR) + "/" + GetParam());
+  for_bounds_and_rules({5.0, 10.0, 20.0, 30.0}, [&](const RefineOptions& o) {
+    const Refined r = refine_and_check(g, o);
+    if (o.min_angle_deg >= 20.0) {
+      EXPECT_GT(r.stats.steiner_inserted + r.stats.segment_splits, 0u);
+    }
+    if (g.segments.empty()) {
+      EXPECT_GT(r.stats.hull_edges_marked, 0u);
+    }
+  });
 }
 
 INSTANTIATE_TEST_SUITE_P(Data, RefineDataSet, ::testing::ValuesIn(data_files()),
@@ -414,6 +428,69 @@ TEST(RefineTermination, ThinSliverPolygon) {
   g.is_poly = true;
   test::add_ring(g, {{0, 0}, {1, 0}, {1, 0.001}});  // 0.057° at the origin
   check_terminates(g);
+}
+
+// Above about 34° refinement need not terminate (issue 36: a polygon with a 1° spike at 38° grew to
+// 10 GB, a unit square at 50° to 5.2 GB in 30 s). The termination guard stops it with its own stop
+// reason, long before a Steiner budget far below those sizes, with a valid mesh (refine_and_check).
+std::string regression_file(const std::string& name) {
+  return std::string(MWST_TEST_DATA_DIR) + "/../regression/" + name;
+}
+
+void check_guard_stops(const Pslg& g, double bound) {
+  for (SteinerRule rule : {SteinerRule::kOffCenter, SteinerRule::kCircumcenter}) {
+    SCOPED_TRACE(rule == SteinerRule::kOffCenter ? "off-center" : "circumcenter");
+    RefineOptions o;
+    o.min_angle_deg = bound;
+    o.rule = rule;
+    o.max_steiner = 100000;  // the runaway would pass this within a second
+    const Refined r = refine_and_check(g, o);
+    EXPECT_EQ(r.stats.stop_reason, kStopBeyondFeatureSize);
+    // Stopped, not finished: some triangle is still below the bound.
+    std::size_t below = 0;
+    for (TriangleId t = 0; t < r.mesh.triangles.size(); ++t) {
+      if (r.mesh.in_domain(t) && test::min_angle_of(r.mesh, t) < bound) ++below;
+    }
+    EXPECT_GT(below, 0u);
+  }
+}
+
+TEST(RefineTermination, GuardStopsASpikeOfOneDegreeAt38Degrees) {
+  const Pslg g = io::read_input(regression_file("spike_1deg.poly"));
+  check_guard_stops(g, 38.0);
+  check_guard_stops(g, 59.0);
+}
+
+TEST(RefineTermination, GuardStopsAUnitSquareAt50Degrees) {
+  const Pslg g = io::read_input(regression_file("unit_square.poly"));
+  check_guard_stops(g, 50.0);
+}
+
+// With an area bound the guard's scale is the side of a triangle of that area, not the input's
+// feature: refining the unit square to triangles of area 1e-4 (edges of 0.01, a hundredth of its
+// smallest feature) at 33° reaches the bound.
+TEST(RefineTermination, GuardLeavesAreaRefinementAlone) {
+  const Pslg g = io::read_input(regression_file("unit_square.poly"));
+  RefineOptions o;
+  o.min_angle_deg = 33.0;
+  o.max_area = 1e-4;
+  const Refined r = refine_and_check(g, o);
+  EXPECT_EQ(r.stats.stop_reason, "bound reached");
+  EXPECT_GT(r.stats.steiner_inserted, 5000u);
+}
+
+// Points on a circle (issue 32): the Delaunay triangulation is a fan of nearly cocircular skinny
+// triangles, and the refinement that breaks it is valid and meets the bound at 20°, 25° and 30°.
+TEST(Refine, PointsOnACircle) {
+  Pslg g;
+  const int n = 3000;
+  for (int k = 0; k < n; ++k) {
+    const double t = 2.0 * std::numbers::pi * k / n;
+    g.points.push_back({std::cos(t), std::sin(t)});
+  }
+  for_bounds_and_rules({20.0, 25.0, 30.0}, [&](const RefineOptions& o) {
+    EXPECT_EQ(refine_and_check(g, o).stats.stop_reason, "bound reached");
+  });
 }
 
 TEST(RefineTermination, HoleAlmostTouchingTheBoundary) {

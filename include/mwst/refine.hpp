@@ -66,6 +66,10 @@ struct RefineOptions {
   std::vector<TriangleId> seed_triangles;
 };
 
+// The stop reason of the termination guard: refinement made an edge far shorter than the input's
+// smallest feature allows when it terminates (angle bounds above about 34°; see refine.cpp).
+inline constexpr const char* kStopBeyondFeatureSize = "no progress: size beyond the local-feature-size bound";
+
 struct RefineStats {
   std::size_t steiner_inserted = 0;   // free Steiner points
   std::size_t segment_splits = 0;     // Steiner points on segments
@@ -79,7 +83,8 @@ struct RefineStats {
   std::size_t precision_skips = 0;    // points not insertable at double precision (duplicate
                                       // vertex, or no valid rounded split point)
   std::string stop_reason;            // "bound reached" | "steiner budget" | "time budget" |
-                                      // "N triangles left near small input angles"
+                                      // "N triangles left near small input angles" |
+                                      // kStopBeyondFeatureSize
   double seconds = 0.0;               // total
   double seconds_segments = 0.0;      // first phase: splitting the initially encroached subsegments
   double seconds_triangles = 0.0;     // second phase: splitting bad triangles

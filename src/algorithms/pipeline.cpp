@@ -534,6 +534,7 @@ std::string to_string(const StopReason& r) {
     case StopKind::kTimeBudget: return "time budget";
     case StopKind::kLocalMinimum: return "local minimum";
     case StopKind::kRoundLimit: return "round limit";
+    case StopKind::kBeyondFeatureSize: return kStopBeyondFeatureSize;
     case StopKind::kBelowBoundAfterFlips:
       return std::to_string(r.count) + " triangles below the angle bound after the flips";
     case StopKind::kSkinnyInBundles: return std::to_string(r.count) + " skinny triangles in K-bundles after the flips";
@@ -547,7 +548,7 @@ StopReason parse_stop_reason(std::string_view text) {
   StopReason r;
   if (text.empty()) return r;
   for (const StopKind kind : {StopKind::kBoundReached, StopKind::kSteinerBudget, StopKind::kTimeBudget,
-                              StopKind::kLocalMinimum, StopKind::kRoundLimit}) {
+                              StopKind::kLocalMinimum, StopKind::kRoundLimit, StopKind::kBeyondFeatureSize}) {
     if (to_string(StopReason{kind, 0, {}}) == text) return StopReason{kind, 0, {}};
   }
   // "N triangles left near small input angles"
@@ -565,7 +566,8 @@ StopReason settle_stop_reason(const Mesh& mesh, const TriangulateOptions& option
                               bool flipped, std::chrono::steady_clock::time_point deadline) {
   // Reasons that say the run was cut short, or that the engine explains in its own words.
   const bool cut_short = engine.kind == StopKind::kSteinerBudget || engine.kind == StopKind::kTimeBudget ||
-                         engine.kind == StopKind::kRoundLimit || engine.kind == StopKind::kOther;
+                         engine.kind == StopKind::kRoundLimit || engine.kind == StopKind::kBeyondFeatureSize ||
+                         engine.kind == StopKind::kOther;
   // dr's bound is the angle and the area; brh's the area (its angle bound is the K-bundle test, as
   // the paper states it: a skinny triangle is left if it is in no K-bundle); opt's the area.
   const double angle = options.method == Method::kDr ? options.min_angle_deg : 0.0;

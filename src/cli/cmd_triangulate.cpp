@@ -145,7 +145,7 @@ void register_triangulate(CLI::App& app, Action& action) {
                   "qtr = quadtree refinement, opt = weight optimiser")
       ->check(CLI::IsMember({"dt", "dr", "brh", "qtr", "opt"}))
       ->capture_default_str();
-  sub->add_option("--min-angle", args->min_angle, "Minimum angle bound in degrees, in [0, 60)")
+  sub->add_option("--min-angle", args->min_angle, "Minimum angle bound in degrees, in [0, 60); dr terminates provably up to 20.7, in practice up to about 33; above that it may stop with \"no progress: size beyond the local-feature-size bound\"")
       ->check(number_in(0.0, 60.0))
       ->capture_default_str();
   sub->add_option("--steiner", args->steiner, "Steiner point rule for refinement")
