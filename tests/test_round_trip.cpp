@@ -238,9 +238,6 @@ TEST(RoundTrip, EdgesOfTheRangeEveryMethodButQtr) {
 }
 
 TEST(RoundTrip, EdgesOfTheRangeQtr) {
-  GTEST_SKIP() << "qtr writes vertices outside the supported range here (x = 1.34e-51 in the 1e-50 square, an "
-                  "unused quadtree corner at x = -3.74e50 for the ±1e50 corners), which mwst then cannot read "
-                  "back: issue 36 item 3, being fixed on another branch. Remove this skip when that fix is in.";
   expect_round_trip(tiny_square(), options_for(Method::kQtr, false));
   expect_round_trip(big_square(), options_for(Method::kQtr, true));
 }
