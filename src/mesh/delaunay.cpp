@@ -484,16 +484,25 @@ void merge_halves(Mesh& left, Mesh&& right) {
   link(make_handle(bottom, 1), make_handle(after_r0, corner_of(after_r0, ccw(r0))));  // ∞→r0
   std::vector<Handle> left_exposed, right_exposed;
   std::vector<TriangleId> freed;          // slots of deleted triangles and consumed ghosts
-  std::vector<TriangleId> consumed_ghosts;
+  std::vector<std::uint8_t> ghost_consumed(m.triangles.size(), 0);  // (its slot may hold a rung now)
   auto hull_edge_inside = [&](TriangleId g) { return m.triangles[g].n[corner_of(g, kInfinite)]; };
-  auto left_front = [&] { return left_exposed.empty() ? hull_edge_inside(ghost_from.at(l)) : left_exposed.back(); };
-  auto right_front = [&] { return right_exposed.empty() ? hull_edge_inside(ghost_to.at(r)) : right_exposed.back(); };
+  // kNone once a pinched half's chain has gone round its whole hull.
+  auto left_front = [&] {
+    if (!left_exposed.empty()) return left_exposed.back();
+    const TriangleId g = ghost_from.at(l);
+    return ghost_consumed[g] ? kNone : hull_edge_inside(g);
+  };
+  auto right_front = [&] {
+    if (!right_exposed.empty()) return right_exposed.back();
+    const TriangleId g = ghost_to.at(r);
+    return ghost_consumed[g] ? kNone : hull_edge_inside(g);
+  };
   auto pop_left = [&] {
     if (!left_exposed.empty()) {
       left_exposed.pop_back();
     } else {
       const TriangleId g = ghost_from.at(l);
-      consumed_ghosts.push_back(g);
+      ghost_consumed[g] = 1;
       freed.push_back(g);
     }
   };
@@ -502,7 +511,7 @@ void merge_halves(Mesh& left, Mesh&& right) {
       right_exposed.pop_back();
     } else {
       const TriangleId g = ghost_to.at(r);
-      consumed_ghosts.push_back(g);
+      ghost_consumed[g] = 1;
       freed.push_back(g);
     }
   };
@@ -521,9 +530,9 @@ void merge_halves(Mesh& left, Mesh&& right) {
   for (std::size_t step = 0;; ++step) {
     if (step > limit) throw InternalError("merge_halves: ladder does not terminate");
     Handle lf = left_front(), rf = right_front();
-    VertexId lc = target(lf), rc = origin(rf);
-    bool l_valid = orient2d(P[l], P[r], P[lc]) > 0;
-    bool r_valid = orient2d(P[l], P[r], P[rc]) > 0;
+    VertexId lc = lf == kNone ? kNone : target(lf), rc = rf == kNone ? kNone : origin(rf);
+    bool l_valid = lc != kNone && orient2d(P[l], P[r], P[lc]) > 0;
+    bool r_valid = rc != kNone && orient2d(P[l], P[r], P[rc]) > 0;
     // Delete the triangles of L left of l→lc while their apex lies inside the circle (l, r, lc).
     while (l_valid) {
       const VertexId x = apex(lf);
@@ -584,9 +593,7 @@ void merge_halves(Mesh& left, Mesh&& right) {
   }
   // A half is pinched when its whole hull faced the gap: its chain went round the full cycle and
   // the hull edge after l (before r) was consumed; the top bridge then meets the bottom one.
-  auto consumed = [&](TriangleId g) {
-    return std::find(consumed_ghosts.begin(), consumed_ghosts.end(), g) != consumed_ghosts.end();
-  };
+  auto consumed = [&](TriangleId g) { return ghost_consumed[g] != 0; };
   const bool left_pinched = consumed(ghost_from.at(l)), right_pinched = consumed(ghost_to.at(r));
   // The top ghost U = (l, r, ∞) for the new hull edge r→l.
   const TriangleId top = m.new_triangle();
