@@ -17,6 +17,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <numeric>
 #include <random>
 #include <string>
@@ -41,6 +42,19 @@ std::string joined(const std::vector<std::string>& lines) {
 std::size_t distinct_count(std::vector<Point> p) {
   std::sort(p.begin(), p.end(), [](const Point& a, const Point& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
   return static_cast<std::size_t>(std::unique(p.begin(), p.end()) - p.begin());
+}
+
+// The narrow fan of `mwst generate fan`: the apex (0, 0), then points alternating between radius 1
+// and radius 1e-3 at steps of 45/(n/2) degrees; x is multiplied by `mirror_x`.
+std::vector<Point> fan_points(std::size_t n, double mirror_x) {
+  const std::size_t wedges = (n - 2) / 2;
+  const double step = 45.0 / static_cast<double>(wedges) * (std::numbers::pi / 180.0);
+  std::vector<Point> p{{0.0, 0.0}};
+  for (std::size_t k = 0; k <= 2 * wedges; ++k) {
+    const double t = static_cast<double>(k) * step, r = k % 2 == 0 ? 1.0 : 1e-3;
+    p.push_back({mirror_x * r * std::cos(t), r * std::sin(t)});
+  }
+  return p;
 }
 
 // Triangulates `pts` and runs every check; returns the mesh for further checks.
@@ -184,6 +198,12 @@ const PointCase kPointCases[] = {
     {"ParallelWithDuplicates", [] { return test::with_duplicates(test::uniform_points(30000, 43), 20000, 44); }, true},
     {"ParallelTinyGrid", [] { return test::scaled_pow2(test::grid_points(190, 190, 45), -150); }, false},
     {"ParallelHugeKuzmin", [] { return test::scaled(test::kuzmin_points(40000, 46), 1e40); }, false},
+    // A narrow fan (as `mwst generate fan`): the apex and the tiny inner arc form one half, the
+    // cocircular unit arc the other, so the merge deletes almost every triangle of both halves
+    // near the seam (the ladder of hull neighbours needed a quadratic number of Lawson flips).
+    // Mirrored, the deleting half is R instead of L.
+    {"ParallelFan40k", [] { return fan_points(40000, 1.0); }, false},
+    {"ParallelFanMirrored40k", [] { return fan_points(40000, -1.0); }, false},
     // Pinched halves: the other half's far outliers wrap around one half so that both common
     // tangents touch the same vertex of it and its whole hull is zipped (these seeds do; before
     // the fix the merge looked up consumed ghosts and corrupted the mesh).

@@ -454,23 +454,18 @@ void merge_halves(Mesh& left, Mesh&& right) {
   const auto [lt, rt] = common_tangent(false);
   l = l0;
   r = r0;
-  // The chains the ladder zips: L's hull counter-clockwise from l0 to lt, R's clockwise from r0
-  // to rt. A half can be pinched: when the other half's outliers wrap around it, both tangents
-  // touch the same vertex (lt == l0) and its whole hull faces the gap, so its chain is the full
-  // cycle (a half has at least three hull vertices, so an empty chain is impossible then).
-  auto chain_length = [&](VertexId from, VertexId to, bool counter_clockwise) {
-    std::size_t k = 0;
-    VertexId v = from;
-    do {
-      v = counter_clockwise ? ccw(v) : cw(v);
-      ++k;
-      if (k > from_pairs.size()) throw InternalError("merge_halves: hull chain does not close");
-    } while (v != to);
-    return k;
-  };
-  std::size_t left_steps = chain_length(l0, lt, true);
-  std::size_t right_steps = chain_length(r0, rt, false);
-  const bool left_pinched = lt == l0, right_pinched = rt == r0;
+  // The ladder is Guibas and Stolfi's merge ("Primitives for the manipulation of general
+  // subdivisions", 1985, section 9): each rung joins l and r, and its apex is the first candidate
+  // above l→r on the facing boundary of L (resp. R) whose circle through l, r is empty. A triangle
+  // of a half whose circumcircle contains the next candidate is deleted first, which exposes its
+  // two other edges as the new boundary. Every rung is then Delaunay, so the work is linear in
+  // the size of the seam (joining hull neighbours only and repairing with Lawson flips can need a
+  // quadratic number of flips, e.g. between a tiny inner arc and a cocircular outer arc).
+  //
+  // A facing boundary is a chain of directed edges with the half's triangle on their left: L's
+  // runs counter-clockwise from l (edges l→lc), R's clockwise from r (edges rc→r, as handles in
+  // the triangle of R on that side). Edges exposed by deletions are kept on a stack (the chain
+  // near l or r); below the stack the chain is the original hull, read from the ghosts.
   const TriangleId below_l0 = ghost_to.at(l0);    // (l0, p, ∞): hull edge p→l0 (stays unless pinched)
   const TriangleId after_r0 = ghost_from.at(r0);  // (q, r0, ∞): hull edge r0→q (stays unless pinched)
   auto corner_of = [&](TriangleId t, VertexId v) {
@@ -487,57 +482,119 @@ void merge_halves(Mesh& left, Mesh&& right) {
   m.triangles[bottom].v = {r0, l0, kInfinite};
   link(make_handle(bottom, 0), make_handle(below_l0, corner_of(below_l0, cw(l0))));   // l0→∞
   link(make_handle(bottom, 1), make_handle(after_r0, corner_of(after_r0, ccw(r0))));  // ∞→r0
+  std::vector<Handle> left_exposed, right_exposed;
+  std::vector<TriangleId> freed;          // slots of deleted triangles and consumed ghosts
+  std::vector<std::uint8_t> ghost_consumed(m.triangles.size(), 0);  // (its slot may hold a rung now)
+  auto hull_edge_inside = [&](TriangleId g) { return m.triangles[g].n[corner_of(g, kInfinite)]; };
+  // kNone once a pinched half's chain has gone round its whole hull.
+  auto left_front = [&] {
+    if (!left_exposed.empty()) return left_exposed.back();
+    const TriangleId g = ghost_from.at(l);
+    return ghost_consumed[g] ? kNone : hull_edge_inside(g);
+  };
+  auto right_front = [&] {
+    if (!right_exposed.empty()) return right_exposed.back();
+    const TriangleId g = ghost_to.at(r);
+    return ghost_consumed[g] ? kNone : hull_edge_inside(g);
+  };
+  auto pop_left = [&] {
+    if (!left_exposed.empty()) {
+      left_exposed.pop_back();
+    } else {
+      const TriangleId g = ghost_from.at(l);
+      ghost_consumed[g] = 1;
+      freed.push_back(g);
+    }
+  };
+  auto pop_right = [&] {
+    if (!right_exposed.empty()) {
+      right_exposed.pop_back();
+    } else {
+      const TriangleId g = ghost_to.at(r);
+      ghost_consumed[g] = 1;
+      freed.push_back(g);
+    }
+  };
+  auto origin = [&](Handle h) { return m.triangles[h >> 2].v[next3(h & 3)]; };
+  auto target = [&](Handle h) { return m.triangles[h >> 2].v[prev3(h & 3)]; };
+  auto apex = [&](Handle h) { return m.triangles[h >> 2].v[h & 3]; };
+  auto take_slot = [&] {
+    if (freed.empty()) return m.new_triangle();
+    const TriangleId t = freed.back();
+    freed.pop_back();
+    return t;
+  };
   Handle pending = make_handle(bottom, 2);  // r0→l0: the twin of the next triangle's base l→r
   std::vector<Handle> suspects;
   const std::size_t limit = m.triangles.size();
   for (std::size_t step = 0;; ++step) {
     if (step > limit) throw InternalError("merge_halves: ladder does not terminate");
-    if (left_steps == 0 && right_steps == 0) break;  // (l, r) is the upper common tangent
-    // (A chain's next vertex is looked up only while the chain has edges left: in a pinched
-    // half the first ghost of the chain has already been consumed when the cycle closes.)
-    const VertexId lc = left_steps > 0 ? ccw(l) : kNone, rc = right_steps > 0 ? cw(r) : kNone;
-    const bool l_valid = left_steps > 0 && orient2d(P[l], P[r], P[lc]) > 0;
-    const bool r_valid = right_steps > 0 && orient2d(P[l], P[r], P[rc]) > 0;
-    if (!l_valid && !r_valid) throw InternalError("merge_halves: no valid ladder step");
-    // A candidate is blocked if its triangle would overlap the other hull.
-    bool l_ok = l_valid, r_ok = r_valid;
-    if (l_valid && r_valid) {
-      const int o_l = orient2d(P[r], P[lc], P[rc]);  // rc inside the corner at r of (l, r, lc)?
-      if (o_l > 0 || (o_l == 0 && strictly_between(r, lc, rc))) l_ok = false;
-      const int o_r = orient2d(P[rc], P[l], P[lc]);  // lc inside the corner at l of (l, r, rc)?
-      if (o_r > 0 || (o_r == 0 && strictly_between(l, rc, lc))) r_ok = false;
-      if (l_ok && r_ok) {
-        // Both possible: take the Delaunay choice (rc not inside the circle of (l, r, lc)).
-        if (incircle(P[l], P[r], P[lc], P[rc]) > 0) l_ok = false;
-      }
-      if (!l_ok && !r_ok) throw InternalError("merge_halves: no valid ladder step");
+    Handle lf = left_front(), rf = right_front();
+    VertexId lc = lf == kNone ? kNone : target(lf), rc = rf == kNone ? kNone : origin(rf);
+    bool l_valid = lc != kNone && orient2d(P[l], P[r], P[lc]) > 0;
+    bool r_valid = rc != kNone && orient2d(P[l], P[r], P[rc]) > 0;
+    // Delete the triangles of L left of l→lc while their apex lies inside the circle (l, r, lc).
+    while (l_valid) {
+      const VertexId x = apex(lf);
+      if (x == kInfinite || incircle(P[l], P[r], P[lc], P[x]) <= 0) break;
+      const TriangleId t = lf >> 2;
+      const unsigned k = lf & 3;
+      const Handle lc_x = m.sym(make_handle(t, next3(k))), x_l = m.sym(make_handle(t, prev3(k)));
+      pop_left();
+      left_exposed.push_back(lc_x);  // x→lc
+      left_exposed.push_back(x_l);  // l→x
+      freed.push_back(t);
+      lf = x_l;
+      lc = x;
+      l_valid = orient2d(P[l], P[r], P[lc]) > 0;
     }
-    if (l_ok) {
-      // Consume L's hull edge l→lc: its ghost (lc, l, ∞) becomes the triangle (l, r, lc).
-      const TriangleId g = ghost_from.at(l);
-      const Handle hull_twin = m.triangles[g].n[corner_of(g, kInfinite)];  // l→lc in L
+    // The mirror image on R: triangles right of rc→r whose apex lies inside (l, r, rc).
+    while (r_valid) {
+      const VertexId y = apex(rf);
+      if (y == kInfinite || incircle(P[l], P[r], P[rc], P[y]) <= 0) break;
+      const TriangleId t = rf >> 2;
+      const unsigned k = rf & 3;
+      const Handle r_y = m.sym(make_handle(t, next3(k))), y_rc = m.sym(make_handle(t, prev3(k)));
+      pop_right();
+      right_exposed.push_back(y_rc);  // rc→y
+      right_exposed.push_back(r_y);   // y→r
+      freed.push_back(t);
+      rf = r_y;
+      rc = y;
+      r_valid = orient2d(P[l], P[r], P[rc]) > 0;
+    }
+    if (l == lt && r == rt) break;  // (l, r) is the upper common tangent
+    if (!l_valid && !r_valid) throw InternalError("merge_halves: no valid ladder step");
+    // Both candidates possible: take the Delaunay choice (rc not inside the circle of (l, r, lc)).
+    const bool take_left = l_valid && (!r_valid || incircle(P[l], P[r], P[lc], P[rc]) <= 0);
+    if (take_left) {
+      // The triangle (l, r, lc) on the boundary edge l→lc.
+      pop_left();
+      const TriangleId g = take_slot();
       m.triangles[g].v = {l, r, lc};
-      link(make_handle(g, 1), hull_twin);     // lc→l
-      link(make_handle(g, 2), pending);       // l→r
-      pending = make_handle(g, 0);            // r→lc, twin of the next base lc→r
+      link(make_handle(g, 1), lf);       // lc→l
+      link(make_handle(g, 2), pending);  // l→r
+      pending = make_handle(g, 0);       // r→lc, twin of the next base lc→r
       suspects.push_back(make_handle(g, 1));
       suspects.push_back(make_handle(g, 2));
       l = lc;
-      --left_steps;
     } else {
-      // Consume R's hull edge rc→r: its ghost (r, rc, ∞) becomes the triangle (l, r, rc).
-      const TriangleId g = ghost_to.at(r);
-      const Handle hull_twin = m.triangles[g].n[corner_of(g, kInfinite)];  // rc→r in R
+      // The triangle (l, r, rc) on the boundary edge rc→r.
+      pop_right();
+      const TriangleId g = take_slot();
       m.triangles[g].v = {l, r, rc};
-      link(make_handle(g, 0), hull_twin);     // r→rc
-      link(make_handle(g, 2), pending);       // l→r
-      pending = make_handle(g, 1);            // rc→l, twin of the next base l→rc
+      link(make_handle(g, 0), rf);       // r→rc
+      link(make_handle(g, 2), pending);  // l→r
+      pending = make_handle(g, 1);       // rc→l, twin of the next base l→rc
       suspects.push_back(make_handle(g, 0));
       suspects.push_back(make_handle(g, 2));
       r = rc;
-      --right_steps;
     }
   }
+  // A half is pinched when its whole hull faced the gap: its chain went round the full cycle and
+  // the hull edge after l (before r) was consumed; the top bridge then meets the bottom one.
+  auto consumed = [&](TriangleId g) { return ghost_consumed[g] != 0; };
+  const bool left_pinched = consumed(ghost_from.at(l)), right_pinched = consumed(ghost_to.at(r));
   // The top ghost U = (l, r, ∞) for the new hull edge r→l.
   const TriangleId top = m.new_triangle();
   m.triangles[top].v = {l, r, kInfinite};
@@ -555,6 +612,7 @@ void merge_halves(Mesh& left, Mesh&& right) {
     const TriangleId after_l = ghost_from.at(l);  // (u, l, ∞): hull edge l→u, stays
     link(make_handle(top, 1), make_handle(after_l, corner_of(after_l, ccw(l))));  // ∞→l
   }
+  for (const TriangleId t : freed) m.kill_triangle(t);  // (none left unless deletions outnumber rungs)
   link(make_handle(top, 2), pending);  // l→r
   suspects.push_back(pending);
   restore_delaunay(m, suspects);
