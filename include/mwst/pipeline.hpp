@@ -76,6 +76,13 @@ double estimated_bytes(Method method, double triangles);
 
 inline constexpr std::size_t kDefaultOptTrials = std::numeric_limits<std::size_t>::max();
 
+// Where refinement may put Steiner points on input segments (Triangle's -Y and -YY).
+enum class SegmentSplitting {
+  kAllowed,      // anywhere (the default)
+  kNotBoundary,  // not on segments of the triangulation's boundary (-Y)
+  kNever,        // on no input segment (-YY)
+};
+
 struct TriangulateOptions {
   Method method = Method::kDt;
   double min_angle_deg = 20.0;                 // DR / BRH angle bound α; 0 = none
@@ -100,6 +107,14 @@ struct TriangulateOptions {
   // least domain area / max_area triangles, estimated_bytes of them; refinement makes about twice
   // that) is refused with a ResourceError before any refinement.
   double memory_budget_bytes = 0.0;
+  // Triangle's -D: the result is Delaunay across segments too (conforming Delaunay), input segments
+  // being split where needed.
+  bool conforming_delaunay = false;
+  SegmentSplitting segment_splitting = SegmentSplitting::kAllowed;
+  // Triangle's -a without a number: each Region's max_area bounds the triangles of its region.
+  bool regional_area_limits = false;
+  // Worker threads (0: all hardware threads). Results do not depend on it.
+  unsigned threads = 0;
   // Called at every phase (may be empty).
   ProgressCallback progress;
 };

@@ -28,6 +28,13 @@ struct Pslg {
   std::vector<Segment> segments;        // empty for a .node input
   std::vector<Point> holes;             // hole seeds
   std::vector<Region> regions;
+  // An existing triangulation of `points` to refine instead of starting from the constrained
+  // Delaunay triangulation (Triangle's -r, read from a .ele): 3 point indices per triangle,
+  // 0-based. Empty: none.
+  std::vector<std::uint32_t> triangles;
+  // Per triangle of `triangles`, its area bound (Triangle's .area file, read with -r -a); a value
+  // <= 0 means none. Empty: no per-triangle bounds.
+  std::vector<double> triangle_max_area;
   bool is_poly = false;                 // read from a .poly (segments section present)
   int first_index = 1;                  // 0 or 1: the numbering base the input used
   std::string source;                   // file name, for messages

@@ -602,6 +602,13 @@ void check_options(const TriangulateOptions& o) {
     // Every triangle with a vertex-empty disk inside it is a 1-bundle; two neighbours a 2-bundle.
     throw std::invalid_argument("--bundle-k must be at least 3 (0 = the default from the angle)");
   }
+  // Declared for Triangle's -D, -Y/-YY and -a (issue: Triangle's formats and switches in full);
+  // refused until the mesher honours them, so that no caller gets a mesh that silently ignores them.
+  if (o.conforming_delaunay) throw std::invalid_argument("conforming_delaunay is not supported yet");
+  if (o.segment_splitting != SegmentSplitting::kAllowed) {
+    throw std::invalid_argument("segment_splitting other than kAllowed is not supported yet");
+  }
+  if (o.regional_area_limits) throw std::invalid_argument("regional_area_limits is not supported yet");
 }
 
 bool method_reads_option(Method method, std::string_view option) {
@@ -628,6 +635,9 @@ double Report::total_seconds() const {
 
 Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* out) {
   check_options(options);
+  if (!pslg.triangles.empty()) {
+    throw std::invalid_argument(pslg.source + ": refining an existing triangulation is not supported yet");
+  }
   const Clock::time_point start = Clock::now();
   Report report;
   report.input = pslg.source;
