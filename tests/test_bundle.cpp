@@ -1,6 +1,6 @@
 // tests/test_bundle.cpp — the exact bundle number (mwst/bundle.hpp, src/algorithms/bundle.cpp),
 // after Boyacı, Erten, Üngör, "Triangulations Loosing Bundles and Weight" (k-bundles) and
-// ALGORITHMS.md ("Exact bundle number of a triangulation").
+// docs/algorithms/bundle-number.md.
 //
 // The oracle is independent of the library's method: it enumerates EVERY pair of vertices p, q (not
 // only Delaunay edges), finds the exact range [s_lo, s_hi] of vertex-empty disks through p and q
@@ -360,7 +360,7 @@ TEST(Bundle, CounterexampleNeedsThePencilInterior) {
   EXPECT_EQ(r.bundle_number, 6u);
   EXPECT_EQ(r.circumdisk_bound, 5u);
   EXPECT_EQ(r.triangles.size(), 6u);
-  // ALGORITHMS.md's disk: centre (9.12, 4.84), r² = 25.04, through (13, 8) and (5, 2), is
+  // docs/algorithms/bundle-number.md's disk: centre (9.12, 4.84), r² = 25.04, through (13, 8) and (5, 2), is
   // vertex-empty and meets all 6; ours must be an equally valid witness.
   expect_matches_oracle(kCounterexample, finite_triangles(m));
   const std::vector<std::uint32_t> cheap = circumdisk_bundle_per_triangle(m);

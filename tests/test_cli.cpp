@@ -1,4 +1,4 @@
-// tests/test_cli.cpp — the `mwst` command line (src/cli/) against the contract of DESIGN.md, run as
+// tests/test_cli.cpp — the `mwst` command line (src/cli/) against the contract of docs/DESIGN.md, run as
 // a real process (the binary at MWST_BINARY) on files in a fresh temporary directory:
 //   - every bad input exits 1 with exactly one stderr line "mwst: FILE[:LINE]: ..." and leaves no
 //     output file behind; every bad usage exits 2 and writes nothing;
@@ -788,7 +788,7 @@ TEST(Cli, BadTimeLimitIsAUsageError) {
   box.put("in.poly", kSquare + "4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n");
   for (const std::string bad : {"-1", "0", "nan", "NaN", "inf", "-inf", "abc", "1s", ""}) {
     const Outcome r = box.run({"triangulate", "in.poly", "--method", "dr", "--time-limit", bad});
-    // Bad usage (DESIGN.md): exit 2, the problem on the first line (a hint to --help follows).
+    // Bad usage (docs/DESIGN.md): exit 2, the problem on the first line (a hint to --help follows).
     EXPECT_EQ(r.exit_code, 2) << "'" << bad << "'\n" << describe(r);
     EXPECT_EQ(r.err.rfind("mwst: --time-limit: ", 0), 0u) << describe(r);
     EXPECT_EQ(box.entries(), std::set<std::string>{"in.poly"}) << bad;

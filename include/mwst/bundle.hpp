@@ -12,7 +12,7 @@
 // pencil D_s: centre m + s·h (m the midpoint of pq, h = (q−p)⊥/2), s in [s_lo, s_hi], the ends
 // being the circumdisks of the two Delaunay triangles on pq (a hull side is unbounded). So the
 // maximum is over the pencils of the Delaunay edges; circumdisks alone give only a lower bound
-// (ALGORITHMS.md has a 7-point example where they give 5 and the answer is 6).
+// (docs/algorithms/bundle-number.md has a 7-point example where they give 5 and the answer is 6).
 //
 // Vertices. V is the set of vertices of the counted triangles (for a Mesh: the vertices of its
 // in-domain triangles; a point used only by carved-away triangles, or not used at all, is not a

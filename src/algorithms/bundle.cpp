@@ -3,7 +3,7 @@
 // Boyacı, Erten, Üngör, "Triangulations Loosing Bundles and Weight" define k-bundles (k triangles
 // whose interiors meet one vertex-empty open disk) and prove that a k-bundle-free triangulation
 // respecting the local feature size weighs O(1)·MWST. This file measures the largest bundle exactly,
-// following the method of ALGORITHMS.md ("Exact bundle number of a triangulation").
+// following the method of docs/algorithms/bundle-number.md.
 //
 // Geometry of one pencil. Let pq be an edge of DT(V), V the vertices of the triangulation T. In
 // local coordinates p = (−1, 0), q = (1, 0) the disk D_s has centre (0, s) and radius √(1 + s²).
@@ -29,7 +29,7 @@
 // vertex x: s = (x−p)·(x−q) / orient(p, q, x)) and the tangents at p or q (s = (x−p)·(p−q) / orient
 // and (x−q)·(q−p) / orient). Their rounded values carry a rigorous error bound; when two of them are
 // too close to order by their values they are compared exactly (expansion arithmetic,
-// algorithms/expansion.hpp). Exact ties are common in meshes (grids, collinear edges: the tangent
+// src/geometry/expansion.hpp). Exact ties are common in meshes (grids, collinear edges: the tangent
 // at p along an edge above the line equals the tangent along the collinear edge below it, and then
 // no disk meets both triangles). Tangencies to edge interiors are ordered by their rounded values.
 //

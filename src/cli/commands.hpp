@@ -33,7 +33,7 @@
 
 namespace mwst::cli {
 
-// Exit codes of the command-line contract (DESIGN.md).
+// Exit codes of the command-line contract (docs/DESIGN.md).
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitBadInput = 1;  // also: `mwst check` found violations
 inline constexpr int kExitUsage = 2;

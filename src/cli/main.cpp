@@ -1,7 +1,7 @@
 // The `mwst` command: light Steiner triangulations after Boyacı, Erten, Üngör, "Triangulations
 // Loosing Bundles and Weight". Registers the subcommands (src/cli/commands.hpp), parses the command
 // line with CLI11, runs the chosen subcommand and turns its errors into the exit codes of the
-// contract in DESIGN.md: 0 done, 1 bad input, 2 bad usage, 3 internal error, 4 out of resources
+// contract in docs/DESIGN.md: 0 done, 1 bad input, 2 bad usage, 3 internal error, 4 out of resources
 // (memory: the budget of --max-memory, by default 75% of the machine's, ran out, or a request
 // cannot fit in it; one line saying so and what to try, and no output files).
 //
