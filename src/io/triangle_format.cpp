@@ -27,6 +27,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <algorithm>
 #include <array>
 #include <cstring>
 #include <exception>
@@ -917,32 +918,46 @@ class TextBuffer {
 
 constexpr std::size_t kMaxIntChars = 20, kMaxDoubleChars = 24;
 
-// A text built by appending: numbers with std::to_chars (doubles shortest round-trip).
+// A text built by appending: numbers with std::to_chars (doubles shortest round-trip) written
+// straight into the string's storage, with one room check per piece.
 class Text {
  public:
   Text& operator<<(std::string_view piece) {
-    text_ += piece;
+    room(piece.size());
+    std::memcpy(text_.data() + used_, piece.data(), piece.size());
+    used_ += piece.size();
     return *this;
   }
   Text& operator<<(char c) {
-    text_ += c;
+    room(1);
+    text_[used_++] = c;
     return *this;
   }
   Text& integer(std::int64_t v) {
-    char buf[24];
-    text_.append(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
+    room(kMaxIntChars);
+    used_ = static_cast<std::size_t>(std::to_chars(text_.data() + used_, text_.data() + text_.size(), v).ptr - text_.data());
     return *this;
   }
   Text& real(double v) {
-    char buf[32];
-    text_.append(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
+    room(kMaxDoubleChars + 8);
+    used_ = static_cast<std::size_t>(std::to_chars(text_.data() + used_, text_.data() + text_.size(), v).ptr - text_.data());
     return *this;
   }
   void reserve(std::size_t n) { text_.reserve(n); }
-  std::string take() { return std::move(text_); }
+  std::string take() {
+    text_.resize(used_);
+    used_ = 0;
+    return std::move(text_);
+  }
 
  private:
+  // The string's size runs at most 64 KiB ahead of the text (so that only what is written is
+  // zeroed first); its capacity grows by doubling when reserve() was too small.
+  void room(std::size_t n) {
+    if (used_ + n > text_.size()) text_.resize(used_ + n + 65536);
+  }
   std::string text_;
+  std::size_t used_ = 0;
 };
 
 // The end of an output .poly: "H", then "i x y" per hole, and, when there are regions, "R", then
@@ -1157,10 +1172,12 @@ struct Carried {
   std::vector<MeshEdge> edges;
   std::vector<std::int32_t> vertex_marker;
   std::vector<std::int32_t> segment_marker;
-  std::vector<std::uint32_t> boundary_edges;  // indices into edges: on the boundary, no subsegment
+  std::vector<std::array<std::uint32_t, 2>> boundary_edges;  // on the boundary, no subsegment
 };
 
-Carried carry_markers(const MeshArrays& mesh) {
+// `list_edges`: fill Carried::edges (for .edge and .v.edge); otherwise only the boundary edges are
+// looked at.
+Carried carry_markers(const MeshArrays& mesh, bool list_edges) {
   Carried out;
   const std::size_t nt = mesh.triangle_count();
   const std::size_t nv = mesh.vertex_count();
@@ -1171,23 +1188,26 @@ Carried carry_markers(const MeshArrays& mesh) {
   }
   std::vector<bool> segment_on_boundary(mesh.segment_count(), false);
   std::vector<bool> vertex_on_boundary(nv, false);
-  out.edges.reserve(3 * nt / 2 + 3);
+  if (list_edges) out.edges.reserve(3 * nt / 2 + 3);
   for (std::size_t t = 0; t < nt; ++t) {
     for (unsigned k = 0; k < 3; ++k) {
       const std::int32_t across = mesh.neighbours[3 * t + k];
-      if (across >= 0 && static_cast<std::size_t>(across) < t) continue;
+      if (across >= 0 && (!list_edges || static_cast<std::size_t>(across) < t)) continue;
       const std::uint32_t a = mesh.triangles[3 * t + (k + 1) % 3], b = mesh.triangles[3 * t + (k + 2) % 3];
-      const auto found = segment_of.find(edge_key(a, b));
-      const std::int64_t segment = found == segment_of.end() ? std::int64_t{-1} : std::int64_t{found->second};
+      std::int64_t segment = -1;
+      if (!segment_of.empty()) {
+        const auto found = segment_of.find(edge_key(a, b));
+        if (found != segment_of.end()) segment = found->second;
+      }
       if (across < 0) {
         vertex_on_boundary[a] = vertex_on_boundary[b] = true;
         if (segment >= 0) {
           segment_on_boundary[static_cast<std::size_t>(segment)] = true;
         } else {
-          out.boundary_edges.push_back(static_cast<std::uint32_t>(out.edges.size()));
+          out.boundary_edges.push_back({a, b});
         }
       }
-      out.edges.push_back({static_cast<std::uint32_t>(t), k, a, b, segment});
+      if (list_edges) out.edges.push_back({static_cast<std::uint32_t>(t), k, a, b, segment});
     }
   }
   // Segments: a nonzero marker stays; else 1 on the boundary, 0 inside.
@@ -1221,7 +1241,7 @@ std::vector<TriangleFile> format_triangle_files(const MeshArrays& mesh, const st
   const std::int64_t base = what.first_index;
   const std::size_t nt = mesh.triangle_count();
   const std::size_t nv = mesh.vertex_count();
-  const Carried carried = carry_markers(mesh);
+  const Carried carried = carry_markers(mesh, what.edges || what.voronoi);
   const bool markers = what.boundary_markers;
 
   // Output numbers of the vertices: all of them, or with -j only those of some triangle.
@@ -1286,7 +1306,7 @@ std::vector<TriangleFile> format_triangle_files(const MeshArrays& mesh, const st
     for (std::size_t s = 0; s < mesh.segment_count(); ++s) {
       segment_line(mesh.segments[2 * s], mesh.segments[2 * s + 1], carried.segment_marker[s]);
     }
-    for (const std::uint32_t e : carried.boundary_edges) segment_line(carried.edges[e].a, carried.edges[e].b, 1);
+    for (const auto& [a, b] : carried.boundary_edges) segment_line(a, b, 1);
     out << poly_holes_and_regions(holes, regions, base);
     files.push_back({".poly", out.take()});
   }
