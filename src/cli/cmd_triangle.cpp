@@ -7,7 +7,7 @@
 // also box.poly (its segments, holes and regions) and with -a alone box.area. The output is
 // box.1.node, box.1.ele, ... (a name that ends in an iteration number gets it incremented:
 // box.1 → box.2; -I keeps the input's name and then writes no file that would replace an input,
-// as Triangle does), all written only after the whole computation succeeded. Unless -Q, a summary
+// saying "NOT writing a .poly file." for it), all written only after the whole computation succeeded. Unless -Q, a summary
 // in Triangle's words: the files opened and written, the phases' times and the statistics.
 #include <algorithm>
 #include <cstdint>
@@ -200,7 +200,7 @@ int run_triangle(const std::vector<std::string>& arguments) {
   what.first_index = in.pslg.points.empty() ? (switches.zero_based ? 0 : 1) : in.pslg.first_index;
 
   // Every output name, before any work: one that would replace an input is refused (with -I:
-  // left out, as Triangle leaves it out).
+  // left out, and said so).
   const std::string prefix = switches.no_iteration_numbers ? stem : next_iteration(stem);
   const auto is_input = [&](const std::string& path) {
     return std::find(in.paths.begin(), in.paths.end(), path) != in.paths.end();
