@@ -66,6 +66,8 @@ def _float_rows(value: Any, name: str) -> np.ndarray:
     """`value` as a C-contiguous float64 array. One that already is one is returned as it is (its
     memory is read by the library in place); other numeric arrays are converted (a copy)."""
     array = np.asarray(value)
+    if array.ndim == 1 and array.size == 0:  # an empty list: no points
+        return np.zeros((0, 2))
     if array.dtype == np.float64 and array.flags.c_contiguous:
         return array
     if array.dtype.kind not in "fiu":
