@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import enum
 import json
+import warnings
 from collections.abc import Mapping
 from typing import Any, NamedTuple, Optional
 
@@ -32,6 +33,7 @@ InputError.__module__ = ResourceError.__module__ = "mwst"
 __all__ = [
     "InputError",
     "ResourceError",
+    "MeshWarning",
     "VertexKind",
     "Pslg",
     "Triangulation",
@@ -45,6 +47,11 @@ __all__ = [
     "plot",
     "__version__",
 ]
+
+
+class MeshWarning(UserWarning):
+    """What the library warns about (report["warnings"]): hole seeds it ignored, region seeds
+    outside the domain, ... mwst.triangulate issues one per warning."""
 
 
 class VertexKind(enum.IntEnum):
@@ -321,7 +328,8 @@ def triangulate(
             vertex) or options, or input the library refuses, with the library's message.
         ResourceError: a request that cannot fit in memory.
 
-    The GIL is released while the mesh is computed.
+    The GIL is released while the mesh is computed. The library's warnings (report["warnings"])
+    are issued as mwst.MeshWarning.
     """
     pslg = _as_pslg(vertices, segments, holes, regions)
     if isinstance(method, str) is False or isinstance(steiner, str) is False:
@@ -347,6 +355,8 @@ def triangulate(
         pslg.source,
     )
     report = json.loads(out.pop("report"))
+    for warning in report.get("warnings", []):
+        warnings.warn(warning, MeshWarning, stacklevel=2)
     return Triangulation(report=report, **out)
 
 

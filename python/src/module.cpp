@@ -32,6 +32,7 @@
 #include "mwst/error.hpp"
 #include "mwst/io.hpp"
 #include "mwst/pipeline.hpp"
+#include "mwst/triangle_switches.hpp"
 #include "mwst/version.hpp"
 
 namespace py = pybind11;
@@ -422,6 +423,96 @@ void write_mesh(const std::string& prefix, const DoubleArray& vertices, const st
   mwst::io::write_mesh(mesh, prefix, first_index);
 }
 
+const char* segment_splitting_name(mwst::SegmentSplitting s) {
+  switch (s) {
+    case mwst::SegmentSplitting::kAllowed: return "allowed";
+    case mwst::SegmentSplitting::kNotBoundary: return "not_boundary";
+    case mwst::SegmentSplitting::kNever: return "never";
+  }
+  return "";
+}
+
+// What the library's parser makes of a Triangle switch string: the TriangleSwitches fields and
+// the options they set (the field names of TriangleSwitches and TriangulateOptions).
+py::dict switches_dict(const mwst::TriangleSwitches& s) {
+  py::dict out;
+  const mwst::TriangulateOptions& o = s.options;
+  out["method"] = std::string(mwst::method_name(o.method));
+  out["min_angle"] = o.min_angle_deg;
+  out["max_area"] = o.max_area > 0.0 ? py::object(py::float_(o.max_area)) : py::object(py::none());
+  out["max_steiner"] = o.max_steiner == std::numeric_limits<std::size_t>::max() ? py::object(py::none())
+                                                                                : py::object(py::int_(o.max_steiner));
+  out["convex_hull"] = o.convex_hull;
+  out["conforming_delaunay"] = o.conforming_delaunay;
+  out["segment_splitting"] = segment_splitting_name(o.segment_splitting);
+  out["regional_area_limits"] = o.regional_area_limits;
+  out["poly"] = s.poly;
+  out["refine"] = s.refine;
+  out["quality"] = s.quality;
+  out["region_attributes"] = s.region_attributes;
+  out["edges"] = s.edges;
+  out["neighbours"] = s.neighbours;
+  out["voronoi"] = s.voronoi;
+  out["zero_based"] = s.zero_based;
+  out["jettison"] = s.jettison;
+  out["no_boundary_markers"] = s.no_boundary_markers;
+  out["no_poly_output"] = s.no_poly_output;
+  out["no_node_output"] = s.no_node_output;
+  out["no_ele_output"] = s.no_ele_output;
+  out["no_iteration_numbers"] = s.no_iteration_numbers;
+  out["ignore_holes"] = s.ignore_holes;
+  out["quiet"] = s.quiet;
+  out["verbosity"] = s.verbosity;
+  out["help"] = s.help;
+  out["ignored"] = s.ignored;
+  return out;
+}
+
+py::dict parse_switches(const std::string& switches) { return switches_dict(mwst::parse_triangle_switches(switches)); }
+
+// Triangle's triangulate(): the switches parsed by the library's parser give the options; the
+// input graph is what they say Triangle reads (segments, holes and regions only with p, holes not
+// with O, the triangles to refine with r). Returns the arrays, the report and the parsed switches.
+py::dict triangulate_switches(const DoubleArray& vertices, const std::optional<IndexArray>& segments,
+                              const std::optional<DoubleArray>& holes, const std::optional<DoubleArray>& regions,
+                              const std::optional<MarkerArray>& vertex_markers,
+                              const std::optional<MarkerArray>& segment_markers,
+                              const std::optional<IndexArray>& triangles,
+                              const std::optional<DoubleArray>& triangle_max_area, const std::string& switches) {
+  const mwst::TriangleSwitches parsed = mwst::parse_triangle_switches(switches);
+  mwst::TriangulateOptions options = parsed.options;
+  mwst::check_options(options);
+  const bool poly = parsed.poly;
+  mwst::Pslg pslg = pslg_of(vertices, poly ? segments : std::nullopt, poly ? segment_markers : std::nullopt,
+                            vertex_markers, poly && !parsed.ignore_holes ? holes : std::nullopt,
+                            poly ? regions : std::nullopt);
+  if (parsed.refine) {
+    if (!triangles) input_error("-r: refining needs the triangles of the mesh to refine ('triangles')");
+    for (const auto& t : triangles_of(*triangles, pslg.points.size(), "triangles")) {
+      pslg.triangles.insert(pslg.triangles.end(), t.begin(), t.end());
+    }
+    if (triangle_max_area) {
+      const std::size_t m = pslg.triangles.size() / 3;
+      if (triangle_max_area->ndim() != 1 || static_cast<std::size_t>(triangle_max_area->shape(0)) != m) {
+        input_error("triangle_max_area: expected one area per triangle (" + std::to_string(m) + "), got shape " +
+                    shape_text(*triangle_max_area));
+      }
+      pslg.triangle_max_area.assign(triangle_max_area->data(), triangle_max_area->data() + m);
+    }
+  }
+  mwst::MeshArrays arrays;
+  std::string report;
+  {
+    py::gil_scoped_release unlocked;
+    arrays = mwst::triangulate_arrays(pslg, options);
+    report = mwst::to_json(arrays.report).dump();
+  }
+  py::dict out = arrays_dict(std::move(arrays));
+  out["report"] = report;
+  out["switches"] = switches_dict(parsed);
+  return out;
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_mwst, m) {
@@ -456,6 +547,12 @@ PYBIND11_MODULE(_mwst, m) {
   m.def("check", &check, py::arg("vertices"), py::arg("segments"), py::arg("holes"), py::arg("mesh_vertices"),
         py::arg("mesh_triangles"), py::arg("mesh_segments"), py::arg("delaunay"), py::arg("min_angle"),
         py::arg("max_messages"), "The library's check_triangulation().");
+  m.def("parse_triangle_switches", &parse_switches, py::arg("switches"),
+        "The library's parse_triangle_switches(): what a Triangle switch string sets.");
+  m.def("triangulate_switches", &triangulate_switches, py::arg("vertices"), py::arg("segments"), py::arg("holes"),
+        py::arg("regions"), py::arg("vertex_markers"), py::arg("segment_markers"), py::arg("triangles"),
+        py::arg("triangle_max_area"), py::arg("switches"),
+        "triangulate_arrays() with the options of a Triangle switch string (mwst.triangle).");
   m.def("read_input", &read_input, py::arg("path"), "io::read_input: a .node or .poly file.");
   m.def("read_mesh", &read_mesh, py::arg("prefix"), "io::read_mesh: PREFIX.node, .ele and .poly.");
   m.def("write_mesh", &write_mesh, py::arg("prefix"), py::arg("vertices"), py::arg("vertex_markers"),

@@ -228,3 +228,11 @@ def test_a_pslg_or_dict_in_place_of_vertices():
     for other in (via_pslg, via_dict):
         np.testing.assert_array_equal(canonical_triangles(other.vertices, other.triangles),
                                       canonical_triangles(direct.vertices, direct.triangles))
+
+
+def test_library_warnings_become_python_warnings():
+    vertices, segments, _ = square_with_hole()
+    vertices = np.vstack([vertices, [[2.0, 2.0]]])
+    with pytest.warns(mwst.MeshWarning, match=r"hole 1 at \(2.000000, 2.000000\) lies on a segment or vertex"):
+        mesh = mwst.triangulate(vertices, segments, [[2.0, 2.0]])
+    assert mesh.report["warnings"] and len(mesh.triangles) == 12
