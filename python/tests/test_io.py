@@ -198,3 +198,17 @@ def test_stub_matches_the_package():
                   if p.kind not in (p.VAR_KEYWORD, p.VAR_POSITIONAL)]
         assert declared == actual, name
     assert pathlib.Path(mwst.__file__).with_name("py.typed").exists()
+
+
+def test_example_light_mesh(tmp_path):
+    """examples/python/light_mesh.py prints the four weights and saves the figure."""
+    example = pathlib.Path(__file__).resolve().parents[2] / "examples" / "python" / "light_mesh.py"
+    figure = tmp_path / "light.png"
+    out = subprocess.run([sys.executable, str(example), "-o", str(figure)], capture_output=True, text=True,
+                         check=True, cwd=tmp_path).stdout
+    weights = {line.split()[0]: float(line.split("weight")[1].split()[0])
+               for line in out.splitlines() if "weight" in line}
+    assert set(weights) == {"dt", "dr", "brh+flip", "opt"}
+    # opt starts from the lightest of its starts (the Delaunay triangulation among them).
+    assert weights["opt"] <= weights["dt"]
+    assert figure.stat().st_size > 10_000
