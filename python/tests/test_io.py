@@ -4,6 +4,7 @@ library's checker), mwst.bundle_number, mwst.plot, the stub and the docstrings."
 import ast
 import inspect
 import json
+import os
 import pathlib
 import subprocess
 import sys
@@ -204,8 +205,9 @@ def test_example_light_mesh(tmp_path):
     """examples/python/light_mesh.py prints the four weights and saves the figure."""
     example = pathlib.Path(__file__).resolve().parents[2] / "examples" / "python" / "light_mesh.py"
     figure = tmp_path / "light.png"
+    env = dict(os.environ, PYTHONPATH=str(pathlib.Path(mwst.__file__).resolve().parents[1]))
     out = subprocess.run([sys.executable, str(example), "-o", str(figure)], capture_output=True, text=True,
-                         check=True, cwd=tmp_path).stdout
+                         check=True, cwd=tmp_path, env=env).stdout
     weights = {line.split()[0]: float(line.split("weight")[1].split()[0])
                for line in out.splitlines() if "weight" in line}
     assert set(weights) == {"dt", "dr", "brh+flip", "opt"}
