@@ -212,7 +212,9 @@ class Triangulation:
         vertex_markers: (n,) int32 boundary markers (Triangle's).
         triangle_attributes: (m,) float64 regional attributes when the input has regions, else None.
         report: dict with the keys of the command line's JSON report (weights, angles, counts,
-            seconds, stop_reason, warnings, ...); empty for a mesh read from files.
+            seconds, stop_reason, warnings, ...); empty for a mesh read from files. Its "seconds"
+            also has "to_arrays": the library's conversion of the mesh into these arrays (not in
+            its "total", which is the triangulation's, as the command line reports it).
     """
 
     __slots__ = (
@@ -355,6 +357,8 @@ def triangulate(
         pslg.source,
     )
     report = json.loads(out.pop("report"))
+    # The library's conversion of the mesh to arrays (to_arrays), after triangulate()'s "total".
+    report["seconds"]["to_arrays"] = max(0.0, out.pop("library_seconds") - report["seconds"]["total"])
     for warning in report.get("warnings", []):
         warnings.warn(warning, MeshWarning, stacklevel=2)
     return Triangulation(report=report, **out)

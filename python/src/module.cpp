@@ -15,6 +15,7 @@
 #include <pybind11/stl.h>
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -206,13 +207,17 @@ py::dict triangulate(const DoubleArray& vertices, const std::optional<IndexArray
   pslg.source = source;
   mwst::MeshArrays arrays;
   std::string report;
+  double seconds = 0.0;  // the library's whole call: triangulate() and to_arrays()
   {
     py::gil_scoped_release unlocked;
+    const auto start = std::chrono::steady_clock::now();
     arrays = mwst::triangulate_arrays(pslg, options);
+    seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     report = mwst::to_json(arrays.report).dump();
   }
   py::dict out = arrays_dict(std::move(arrays));
   out["report"] = report;
+  out["library_seconds"] = seconds;
   return out;
 }
 
