@@ -334,7 +334,7 @@ def triangulate(
     are issued as mwst.MeshWarning.
     """
     pslg = _as_pslg(vertices, segments, holes, regions)
-    if isinstance(method, str) is False or isinstance(steiner, str) is False:
+    if not isinstance(method, str) or not isinstance(steiner, str):
         raise InputError("method and steiner must be strings")
     out = _mwst.triangulate(
         pslg.vertices,
