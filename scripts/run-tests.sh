@@ -100,7 +100,7 @@ if [ "$fuzz_seconds" -gt 0 ]; then
   # 321 CPU s of compile, and about 15 % fewer executions of fuzz_triangulate in the same time.
   CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1" -DMWST_BUILD_FUZZ=ON -DMWST_BUILD_TESTS=OFF -DMWST_BUILD_CGAL_TESTS=OFF
-  cmake --build build-fuzz -j "$jobs" --target fuzz_node fuzz_poly fuzz_triangulate
+  cmake --build build-fuzz -j "$jobs" --target fuzz_node fuzz_poly fuzz_ele fuzz_triangulate
   scratch=$(mktemp -d)
   trap 'rm -rf "$scratch"' EXIT
   mkdir -p build-fuzz/artifacts
@@ -111,6 +111,7 @@ if [ "$fuzz_seconds" -gt 0 ]; then
     case "$harness" in
       fuzz_node) cp data/*.node "$corpus/" ;;
       fuzz_poly) cp data/*.poly "$corpus/" ;;
+      fuzz_ele) cp tests/regression/*.ele tests/regression/*.area "$corpus/" ;;
       *) cp data/*.node data/*.poly "$corpus/" ;;
     esac
     # -seed fixes libFuzzer's choices; -timeout flags any single input slower than 60 s;
@@ -139,10 +140,14 @@ if [ "$fuzz_seconds" -gt 0 ]; then
   wait "$pid_node" || status_node=$?
   fuzz_report fuzz_node "$status_node"
   fuzz_report fuzz_poly "$status_poly"
-  step "fuzz_triangulate for $fuzz_seconds s"
+  step "fuzz_triangulate and fuzz_ele for $fuzz_seconds s each, side by side"
   status=0
+  status_ele=0
+  fuzz_one fuzz_ele & pid_ele=$!
   fuzz_one fuzz_triangulate || status=$?
+  wait "$pid_ele" || status_ele=$?
   fuzz_report fuzz_triangulate "$status"
+  fuzz_report fuzz_ele "$status_ele"
   echo "== run-tests: fuzz: $((SECONDS - t)) s" >&2
 fi
 echo "== run-tests: all passed in $((SECONDS - started)) s" >&2

@@ -33,102 +33,12 @@
 
 #include "mwst/geometry.hpp"
 #include "mwst/io.hpp"
+#include "mwst/pipeline.hpp"
+#include "cli_sandbox.hpp"
 
 namespace {
 
-namespace fs = std::filesystem;
-
-// ---- running the binary ------------------------------------------------------------------------
-
-struct Outcome {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-  std::vector<std::string> err_lines() const {
-    std::vector<std::string> lines;
-    std::istringstream in(err);
-    for (std::string line; std::getline(in, line);) lines.push_back(line);
-    return lines;
-  }
-};
-
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void spit(const fs::path& path, const std::string& content) {
-  std::ofstream out(path, std::ios::binary);
-  out << content;
-}
-
-// A fresh working directory (where the command runs and writes) and a separate directory for the
-// captured stdout/stderr, so that listing the working directory shows only what mwst wrote.
-class Sandbox {
- public:
-  Sandbox() {
-    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-    std::string name = std::string(info->test_suite_name()) + "_" + info->name();
-    for (char& c : name) {
-      if (c == '/') c = '_';
-    }
-    root_ = fs::path(testing::TempDir()) / ("mwst_cli_" + std::to_string(::getpid()) + "_" + name);
-    fs::remove_all(root_);
-    fs::create_directories(root_ / "work");
-    fs::create_directories(root_ / "capture");
-  }
-  ~Sandbox() {
-    std::error_code ec;
-    fs::remove_all(root_, ec);
-  }
-  fs::path dir() const { return root_ / "work"; }
-  std::string path(const std::string& name) const { return (dir() / name).string(); }
-  void put(const std::string& name, const std::string& content) const { spit(dir() / name, content); }
-  std::string get(const std::string& name) const { return slurp(dir() / name); }
-  bool has(const std::string& name) const { return fs::exists(dir() / name); }
-  std::set<std::string> entries() const {
-    std::set<std::string> names;
-    for (const auto& e : fs::directory_iterator(dir())) names.insert(e.path().filename().string());
-    return names;
-  }
-
-  // Runs `mwst args...` with the working directory as current directory.
-  Outcome run(const std::vector<std::string>& args) const {
-    const std::string out_path = (root_ / "capture" / "stdout").string();
-    const std::string err_path = (root_ / "capture" / "stderr").string();
-    const std::string work = dir().string();
-    std::vector<std::string> argv_storage = {MWST_BINARY};
-    argv_storage.insert(argv_storage.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (std::string& a : argv_storage) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    const pid_t pid = ::fork();
-    if (pid == 0) {
-      const int o = ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      const int e = ::open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      if (o < 0 || e < 0 || ::dup2(o, 1) < 0 || ::dup2(e, 2) < 0 || ::chdir(work.c_str()) != 0) ::_exit(127);
-      ::execv(argv[0], argv.data());
-      ::_exit(127);
-    }
-    Outcome r;
-    int status = 0;
-    if (pid > 0 && ::waitpid(pid, &status, 0) == pid && WIFEXITED(status)) r.exit_code = WEXITSTATUS(status);
-    r.out = slurp(out_path);
-    r.err = slurp(err_path);
-    return r;
-  }
-
- private:
-  fs::path root_;
-};
-
-std::string describe(const Outcome& r) {
-  return "exit " + std::to_string(r.exit_code) + "\n--- stdout:\n" + r.out + "--- stderr:\n" + r.err;
-}
-
-std::string data(const std::string& name) { return std::string(MWST_DATA_DIR) + "/" + name; }
+using namespace mwst_cli_test;
 
 std::vector<std::string> data_sets() {
   std::vector<std::string> names;
@@ -1174,7 +1084,7 @@ TEST(Cli, OptionsTheMethodDoesNotReadAreWarnedAbout) {
            {"--method", "dr", "--min-angle", "25", "--steiner", "circumcenter", "--max-area", "1", "--max-steiner", "5",
             "--time-limit", "10"},
            {"--method", "brh", "--min-angle", "25", "--bundle-k", "9", "--max-steiner", "5", "--max-area", "1"},
-           {"--method", "opt", "--min-angle", "25", "--bundle-k", "9", "--opt-trials", "1", "--exact-polish"},
+           {"--method", "opt", "--bundle-k", "9", "--opt-trials", "1", "--exact-polish"},
            {"--method", "opt", "--max-area", "0.1", "--opt-trials", "1", "--flip"},
            {"--method", "qtr", "--flip", "--convex-hull", "--strict", "--bundle"}}) {
     std::vector<std::string> call = {"triangulate", "in.poly", "-o", "ok"};
@@ -1218,6 +1128,41 @@ TEST(Cli, AreaBoundHoldsAfterFlipsAndOpt) {
 }
 
 // ---- 6. default prefix -------------------------------------------------------------------------
+
+TEST(Cli, MinAngleWithOptIsWarnedToBeNoAngleBound) {
+  Sandbox box;
+  box.put("in.poly", kSquare + "4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n");
+  Outcome r = box.run({"triangulate", "in.poly", "--method", "opt", "--min-angle", "20", "--opt-trials", "1",
+                       "--json", "o.json", "-o", "o"});
+  ASSERT_EQ(r.exit_code, 0) << describe(r);
+  ASSERT_EQ(r.err_lines().size(), 1u) << describe(r);
+  EXPECT_NE(r.err_lines()[0].find("mwst: warning: --min-angle bounds only the angles of opt's starting meshes"),
+            std::string::npos)
+      << describe(r);
+  EXPECT_EQ(nlohmann::json::parse(box.get("o.json"))["warnings"].size(), 1u);
+  // Not given: no warning (the default angle still shapes the starts, as documented).
+  r = box.run({"triangulate", "in.poly", "--method", "opt", "--opt-trials", "1", "-o", "p"});
+  ASSERT_EQ(r.exit_code, 0) << describe(r);
+  EXPECT_TRUE(r.err.empty()) << describe(r);
+}
+
+TEST(Cli, OptionErrorsOfTheLibraryNameTheFlags) {
+  // check_options names the field (min_angle_deg); each command names its own flag.
+  mwst::TriangulateOptions options;
+  options.min_angle_deg = 75.0;
+  try {
+    mwst::check_options(options);
+    ADD_FAILURE() << "an angle of 75 degrees was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()), "min_angle_deg must be in [0, 60) degrees");
+  }
+  Sandbox box;
+  box.put("in.poly", kSquare + "4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n");
+  const Outcome r = box.run({"triangle", "-pq75", "in.poly"});
+  EXPECT_EQ(r.exit_code, 2) << describe(r);
+  EXPECT_EQ(r.err, "mwst: -q must be in [0, 60) degrees\n");
+  EXPECT_EQ(box.entries(), (std::set<std::string>{"in.poly"}));
+}
 
 TEST(Cli, DefaultPrefixFollowsTriangle) {
   Sandbox box;

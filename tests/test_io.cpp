@@ -18,6 +18,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "mwst/error.hpp"
@@ -819,6 +820,27 @@ TEST(IoRegressionFiles, WordsAfterTheFieldsAreRefused) {
   const std::string ele = regression_file("garbage_after_triangle.ele");
   expect_error([] { mwst::io::read_mesh(regression_file("garbage_after_triangle")); }, 5,
                "triangle 2: unexpected 'x' after its fields", ele);
+}
+
+TEST(IoRegressionFiles, MeshToRefineWithItsAreas) {
+  // Triangle's -r input: a .node, a .ele naming its vertices, an .area with one bound per triangle.
+  Pslg square = mwst::io::read_node(regression_file("refine_square.node"));
+  mwst::io::read_triangles(square, regression_file("refine_square.ele"));
+  EXPECT_EQ(square.triangles, (std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3}));
+  mwst::io::read_triangle_areas(square, regression_file("refine_square.area"));
+  EXPECT_EQ(square.triangle_max_area, (std::vector<double>{0.1, -1.0}));
+  const std::string wrong_length = regression_file("refine_square_wrong_length.area");
+  expect_error([&] { mwst::io::read_triangle_areas(square, wrong_length); }, 2,
+               "triangle count 3 differs from the mesh's 2 triangles", wrong_length);
+  for (const auto& [name, line, phrase] :
+       {std::tuple<const char*, std::size_t, const char*>{"refine_missing_vertex.ele", 4,
+                                                          "triangle 2 names vertex 5, which does not exist"},
+        std::tuple<const char*, std::size_t, const char*>{"refine_repeated_vertex.ele", 4,
+                                                          "triangle 2 names vertex 3 twice"}}) {
+    SCOPED_TRACE(name);
+    const std::string path = regression_file(name);
+    expect_error([&] { mwst::io::read_triangles(square, path); }, line, phrase, path);
+  }
 }
 
 TEST(IoRegressionFiles, MeshWithByteOrderMarkAndLoneCr) {

@@ -27,6 +27,7 @@
 #include "mwst/quadtree.hpp"
 #include "mwst/pipeline.hpp"
 #include "mwst/arrays.hpp"
+#include "mwst/triangle_switches.hpp"
 #include "mwst/io.hpp"
 #include "mwst/draw.hpp"
 #include "mwst/generate.hpp"

@@ -592,15 +592,15 @@ std::size_t default_bundle_k(double min_angle_deg) {
 
 void check_options(const TriangulateOptions& o) {
   if (!(o.min_angle_deg >= 0.0 && o.min_angle_deg < 60.0)) {
-    throw std::invalid_argument("--min-angle must be in [0, 60) degrees");
+    throw std::invalid_argument("min_angle_deg must be in [0, 60) degrees");
   }
   if (std::isnan(o.max_area) || std::isinf(o.max_area)) {
-    throw std::invalid_argument("--max-area must be a finite number");
+    throw std::invalid_argument("max_area must be a finite number");
   }
-  if (std::isnan(o.time_budget_seconds)) throw std::invalid_argument("the time budget must be a number");
+  if (std::isnan(o.time_budget_seconds)) throw std::invalid_argument("time_budget_seconds must be a number");
   if (o.bundle_k == 1 || o.bundle_k == 2) {
     // Every triangle with a vertex-empty disk inside it is a 1-bundle; two neighbours a 2-bundle.
-    throw std::invalid_argument("--bundle-k must be at least 3 (0 = the default from the angle)");
+    throw std::invalid_argument("bundle_k must be at least 3 (0 = the default from the angle)");
   }
   // Declared for Triangle's -D, -Y/-YY and -a (issue: Triangle's formats and switches in full);
   // refused until the mesher honours them, so that no caller gets a mesh that silently ignores them.

@@ -87,7 +87,7 @@ int run_triangulate(const TriangulateArgs& a) {
   try {
     check_options(options);
   } catch (const std::invalid_argument& e) {
-    throw UsageError(e.what());
+    throw UsageError(with_flag_names(e.what(), Spelling::kTriangulate));
   }
   io::PictureFormat draw_format{};
   if (!a.draw.empty()) {
@@ -113,10 +113,15 @@ int run_triangulate(const TriangulateArgs& a) {
     if (!method_reads_option(options.method, option)) {
       report.warnings.push_back(option + " has no effect with --method " + a.method);
     }
+    // opt reads --min-angle for its DR and BRH starts only: its moves keep no angle bound.
+    if (option == "--min-angle" && options.method == Method::kOpt) {
+      report.warnings.push_back("--min-angle bounds only the angles of opt's starting meshes (its dr and brh "
+                                "starts), not of its result: opt's moves lower the weight whatever the angles");
+    }
   }
 
   OutputFiles out;
-  out.write_mesh(mesh, prefix, pslg.first_index);
+  out.write_mesh(mesh, prefix, pslg.first_index, pslg.holes, pslg.regions);
   if (!a.json.empty()) out.write_json(a.json, to_json(report));
   if (!a.draw.empty()) out.write(a.draw, io::render_pictures({io::picture_of(mesh)}, draw_format));
   out.commit();

@@ -52,6 +52,7 @@ void register_generate(CLI::App& app, Action& action);     // cmd_generate.cpp
 void register_bundle(CLI::App& app, Action& action);       // cmd_bundle.cpp
 void register_draw(CLI::App& app, Action& action);          // cmd_draw.cpp
 void register_experiment(CLI::App& app, Action& action);    // cmd_experiment.cpp
+void register_triangle(CLI::App& app, Action& action);      // cmd_triangle.cpp
 
 // Bad usage found after parsing (an option value no method can use, an output that would
 // overwrite the input, a feature not implemented yet): exit code 2.
@@ -67,6 +68,34 @@ CLI::Validator whole_number();                      // decimal digits only, at m
 CLI::Validator number_above(double low);            // a finite number > low
 CLI::Validator number_in(double low, double high);  // a finite number in [low, high)
 
+// The library's messages name the fields of TriangulateOptions ("min_angle_deg must be in [0, 60)
+// degrees"); each command names its own flags. The one table of how each spells each field:
+enum class Spelling { kTriangulate, kTriangle };
+struct FieldFlags {
+  std::string_view field;        // TriangulateOptions' member
+  std::string_view triangulate;  // `mwst triangulate`'s flag ("" if none)
+  std::string_view triangle;     // `mwst triangle`'s switch ("" if none)
+};
+inline constexpr FieldFlags kFieldFlags[] = {
+    {"min_angle_deg", "--min-angle", "-q"},
+    {"max_area", "--max-area", "-a"},
+    {"max_steiner", "--max-steiner", "-S"},
+    {"time_budget_seconds", "--time-limit", ""},
+    {"bundle_k", "--bundle-k", ""},
+    {"steiner", "--steiner", ""},
+    {"convex_hull", "--convex-hull", "-c"},
+    {"opt_trials", "--opt-trials", ""},
+    {"exact_polish", "--exact-polish", ""},
+    {"memory_budget_bytes", "--max-memory", ""},
+    {"threads", "--threads", ""},
+    {"conforming_delaunay", "", "-D"},
+    {"segment_splitting", "", "-Y"},
+    {"regional_area_limits", "", "-a"},
+};
+// `message` with every field name of kFieldFlags (as a whole word) replaced by the flag that
+// `spelling`'s command has for it (fields it has no flag for stay as they are).
+std::string with_flag_names(std::string_view message, Spelling spelling);
+
 // "mwst: warning: MESSAGE" on stderr.
 void warn(std::string_view message);
 
@@ -74,6 +103,8 @@ void warn(std::string_view message);
 // number incremented if the name ends in one ("foo.1.poly" → "foo.2"), else plus ".1"
 // ("data/Africa.poly" → "data/Africa.1").
 std::string default_prefix(const std::string& input);
+// The same for a name without its extension: "foo.1" → "foo.2", "foo" → "foo.1".
+std::string next_iteration(const std::string& stem);
 
 // Throws UsageError if writing `output` would replace the file `input`.
 void refuse_overwrite(const std::string& input, const std::string& output);
@@ -91,7 +122,9 @@ class OutputFiles {
   void write(const std::string& path, std::string_view content);
   // PREFIX.node, PREFIX.ele and, if the mesh has subsegments, PREFIX.poly (io::write_mesh). A
   // stale PREFIX.poly from an earlier run is removed at commit() when the mesh has none.
-  void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index);
+  // The .poly lists the input's `holes` and `regions` too.
+  void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index, const std::vector<Point>& holes = {},
+                  const std::vector<Region>& regions = {});
   // `path` "-" means standard output, printed at commit() (after every file is in place).
   void write_json(const std::string& path, const nlohmann::json& json);
   void commit();

@@ -20,6 +20,31 @@ namespace mwst::cli {
 
 void warn(std::string_view message) { std::cerr << "mwst: warning: " << message << '\n'; }
 
+std::string with_flag_names(std::string_view message, Spelling spelling) {
+  const auto word_char = [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+  };
+  std::string out;
+  std::size_t i = 0;
+  while (i < message.size()) {
+    bool replaced = false;
+    if (i == 0 || !word_char(message[i - 1])) {
+      for (const FieldFlags& names : kFieldFlags) {
+        const std::string_view flag = spelling == Spelling::kTriangulate ? names.triangulate : names.triangle;
+        const std::size_t end = i + names.field.size();
+        if (flag.empty() || message.substr(i, names.field.size()) != names.field) continue;
+        if (end < message.size() && word_char(message[end])) continue;
+        out += flag;
+        i = end;
+        replaced = true;
+        break;
+      }
+    }
+    if (!replaced) out += message[i++];
+  }
+  return out;
+}
+
 namespace {
 
 // The value of `s` if all of it is a finite decimal number (std::stod's syntax), else nullopt.
@@ -81,9 +106,13 @@ CLI::Validator number_in(double low, double high) {
 std::string default_prefix(const std::string& input) {
   const std::size_t slash = input.find_last_of('/');
   const std::size_t name_start = slash == std::string::npos ? 0 : slash + 1;
-  std::string stem = input;
   const std::size_t dot = input.find_last_of('.');
-  if (dot != std::string::npos && dot > name_start) stem = input.substr(0, dot);
+  return next_iteration(dot != std::string::npos && dot > name_start ? input.substr(0, dot) : input);
+}
+
+std::string next_iteration(const std::string& stem) {
+  const std::size_t slash = stem.find_last_of('/');
+  const std::size_t name_start = slash == std::string::npos ? 0 : slash + 1;
   // Triangle's iteration number: "foo.1" → "foo.2".
   const std::size_t last_dot = stem.find_last_of('.');
   if (last_dot != std::string::npos && last_dot > name_start && last_dot + 1 < stem.size()) {
@@ -112,13 +141,14 @@ void OutputFiles::write(const std::string& path, std::string_view content) {
   written_.push_back(path);
 }
 
-void OutputFiles::write_mesh(const Mesh& mesh, const std::string& prefix, int first_index) {
+void OutputFiles::write_mesh(const Mesh& mesh, const std::string& prefix, int first_index,
+                             const std::vector<Point>& holes, const std::vector<Region>& regions) {
   bool has_subsegments = false;
   for (TriangleId t = 0; t < mesh.triangles.size() && !has_subsegments; ++t) {
     if (!mesh.in_domain(t)) continue;
     for (unsigned e = 0; e < 3; ++e) has_subsegments = has_subsegments || mesh.is_segment(make_handle(t, e));
   }
-  io::write_mesh(mesh, prefix, first_index);  // removes its own files if it fails half-way
+  io::write_mesh(mesh, prefix, first_index, holes, regions);  // removes its own files if it fails half-way
   written_.push_back(prefix + ".node");
   written_.push_back(prefix + ".ele");
   if (has_subsegments) {

@@ -29,6 +29,7 @@ using namespace mwst::cli;
 // In the order `mwst --help` lists them.
 constexpr Registrar kCommands[] = {
     register_triangulate,
+    register_triangle,
     register_check,
     register_generate,
     register_bundle,

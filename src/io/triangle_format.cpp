@@ -27,6 +27,8 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <algorithm>
+#include <array>
 #include <cstring>
 #include <exception>
 #include <limits>
@@ -36,6 +38,7 @@
 #include <string_view>
 #include <system_error>
 #include <thread>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -748,9 +751,12 @@ Pslg parse_poly_text(std::string_view text, const std::string& name, const Pslg*
   return out;
 }
 
-// Parses a .ele file's text against `points` vertices numbered from `base`.
+// Parses a .ele file's text against `points` vertices numbered from `base`. With
+// `distinct_corners` a triangle naming one vertex twice is refused (a mesh to refine); without,
+// it is read as written (`mwst check` reports it).
 std::vector<std::array<std::uint32_t, 3>> parse_ele_text(std::string_view text, const std::string& name,
-                                                         std::size_t points, int base) {
+                                                         std::size_t points, int base,
+                                                         bool distinct_corners = false) {
   if (text.empty()) throw InputError(name, 0, "empty file");
   Scanner s(without_byte_order_mark(text), name);
   if (!s.next_line()) s.fail("no data: the file holds only comments and blank lines");
@@ -772,6 +778,10 @@ std::vector<std::array<std::uint32_t, 3>> parse_ele_text(std::string_view text, 
     const Item item{"triangle", index};
     std::array<std::uint32_t, 3> tri{};
     for (auto& v : tri) v = vertex_reference(s, item, "corner", points, base);
+    if (distinct_corners && (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0])) {
+      const std::uint32_t twice = tri[0] == tri[1] || tri[0] == tri[2] ? tri[0] : tri[1];
+      s.fail(item.text() + " names vertex " + std::to_string(static_cast<std::int64_t>(twice) + base) + " twice");
+    }
     // Further nodes (6-node triangles) and attributes are numbers, tolerated and ignored.
     s.end_of_record(item);
     triangles.push_back(tri);
@@ -782,7 +792,32 @@ std::vector<std::array<std::uint32_t, 3>> parse_ele_text(std::string_view text, 
   return triangles;
 }
 
-// ---- writing -----------------------------------------------------------------------------------
+// Parses a .area file's text: "T", then "index max-area" for each of `triangles` triangles (any
+// finite number; <= 0 means no bound, as in Triangle).
+std::vector<double> parse_area_text(std::string_view text, const std::string& name, std::size_t triangles) {
+  if (text.empty()) throw InputError(name, 0, "empty file");
+  Scanner s(without_byte_order_mark(text), name);
+  if (!s.next_line()) s.fail("no data: the file holds only comments and blank lines");
+  const std::size_t t = s.count("triangle count");
+  s.end_of_record(Item{"the header"});
+  if (t != triangles) {
+    s.fail("triangle count " + std::to_string(t) + " differs from the mesh's " + std::to_string(triangles) +
+           " triangles (one maximum area per triangle of the .ele)");
+  }
+  std::vector<double> areas;
+  areas.reserve(s.reservable(t, 4));
+  int base = -1;
+  for (std::size_t i = 0; i < t; ++i) {
+    if (!s.next_line()) truncated(s, t, i, "triangles");
+    const Item item{"triangle", record_index(s, "triangle", i, base)};
+    areas.push_back(s.real(item, "maximum area"));
+    s.end_of_record(item);
+  }
+  if (s.next_line()) {
+    s.fail("unexpected data after the last triangle (the header says " + std::to_string(t) + " triangles)");
+  }
+  return areas;
+}
 
 }  // namespace
 
@@ -808,6 +843,29 @@ Pslg read_input(const std::string& path) {
   if (ends_with(path, ".node")) return read_node(path);
   if (ends_with(path, ".poly")) return read_poly(path);
   throw InputError(path, 0, "unknown input type: expected a .node or .poly file");
+}
+
+std::vector<std::uint32_t> parse_ele(std::string_view text, const std::string& name, std::size_t points, int base) {
+  const std::vector<std::array<std::uint32_t, 3>> triangles = parse_ele_text(text, name, points, base, true);
+  std::vector<std::uint32_t> flat;
+  flat.reserve(3 * triangles.size());
+  for (const auto& t : triangles) flat.insert(flat.end(), t.begin(), t.end());
+  return flat;
+}
+
+std::vector<double> parse_area(std::string_view text, const std::string& name, std::size_t triangles) {
+  return parse_area_text(text, name, triangles);
+}
+
+void read_triangles(Pslg& pslg, const std::string& ele_path) {
+  const FileBytes bytes = read_whole_file(ele_path);
+  pslg.triangles = parse_ele(bytes.view(), ele_path, pslg.points.size(), pslg.first_index);
+  pslg.triangle_max_area.clear();
+}
+
+void read_triangle_areas(Pslg& pslg, const std::string& area_path) {
+  const FileBytes bytes = read_whole_file(area_path);
+  pslg.triangle_max_area = parse_area_text(bytes.view(), area_path, pslg.triangles.size() / 3);
 }
 
 MeshFiles read_mesh(const std::string& prefix) {
@@ -860,6 +918,72 @@ class TextBuffer {
 
 constexpr std::size_t kMaxIntChars = 20, kMaxDoubleChars = 24;
 
+// A text built by appending: numbers with std::to_chars (doubles shortest round-trip) written
+// straight into the string's storage, with one room check per piece.
+class Text {
+ public:
+  Text& operator<<(std::string_view piece) {
+    room(piece.size());
+    std::memcpy(text_.data() + used_, piece.data(), piece.size());
+    used_ += piece.size();
+    return *this;
+  }
+  Text& operator<<(char c) {
+    room(1);
+    text_[used_++] = c;
+    return *this;
+  }
+  Text& integer(std::int64_t v) {
+    room(kMaxIntChars);
+    used_ = static_cast<std::size_t>(std::to_chars(text_.data() + used_, text_.data() + text_.size(), v).ptr - text_.data());
+    return *this;
+  }
+  Text& real(double v) {
+    room(kMaxDoubleChars + 8);
+    used_ = static_cast<std::size_t>(std::to_chars(text_.data() + used_, text_.data() + text_.size(), v).ptr - text_.data());
+    return *this;
+  }
+  void reserve(std::size_t n) { text_.reserve(n); }
+  std::string take() {
+    text_.resize(used_);
+    used_ = 0;
+    return std::move(text_);
+  }
+
+ private:
+  // The string's size runs at most 64 KiB ahead of the text (so that only what is written is
+  // zeroed first); its capacity grows by doubling when reserve() was too small.
+  void room(std::size_t n) {
+    if (used_ + n > text_.size()) text_.resize(used_ + n + 65536);
+  }
+  std::string text_;
+  std::size_t used_ = 0;
+};
+
+// The end of an output .poly: "H", then "i x y" per hole, and, when there are regions, "R", then
+// "i x y attribute max-area" per region (Triangle's layout, numbered from `base`).
+std::string poly_holes_and_regions(const std::vector<Point>& holes, const std::vector<Region>& regions,
+                                   std::int64_t base) {
+  Text out;
+  out.integer(static_cast<std::int64_t>(holes.size())) << '\n';
+  for (std::size_t i = 0; i < holes.size(); ++i) {
+    out.integer(static_cast<std::int64_t>(i) + base) << ' ';
+    out.real(holes[i].x) << ' ';
+    out.real(holes[i].y) << '\n';
+  }
+  if (!regions.empty()) {
+    out.integer(static_cast<std::int64_t>(regions.size())) << '\n';
+    for (std::size_t i = 0; i < regions.size(); ++i) {
+      out.integer(static_cast<std::int64_t>(i) + base) << ' ';
+      out.real(regions[i].seed.x) << ' ';
+      out.real(regions[i].seed.y) << ' ';
+      out.real(regions[i].attribute) << ' ';
+      out.real(regions[i].max_area) << '\n';
+    }
+  }
+  return out.take();
+}
+
 // Lines first..last-1 of PREFIX.node (vertex i is record i + base).
 void format_node_lines(const Mesh& mesh, std::size_t first, std::size_t last, std::int64_t base,
                        TextBuffer& out) {
@@ -893,7 +1017,8 @@ void format_ele_lines(const Mesh& mesh, TriangleId first, TriangleId last, std::
 
 }  // namespace
 
-void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index) {
+void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index, const std::vector<Point>& holes,
+                const std::vector<Region>& regions) {
   if (mesh.flags.size() != mesh.triangles.size()) {
     throw InternalError("write_mesh: flags and triangles differ in size");
   }
@@ -977,8 +1102,8 @@ void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index) {
         poly.put('\n');
       }
     }
-    poly.put("0\n");
   }
+  const std::string holes_and_regions = segments > 0 ? poly_holes_and_regions(holes, regions, base) : std::string();
 
   // Each file is atomic; if a later one fails, the earlier ones are removed again so that a
   // failure leaves no partial mesh behind. Large .node files are written by the second thread
@@ -1006,7 +1131,8 @@ void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index) {
       try {
         write_file_atomic(ele_path, ele_text);
         ele_written = true;
-        if (segments > 0) write_file_atomic(poly_path, poly.view());
+        const std::string_view poly_text[2] = {poly.view(), holes_and_regions};
+        if (segments > 0) write_file_atomic(poly_path, poly_text);
       } catch (...) {
         ele_error = std::current_exception();
       }
@@ -1017,6 +1143,248 @@ void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index) {
     if (ele_written) ::unlink(ele_path.c_str());
     std::rethrow_exception(node_error ? node_error : ele_error);  // the first file's error first
   }
+}
+
+}  // namespace mwst::io
+
+// ---- Triangle's output files of flat arrays --------------------------------------------------------
+
+namespace mwst::io {
+namespace {
+
+inline std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
+  return a < b ? (std::uint64_t{a} << 32) | b : (std::uint64_t{b} << 32) | a;
+}
+
+// The edges of the triangulation in Triangle's order: triangle by triangle, the edge opposite
+// corner k = 0, 1, 2 (from corner k+1 to corner k+2), where the neighbour across it is none or a
+// later triangle. Each edge with its triangle, the corner opposite, and its subsegment (or -1).
+struct MeshEdge {
+  std::uint32_t triangle;
+  unsigned opposite;
+  std::uint32_t a, b;
+  std::int64_t segment;
+};
+
+// Triangle's boundary markers of the vertices and subsegments of `mesh` (see format_triangle_files),
+// and the edges.
+struct Carried {
+  std::vector<MeshEdge> edges;
+  std::vector<std::int32_t> vertex_marker;
+  std::vector<std::int32_t> segment_marker;
+  std::vector<std::array<std::uint32_t, 2>> boundary_edges;  // on the boundary, no subsegment
+};
+
+// `list_edges`: fill Carried::edges (for .edge and .v.edge); otherwise only the boundary edges are
+// looked at.
+Carried carry_markers(const MeshArrays& mesh, bool list_edges) {
+  Carried out;
+  const std::size_t nt = mesh.triangle_count();
+  const std::size_t nv = mesh.vertex_count();
+  std::unordered_map<std::uint64_t, std::uint32_t> segment_of;
+  segment_of.reserve(2 * mesh.segment_count());
+  for (std::size_t s = 0; s < mesh.segment_count(); ++s) {
+    segment_of.emplace(edge_key(mesh.segments[2 * s], mesh.segments[2 * s + 1]), static_cast<std::uint32_t>(s));
+  }
+  std::vector<bool> segment_on_boundary(mesh.segment_count(), false);
+  std::vector<bool> vertex_on_boundary(nv, false);
+  if (list_edges) out.edges.reserve(3 * nt / 2 + 3);
+  for (std::size_t t = 0; t < nt; ++t) {
+    for (unsigned k = 0; k < 3; ++k) {
+      const std::int32_t across = mesh.neighbours[3 * t + k];
+      if (across >= 0 && (!list_edges || static_cast<std::size_t>(across) < t)) continue;
+      const std::uint32_t a = mesh.triangles[3 * t + (k + 1) % 3], b = mesh.triangles[3 * t + (k + 2) % 3];
+      std::int64_t segment = -1;
+      if (!segment_of.empty()) {
+        const auto found = segment_of.find(edge_key(a, b));
+        if (found != segment_of.end()) segment = found->second;
+      }
+      if (across < 0) {
+        vertex_on_boundary[a] = vertex_on_boundary[b] = true;
+        if (segment >= 0) {
+          segment_on_boundary[static_cast<std::size_t>(segment)] = true;
+        } else {
+          out.boundary_edges.push_back({a, b});
+        }
+      }
+      if (list_edges) out.edges.push_back({static_cast<std::uint32_t>(t), k, a, b, segment});
+    }
+  }
+  // Segments: a nonzero marker stays; else 1 on the boundary, 0 inside.
+  out.segment_marker.resize(mesh.segment_count());
+  for (std::size_t s = 0; s < mesh.segment_count(); ++s) {
+    const std::int32_t own = mesh.segment_markers[s];
+    out.segment_marker[s] = own != 0 ? own : segment_on_boundary[s] ? 1 : 0;
+  }
+  // Vertices: a nonzero marker stays; else a nonzero marker of a segment through it; else 1 on
+  // the boundary, 0 inside.
+  out.vertex_marker.assign(mesh.vertex_markers.begin(), mesh.vertex_markers.end());
+  std::vector<std::int32_t> from_segment(nv, 0);
+  for (std::size_t s = 0; s < mesh.segment_count(); ++s) {
+    const std::int32_t own = mesh.segment_markers[s];
+    if (own == 0) continue;
+    for (const std::uint32_t v : {mesh.segments[2 * s], mesh.segments[2 * s + 1]}) {
+      if (from_segment[v] == 0) from_segment[v] = own;
+    }
+  }
+  for (std::size_t v = 0; v < nv; ++v) {
+    if (out.vertex_marker[v] != 0) continue;
+    out.vertex_marker[v] = from_segment[v] != 0 ? from_segment[v] : vertex_on_boundary[v] ? 1 : 0;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<TriangleFile> format_triangle_files(const MeshArrays& mesh, const std::vector<Point>& holes,
+                                                const std::vector<Region>& regions, const TriangleOutput& what) {
+  const std::int64_t base = what.first_index;
+  const std::size_t nt = mesh.triangle_count();
+  const std::size_t nv = mesh.vertex_count();
+  const Carried carried = carry_markers(mesh, what.edges || what.voronoi);
+  const bool markers = what.boundary_markers;
+
+  // Output numbers of the vertices: all of them, or with -j only those of some triangle.
+  std::vector<std::int64_t> number(nv, 0);
+  std::size_t kept = 0;
+  {
+    std::vector<bool> used(nv, !what.jettison);
+    if (what.jettison) {
+      for (const std::uint32_t v : mesh.triangles) used[v] = true;
+    }
+    for (std::size_t v = 0; v < nv; ++v) {
+      if (used[v]) number[v] = static_cast<std::int64_t>(kept++) + base;
+      else number[v] = -1;
+    }
+  }
+
+  std::vector<TriangleFile> files;
+  if (what.node) {
+    Text out;
+    out.reserve(64 + kept * 64);
+    out.integer(static_cast<std::int64_t>(kept)) << " 2 0 " << (markers ? "1" : "0") << '\n';
+    for (std::size_t v = 0; v < nv; ++v) {
+      if (number[v] < 0) continue;
+      out.integer(number[v]) << ' ';
+      out.real(mesh.vertices[2 * v]) << ' ';
+      out.real(mesh.vertices[2 * v + 1]);
+      if (markers) (out << ' ').integer(carried.vertex_marker[v]);
+      out << '\n';
+    }
+    files.push_back({".node", out.take()});
+  }
+  if (what.ele) {
+    Text out;
+    out.reserve(64 + nt * 48);
+    out.integer(static_cast<std::int64_t>(nt)) << " 3 " << (what.triangle_attributes ? "1" : "0") << '\n';
+    for (std::size_t t = 0; t < nt; ++t) {
+      out.integer(static_cast<std::int64_t>(t) + base);
+      for (unsigned k = 0; k < 3; ++k) (out << ' ').integer(number[mesh.triangles[3 * t + k]]);
+      if (what.triangle_attributes) {
+        out << ' ';
+        out.real(mesh.triangle_attributes.empty() ? 0.0 : mesh.triangle_attributes[t]);
+      }
+      out << '\n';
+    }
+    files.push_back({".ele", out.take()});
+  }
+  if (what.poly) {
+    // Every subsegment, then the boundary edges that are none (the hull of a point set), marker 1.
+    Text out;
+    const std::size_t segments = mesh.segment_count() + carried.boundary_edges.size();
+    out.reserve(128 + segments * 40);
+    out << "0 2 0 " << (markers ? "1" : "0") << '\n';
+    out.integer(static_cast<std::int64_t>(segments)) << ' ' << (markers ? "1" : "0") << '\n';
+    std::int64_t index = base;
+    const auto segment_line = [&](std::uint32_t a, std::uint32_t b, std::int32_t marker) {
+      out.integer(index++) << ' ';
+      out.integer(number[a]) << ' ';
+      out.integer(number[b]);
+      if (markers) (out << ' ').integer(marker);
+      out << '\n';
+    };
+    for (std::size_t s = 0; s < mesh.segment_count(); ++s) {
+      segment_line(mesh.segments[2 * s], mesh.segments[2 * s + 1], carried.segment_marker[s]);
+    }
+    for (const auto& [a, b] : carried.boundary_edges) segment_line(a, b, 1);
+    out << poly_holes_and_regions(holes, regions, base);
+    files.push_back({".poly", out.take()});
+  }
+  if (what.edges) {
+    Text out;
+    out.reserve(32 + carried.edges.size() * 32);
+    out.integer(static_cast<std::int64_t>(carried.edges.size())) << ' ' << (markers ? "1" : "0") << '\n';
+    std::int64_t index = base;
+    for (const MeshEdge& e : carried.edges) {
+      out.integer(index++) << ' ';
+      out.integer(number[e.a]) << ' ';
+      out.integer(number[e.b]);
+      if (markers) {
+        const bool boundary = mesh.neighbours[3 * e.triangle + e.opposite] < 0;
+        const std::int32_t marker = e.segment >= 0 ? carried.segment_marker[static_cast<std::size_t>(e.segment)]
+                                    : boundary     ? 1
+                                                   : 0;
+        (out << ' ').integer(marker);
+      }
+      out << '\n';
+    }
+    files.push_back({".edge", out.take()});
+  }
+  if (what.neighbours) {
+    Text out;
+    out.reserve(32 + nt * 40);
+    out.integer(static_cast<std::int64_t>(nt)) << " 3\n";
+    for (std::size_t t = 0; t < nt; ++t) {
+      out.integer(static_cast<std::int64_t>(t) + base);
+      for (unsigned k = 0; k < 3; ++k) {
+        const std::int32_t across = mesh.neighbours[3 * t + k];
+        (out << ' ').integer(across < 0 ? -1 : across + base);
+      }
+      out << '\n';
+    }
+    files.push_back({".neigh", out.take()});
+  }
+  if (what.voronoi) {
+    // The Voronoi vertices are the circumcentres of the triangles; each edge of the triangulation
+    // is dual to a Voronoi edge between the circumcentres on either side, or, on the boundary, to
+    // a ray from the one triangle's circumcentre perpendicular to the edge, outward.
+    Text vertices;
+    vertices.reserve(32 + nt * 48);
+    vertices.integer(static_cast<std::int64_t>(nt)) << " 2 0 0\n";
+    for (std::size_t t = 0; t < nt; ++t) {
+      const auto corner = [&](unsigned k) {
+        const std::uint32_t v = mesh.triangles[3 * t + k];
+        return Point{mesh.vertices[2 * v], mesh.vertices[2 * v + 1]};
+      };
+      const Point c = circumcenter(corner(0), corner(1), corner(2));
+      vertices.integer(static_cast<std::int64_t>(t) + base) << ' ';
+      vertices.real(c.x) << ' ';
+      vertices.real(c.y) << '\n';
+    }
+    Text edges;
+    edges.reserve(32 + carried.edges.size() * 40);
+    edges.integer(static_cast<std::int64_t>(carried.edges.size())) << " 0\n";
+    std::int64_t index = base;
+    for (const MeshEdge& e : carried.edges) {
+      edges.integer(index++) << ' ';
+      edges.integer(static_cast<std::int64_t>(e.triangle) + base) << ' ';
+      const std::int32_t across = mesh.neighbours[3 * e.triangle + e.opposite];
+      if (across >= 0) {
+        edges.integer(across + base) << '\n';
+      } else {
+        // The triangle lies left of a→b (counter-clockwise), so (b - a) turned clockwise,
+        // (by - ay, ax - bx), points out of the triangulation.
+        const double ax = mesh.vertices[2 * e.a], ay = mesh.vertices[2 * e.a + 1];
+        const double bx = mesh.vertices[2 * e.b], by = mesh.vertices[2 * e.b + 1];
+        edges << "-1 ";
+        edges.real(by - ay) << ' ';
+        edges.real(ax - bx) << '\n';
+      }
+    }
+    files.push_back({".v.node", vertices.take()});
+    files.push_back({".v.edge", edges.take()});
+  }
+  return files;
 }
 
 }  // namespace mwst::io
