@@ -15,6 +15,7 @@
 #include <pybind11/stl.h>
 
 #include <array>
+#include <charconv>
 #include <chrono>
 #include <cstdint>
 #include <cstring>
@@ -22,6 +23,8 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
+#include <system_error>
 #include <type_traits>
 #include <unordered_map>
 #include <utility>
@@ -475,9 +478,91 @@ py::dict switches_dict(const mwst::TriangleSwitches& s) {
 
 py::dict parse_switches(const std::string& switches) { return switches_dict(mwst::parse_triangle_switches(switches)); }
 
+// The numbers of a text that format_triangle_files wrote, line by line (one record per line,
+// numbers separated by single spaces, no comments).
+struct NumberLines {
+  std::vector<double> numbers;
+  std::vector<std::size_t> starts{0};  // line i is numbers[starts[i], starts[i + 1])
+  std::size_t count() const { return starts.size() - 1; }
+  std::size_t width(std::size_t i) const { return starts[i + 1] - starts[i]; }
+  double at(std::size_t i, std::size_t k) const { return numbers[starts[i] + k]; }
+};
+
+NumberLines number_lines(std::string_view text, const std::string& name) {
+  NumberLines out;
+  const char* p = text.data();
+  const char* const end = p + text.size();
+  while (p < end) {
+    if (*p == '\n') {
+      out.starts.push_back(out.numbers.size());
+      ++p;
+    } else if (*p == ' ') {
+      ++p;
+    } else {
+      double value = 0.0;
+      const auto [next, ec] = std::from_chars(p, end, value);
+      if (ec != std::errc()) throw mwst::InternalError("reading back " + name + ": not a number");
+      out.numbers.push_back(value);
+      p = next;
+    }
+  }
+  return out;
+}
+
+// Rows first..first+count-1 of `lines`, columns [from, from + columns), as an (count, columns) array
+// of T (count taken from the header: rows may be followed by other sections, as in .poly).
+template <class T>
+py::array columns_of(const NumberLines& lines, std::size_t first, std::size_t count, std::size_t from,
+                     std::size_t columns) {
+  std::vector<T> values;
+  values.reserve(count * columns);
+  for (std::size_t i = first; i < first + count; ++i) {
+    for (std::size_t k = from; k < from + columns; ++k) values.push_back(static_cast<T>(lines.at(i, k)));
+  }
+  return adopt(std::move(values), {static_cast<py::ssize_t>(count), static_cast<py::ssize_t>(columns)});
+}
+
+// One file of format_triangle_files as the `triangle` package's arrays (keys as it names them).
+void read_triangle_file(const mwst::io::TriangleFile& file, py::dict& out) {
+  const NumberLines lines = number_lines(file.text, file.extension);
+  const auto count = static_cast<std::size_t>(lines.at(0, 0));
+  if (file.extension == ".node") {  // "N 2 0 B", then "i x y [marker]"
+    out["vertices"] = columns_of<double>(lines, 1, count, 1, 2);
+    out["vertex_markers"] = columns_of<std::int32_t>(lines, 1, count, 3, 1);
+  } else if (file.extension == ".ele") {  // "T 3 A", then "i a b c [attribute]"
+    out["triangles"] = columns_of<std::int32_t>(lines, 1, count, 1, 3);
+    if (lines.at(0, 2) > 0) out["triangle_attributes"] = columns_of<double>(lines, 1, count, 4, 1);
+  } else if (file.extension == ".poly") {  // "0 2 0 B", "S B", then "i a b [marker]", holes, regions
+    const auto segments = static_cast<std::size_t>(lines.at(1, 0));
+    out["segments"] = columns_of<std::int32_t>(lines, 2, segments, 1, 2);
+    out["segment_markers"] = columns_of<std::int32_t>(lines, 2, segments, 3, 1);
+  } else if (file.extension == ".edge") {  // "E B", then "i a b [marker]"
+    out["edges"] = columns_of<std::int32_t>(lines, 1, count, 1, 2);
+    out["edge_markers"] = columns_of<std::int32_t>(lines, 1, count, 3, 1);
+  } else if (file.extension == ".neigh") {  // "T 3", then "i n0 n1 n2"
+    out["neighbors"] = columns_of<std::int32_t>(lines, 1, count, 1, 3);
+  } else if (file.extension == ".v.node") {  // "T 2 0 0", then "i x y"
+    out["voronoi_vertices"] = columns_of<double>(lines, 1, count, 1, 2);
+  } else if (file.extension == ".v.edge") {  // "E 0", then "i p q" or "i p -1 dx dy" (a ray)
+    std::vector<std::int32_t> ends;
+    std::vector<double> directions;
+    for (std::size_t i = 1; i <= count; ++i) {
+      ends.push_back(static_cast<std::int32_t>(lines.at(i, 1)));
+      ends.push_back(static_cast<std::int32_t>(lines.at(i, 2)));
+      const bool ray = lines.width(i) == 5;
+      directions.push_back(ray ? lines.at(i, 3) : 0.0);
+      directions.push_back(ray ? lines.at(i, 4) : 0.0);
+    }
+    const auto n = static_cast<py::ssize_t>(count);
+    out["voronoi_edges"] = adopt(std::move(ends), {n, 2});
+    out["voronoi_directions"] = adopt(std::move(directions), {n, 2});
+  }
+}
+
 // Triangle's triangulate(): the switches parsed by the library's parser give the options; the
 // input graph is what they say Triangle reads (segments, holes and regions only with p, holes not
-// with O, the triangles to refine with r). Returns the arrays, the report and the parsed switches.
+// with O, the triangles to refine with r). Returns Triangle's outputs as arrays, the report and the
+// parsed switches.
 py::dict triangulate_switches(const DoubleArray& vertices, const std::optional<IndexArray>& segments,
                               const std::optional<DoubleArray>& holes, const std::optional<DoubleArray>& regions,
                               const std::optional<MarkerArray>& vertex_markers,
@@ -505,14 +590,41 @@ py::dict triangulate_switches(const DoubleArray& vertices, const std::optional<I
       pslg.triangle_max_area.assign(triangle_max_area->data(), triangle_max_area->data() + m);
     }
   }
-  mwst::MeshArrays arrays;
+  // Triangle's outputs as the library writes them (mwst::io::format_triangle_files: its boundary
+  // markers, edges, neighbours, Voronoi diagram, -j and -A), numbered from 0 as the `triangle`
+  // package numbers, read back into arrays. Every file is asked for; what the switches leave out
+  // (-N, -E, -P, -B) the Python side drops.
+  mwst::io::TriangleOutput what;
+  what.poly = parsed.poly || options.convex_hull;
+  what.edges = parsed.edges;
+  what.neighbours = parsed.neighbours;
+  what.voronoi = parsed.voronoi;
+  what.triangle_attributes = parsed.region_attributes;
+  what.jettison = parsed.jettison;
+  what.first_index = 0;
+  std::vector<mwst::io::TriangleFile> files;
+  std::vector<std::uint8_t> used;  // with -j: which vertices the output keeps
   std::string report;
   {
     py::gil_scoped_release unlocked;
-    arrays = mwst::triangulate_arrays(pslg, options);
+    const mwst::MeshArrays arrays = mwst::triangulate_arrays(pslg, options);
+    files = mwst::io::format_triangle_files(arrays, pslg.holes, pslg.regions, what);
     report = mwst::to_json(arrays.report).dump();
+    if (parsed.jettison) {
+      used.assign(arrays.vertex_count(), 0);
+      for (const std::uint32_t v : arrays.triangles) used[v] = 1;
+    }
   }
-  py::dict out = arrays_dict(std::move(arrays));
+  py::dict out;
+  for (const mwst::io::TriangleFile& file : files) read_triangle_file(file, out);
+  if (parsed.jettison) {
+    std::vector<std::int64_t> kept;
+    for (std::size_t v = 0; v < used.size(); ++v) {
+      if (used[v]) kept.push_back(static_cast<std::int64_t>(v));
+    }
+    const auto n = static_cast<py::ssize_t>(kept.size());
+    out["kept_vertices"] = adopt(std::move(kept), {n});
+  }
   out["report"] = report;
   out["switches"] = switches_dict(parsed);
   return out;

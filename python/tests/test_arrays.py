@@ -175,9 +175,9 @@ def test_strict_refuses_crossing_segments():
 @pytest.mark.parametrize("kwargs,message", [
     ({"method": "fast"}, "method: expected one of dt, dr, brh, qtr, opt, got 'fast'"),
     ({"steiner": "middle"}, "steiner: expected offcenter or circumcenter, got 'middle'"),
-    ({"method": "dr", "min_angle": 70}, "min-angle"),
-    ({"method": "dr", "min_angle": -1}, "min-angle"),
-    ({"method": "dr", "min_angle": float("nan")}, "min-angle"),
+    ({"method": "dr", "min_angle": 70}, "min_angle"),
+    ({"method": "dr", "min_angle": -1}, "min_angle"),
+    ({"method": "dr", "min_angle": float("nan")}, "min_angle"),
     ({"method": "dr", "max_area": 0}, "max_area: expected a number > 0"),
     ({"method": "dr", "max_area": -2.5}, "max_area: expected a number > 0"),
     ({"method": "dr", "max_steiner": -1}, "max_steiner: expected a whole number >= 0"),

@@ -262,3 +262,17 @@ def test_stub_matches_the_module():
     assert set(declared) == set(tr.__all__)
     for name in tr.__all__:
         assert declared[name] == list(inspect.signature(getattr(tr, name)).parameters), name
+
+
+def test_markers_carried_as_triangle_carries_them():
+    """Vertices on a segment take its marker (Steiner points included), other boundary vertices 1,
+    inside 0; the library's rules (format_triangle_files), as Triangle's."""
+    tri = pslg()
+    tri["segment_markers"] = [5, 5, 5, 5, 7, 7, 7, 7]
+    out = tr.triangulate(tri, "pq30a0.05")
+    x, y = out["vertices"].T
+    outer = (x == 0) | (x == 4) | (y == 0) | (y == 4)
+    inner = ~outer & (((x == 1) | (x == 3)) & (y >= 1) & (y <= 3) | ((y == 1) | (y == 3)) & (x >= 1) & (x <= 3))
+    expected = np.where(outer, 5, np.where(inner, 7, 0))
+    np.testing.assert_array_equal(out["vertex_markers"][:, 0], expected)
+    assert (expected == 0).any() and len(out["vertices"]) > 8
