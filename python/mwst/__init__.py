@@ -522,15 +522,17 @@ def read(path: str):
     return Triangulation(d["vertices"], d["triangles"], segments=d["segments"], segment_markers=d["segment_markers"])
 
 
-def write(prefix: str, result: Any, *, first_index: int = 1) -> None:
+def write(prefix: str, result: Any, *, first_index: int = 1, holes: Any = None, regions: Any = None) -> None:
     """Write a mesh as Triangle's PREFIX.node, PREFIX.ele and (with segments) PREFIX.poly, with the
     library's writer (shortest round-trip decimals; each file written whole or not at all).
 
     Args:
         prefix: path prefix of the files.
         result: a Triangulation, or a dict with vertices, triangles (and segments, segment_markers,
-            vertex_markers).
+            vertex_markers, holes, regions), as mwst.triangle returns.
         first_index: 1 (Triangle's default) or 0 (its -z).
+        holes, regions: the input's hole seeds and regions, listed in the .poly after the segments
+            so that re-meshing it gives the same domain (a dict's own are used when not given).
     """
     if isinstance(result, Triangulation):
         vertices, triangles = result.vertices, result.triangles
@@ -539,6 +541,8 @@ def write(prefix: str, result: Any, *, first_index: int = 1) -> None:
         vertices, triangles = result["vertices"], result["triangles"]
         segments, segment_markers = result.get("segments"), result.get("segment_markers")
         vertex_markers = result.get("vertex_markers")
+        holes = result.get("holes") if holes is None else holes
+        regions = result.get("regions") if regions is None else regions
     else:
         raise InputError("write: expected a Triangulation or a dict with vertices and triangles")
     _mwst.write_mesh(
@@ -549,6 +553,8 @@ def write(prefix: str, result: Any, *, first_index: int = 1) -> None:
         _optional(segments, _index_rows, "segments"),
         _marker_rows(segment_markers, "segment_markers") if segments is not None else None,
         int(first_index),
+        _optional(holes, _float_rows, "holes"),
+        _region_rows(regions),
     )
 
 

@@ -385,8 +385,11 @@ py::dict read_mesh(const std::string& prefix) {
 // the given triangles, each subsegment marked on one triangle that has it as an edge.
 void write_mesh(const std::string& prefix, const DoubleArray& vertices, const std::optional<MarkerArray>& vertex_markers,
                 const IndexArray& triangles, const std::optional<IndexArray>& segments,
-                const std::optional<MarkerArray>& segment_markers, int first_index) {
+                const std::optional<MarkerArray>& segment_markers, int first_index,
+                const std::optional<DoubleArray>& holes, const std::optional<DoubleArray>& regions) {
   if (first_index != 0 && first_index != 1) input_error("first_index: expected 0 or 1");
+  // The input's holes and regions, for the .poly (so that re-meshing it gives the same domain).
+  const mwst::Pslg domain = pslg_of(vertices, std::nullopt, std::nullopt, std::nullopt, holes, regions);
   mwst::Mesh mesh;
   mesh.points = points_of(vertices, "vertices");
   const std::size_t n = mesh.points.size();
@@ -428,7 +431,7 @@ void write_mesh(const std::string& prefix, const DoubleArray& vertices, const st
     }
   }
   py::gil_scoped_release unlocked;
-  mwst::io::write_mesh(mesh, prefix, first_index);
+  mwst::io::write_mesh(mesh, prefix, first_index, domain.holes, domain.regions);
 }
 
 const char* segment_splitting_name(mwst::SegmentSplitting s) {
@@ -674,5 +677,5 @@ PYBIND11_MODULE(_mwst, m) {
   m.def("read_mesh", &read_mesh, py::arg("prefix"), "io::read_mesh: PREFIX.node, .ele and .poly.");
   m.def("write_mesh", &write_mesh, py::arg("prefix"), py::arg("vertices"), py::arg("vertex_markers"),
         py::arg("triangles"), py::arg("segments"), py::arg("segment_markers"), py::arg("first_index"),
-        "io::write_mesh of a mesh given as arrays.");
+        py::arg("holes"), py::arg("regions"), "io::write_mesh of a mesh given as arrays.");
 }

@@ -49,6 +49,10 @@ def test_write_then_read_gives_the_same_mesh(tmp_path, cli):
     np.testing.assert_array_equal(back.triangles, mesh.triangles)
     assert {tuple(sorted(s)) for s in back.segments.tolist()} == {tuple(sorted(s)) for s in mesh.segments.tolist()}
     assert mwst.check(back, vertices, segments, holes, min_angle=30).ok
+    # With the holes, the .poly is the domain again: re-meshing it gives the same area.
+    mwst.write(str(tmp_path / "square.2"), mesh, holes=holes)
+    again = mwst.triangulate(mwst.read(str(tmp_path / "square.2.poly")))
+    assert mwst.check(again, vertices, segments, holes).ok
     # The command line's checker accepts the files too.
     source = tmp_path / "square.poly"
     rows = [f"{len(vertices)} 2 0 0"] + [f"{i + 1} {x} {y}" for i, (x, y) in enumerate(vertices)]
