@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The test job (also what CI runs, via .ci/run): installs the build and test dependencies, then
 #   1. builds everything with warnings as errors in build-ci/ (Release) and runs the whole suite,
-#      then installs it into a scratch prefix and builds and runs examples/cpp/ against it;
+#      then installs it into a scratch prefix and builds and runs examples/cpp/ against it, and runs
+#      the Python package's pytest suite (python/tests) and imports it installed;
 #   2. builds the GoogleTest suite (mwst_tests, and the CLI it runs) again with AddressSanitizer +
 #      UndefinedBehaviorSanitizer (-DMWST_SANITIZE=ON, -O1) in build-asan/ with clang and runs it (the
 #      CGAL differential tests are left out there: their compile time does not fit the CI budget;
@@ -22,14 +23,15 @@ fuzz_seconds="${FUZZ_SECONDS:-30}"
 
 bash scripts/install-deps.sh cmake ninja-build g++ pkg-config \
   libcli11-dev nlohmann-json3-dev libcairo2-dev libgtest-dev libbenchmark-dev libgmp-dev libcgal-dev \
-  clang libclang-rt-14-dev
+  clang libclang-rt-14-dev \
+  python3-dev python3-pybind11 pybind11-dev python3-numpy python3-scipy python3-pytest python3-matplotlib
 
 step() { echo "== run-tests: $1 ($(date -u +%H:%M:%S))" >&2; }
 started=$SECONDS
 
 # 1. Release build, warnings as errors, every suite.
 step "release build and tests"
-cmake -S . -B build-ci -G Ninja -DCMAKE_BUILD_TYPE=Release -DMWST_WERROR=ON
+cmake -S . -B build-ci -G Ninja -DCMAKE_BUILD_TYPE=Release -DMWST_WERROR=ON -DMWST_BUILD_PYTHON=ON
 cmake --build build-ci -j "$jobs"
 ctest --test-dir build-ci --output-on-failure -j "$jobs"
 echo "== run-tests: release: $((SECONDS - started)) s" >&2
@@ -52,6 +54,26 @@ if [ "${SHARED_EXAMPLES:-0}" = 1 ]; then
 fi
 rm -rf "$consumers"
 echo "== run-tests: installed package: $((SECONDS - t)) s" >&2
+
+# 1c. The Python package (python/, built into build-ci/python by step 1): its pytest suite, which
+#     compares it with build-ci/mwst; then `cmake --install --component python` into a scratch
+#     prefix, and the installed copy imported and run from there.
+t=$SECONDS
+step "python package"
+PYTHONDONTWRITEBYTECODE=1 PYTHONPATH="$PWD/build-ci/python" MWST_CLI="$PWD/build-ci/mwst" \
+  /usr/bin/python3 -m pytest -q -p no:cacheprovider python/tests
+pyprefix=$(mktemp -d)
+cmake --install build-ci --component python --prefix "$pyprefix" >/dev/null
+installed=$(dirname "$(find "$pyprefix" -path '*/mwst/__init__.py')")
+(cd "$pyprefix" && PYTHONDONTWRITEBYTECODE=1 PYTHONPATH="$(dirname "$installed")" /usr/bin/python3 -c '
+import sys, mwst, mwst.triangle
+assert mwst.__file__.startswith(sys.argv[1]), mwst.__file__
+mesh = mwst.triangulate([[0, 0], [1, 0], [1, 1], [0, 1]], [[0, 1], [1, 2], [2, 3], [3, 0]], method="dr", max_area=0.01)
+assert mwst.check(mesh, [[0, 0], [1, 0], [1, 1], [0, 1]], [[0, 1], [1, 2], [2, 3], [3, 0]]).ok
+print("installed mwst", mwst.__version__, "in", sys.argv[1], "works:", mesh)
+' "$installed")
+rm -rf "$pyprefix"
+echo "== run-tests: python package: $((SECONDS - t)) s" >&2
 
 # 2. The GoogleTest suite under ASan + UBSan. -O1 keeps the instrumented build and run fast enough;
 #    no NDEBUG, so assertions are on as well.
