@@ -391,7 +391,7 @@ TEST(SegmentSplitting, InteriorSegmentsOnlyUnderSingleY) {
 
 // Every domain triangle's circumcircle holds no vertex of the mesh strictly inside (exact
 // incircle, brute force): Delaunay, not only constrained Delaunay.
-void expect_empty_circumcircles(const Mesh& m) {
+std::size_t vertices_in_circumcircles(const Mesh& m) {
   std::vector<VertexId> used;
   std::vector<char> seen(m.points.size(), 0);
   for (TriangleId t = 0; t < m.triangles.size(); ++t) {
@@ -409,36 +409,44 @@ void expect_empty_circumcircles(const Mesh& m) {
       if (incircle(m.points[v[0]], m.points[v[1]], m.points[v[2]], m.points[x]) > 0) ++bad;
     }
   }
-  EXPECT_EQ(bad, 0u) << "vertices inside circumcircles of domain triangles";
+  return bad;
+}
+
+void expect_empty_circumcircles(const Mesh& m) {
+  EXPECT_EQ(vertices_in_circumcircles(m), 0u) << "vertices inside circumcircles of domain triangles";
+}
+
+// dt or dr with conforming_delaunay on `g`: no warning, the checker's conforming Delaunay test
+// (exact incircle across every interior edge, segments included), every circumcircle empty, and
+// for dt only Steiner points on segments.
+void expect_conforming(const Pslg& g, Method method) {
+  SCOPED_TRACE(g.source + " " + std::string(method_name(method)));
+  TriangulateOptions o;
+  o.method = method;
+  o.min_angle_deg = 20.0;
+  o.conforming_delaunay = true;
+  Mesh m;
+  const Report r = triangulate(g, o, &m);
+  EXPECT_TRUE(r.warnings.empty()) << joined(r.warnings);
+  CheckOptions c;
+  c.conforming_delaunay = true;
+  const CheckResult check = test::check_mesh(g, m, c);
+  EXPECT_TRUE(check.ok()) << joined(check.messages);
+  expect_empty_circumcircles(m);
+  if (method == Method::kDt) {
+    for (VertexId v = static_cast<VertexId>(g.points.size()); v < m.points.size(); ++v) {
+      EXPECT_EQ(m.vertex_kind[v], VertexKind::kSteinerOnSegment) << v;
+    }
+  } else {
+    EXPECT_NE(r.stop.kind, StopKind::kLeftBelowBound) << r.stop_reason;
+  }
 }
 
 TEST(ConformingDelaunay, DataSetsDtAndDr) {
-  for (const char* name : {"Plate.poly", "Airliner.poly", "Africa.poly", "PuertoRico.poly"}) {
+  for (const char* name : {"Plate.poly", "Airliner.poly", "Africa.poly", "PuertoRico.poly", "Texas.poly",
+                           "Superior.poly", "NewYork.poly", "Turkey.poly", "Florida.poly", "California.poly"}) {
     const Pslg g = io::read_input(std::string(MWST_DATA_DIR) + "/" + name);
-    for (const Method method : {Method::kDt, Method::kDr}) {
-      SCOPED_TRACE(std::string(name) + " " + std::string(method_name(method)));
-      TriangulateOptions o;
-      o.method = method;
-      o.min_angle_deg = 20.0;
-      o.conforming_delaunay = true;
-      Mesh m;
-      const Report r = triangulate(g, o, &m);
-      EXPECT_TRUE(r.warnings.empty()) << joined(r.warnings);
-      CheckOptions c;
-      c.conforming_delaunay = true;
-      if (method == Method::kDr) c.min_angle_deg = 0.0;
-      const CheckResult check = test::check_mesh(g, m, c);
-      EXPECT_TRUE(check.ok()) << joined(check.messages);
-      expect_empty_circumcircles(m);
-      if (method == Method::kDt) {
-        // Only segment Steiner points.
-        for (VertexId v = static_cast<VertexId>(g.points.size()); v < m.points.size(); ++v) {
-          EXPECT_EQ(m.vertex_kind[v], VertexKind::kSteinerOnSegment) << v;
-        }
-      } else {
-        EXPECT_NE(r.stop.kind, StopKind::kLeftBelowBound) << r.stop_reason;
-      }
-    }
+    for (const Method method : {Method::kDt, Method::kDr}) expect_conforming(g, method);
   }
 }
 
@@ -461,25 +469,11 @@ TEST(ConformingDelaunay, SmallInputAngles) {
     fan.segments.push_back({static_cast<std::uint32_t>(spokes), static_cast<std::uint32_t>(spokes) + 1, 1});
     fan.segments.push_back({static_cast<std::uint32_t>(spokes) + 1, 0, 1});
     fan.is_poly = true;
-    fan.source = "fan.poly";
+    fan.source = "fan" + std::to_string(static_cast<int>(degrees)) + ".poly";
     inputs.push_back(fan);
   }
   for (const Pslg& g : inputs) {
-    for (const Method method : {Method::kDt, Method::kDr}) {
-      SCOPED_TRACE(g.source + " " + std::string(method_name(method)));
-      TriangulateOptions o;
-      o.method = method;
-      o.min_angle_deg = 20.0;
-      o.conforming_delaunay = true;
-      Mesh m;
-      const Report r = triangulate(g, o, &m);
-      EXPECT_TRUE(r.warnings.empty()) << joined(r.warnings);
-      CheckOptions c;
-      c.conforming_delaunay = true;
-      const CheckResult check = test::check_mesh(g, m, c);
-      EXPECT_TRUE(check.ok()) << joined(check.messages);
-      expect_empty_circumcircles(m);
-    }
+    for (const Method method : {Method::kDt, Method::kDr}) expect_conforming(g, method);
   }
 }
 
@@ -497,9 +491,12 @@ TEST(ConformingDelaunay, TheCheckerCanFail) {
   CheckOptions c;
   c.conforming_delaunay = true;
   EXPECT_FALSE(test::check_mesh(g, m, c).ok());
+  EXPECT_GT(vertices_in_circumcircles(m), 0u);
   o.conforming_delaunay = true;
-  triangulate(g, o, &m);
+  const Report r = triangulate(g, o, &m);
   EXPECT_TRUE(test::check_mesh(g, m, c).ok());
+  EXPECT_EQ(vertices_in_circumcircles(m), 0u);
+  EXPECT_GT(r.steiner, 0u);
   o.flip = true;
   EXPECT_THROW(triangulate(g, o), std::invalid_argument);
 }

@@ -968,7 +968,7 @@ Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* ou
   const auto start_mesh = [&] {
     if (pslg.triangles.empty()) return constrained_delaunay_phase(pslg, options, report);
     Phase phase(report, "start");
-    Mesh m = mesh_from_triangles(pslg, options.method != Method::kDt, options.threads, report);
+    Mesh m = mesh_from_triangles(pslg, options.method != Method::kDt || options.conforming_delaunay, options.threads, report);
     phase.finish();
     return m;
   };

@@ -212,6 +212,7 @@ class Refiner {
   Point steiner_point(TriangleId t, const Eval& ev) const;
   void split_triangle(TriangleId t, const Eval& ev);
   void split_at_centroid(TriangleId t, const Eval& ev);
+  void insert_for(TriangleId t, const Eval& ev, const Point& p, TriangleId t0, bool centroid_next);
 
   // ---- walking and inserting -------------------------------------------------------------------
   enum class WalkKind { kInTriangle, kOnEdge, kOnVertex, kBlocked };
@@ -524,19 +525,7 @@ void Refiner::split_triangle(TriangleId t, const Eval& ev) {
       }
       [[fallthrough]];
     case WalkKind::kInTriangle: {
-      const InsertKind r = insert_free(p, w.handle >> 2);
-      if (r == InsertKind::kProtected) {
-        split_at_centroid(t, ev);
-      } else if (r == InsertKind::kEncroaches) {
-        ++stats_.rejected;
-        if (split_all_pending()) {
-          queue_.push(ev.key, t, m_.triangles[t].v[0]);
-        } else {
-          ++stats_.precision_skips;
-        }
-      } else if (r == InsertKind::kFailed) {
-        insert_lawson(p, w.handle >> 2);
-      }
+      insert_for(t, ev, p, w.handle >> 2, true);
       return;
     }
   }
@@ -562,9 +551,20 @@ void Refiner::split_at_centroid(TriangleId t, const Eval& ev) {
     ++protected_skips_;  // (a sliver whose rounded centroid is not inside it)
     return;
   }
-  const InsertKind r = insert_free(p, w.handle >> 2);
+  insert_for(t, ev, p, w.handle >> 2, false);
+}
+
+// Inserts the Steiner point p (lying in t0) of bad triangle t. If p encroaches subsegments they are
+// split instead and t is queued again; if it lies on or beyond a protected one, t gets its
+// centroid when `centroid_next` (split_at_centroid), else it is left and counted.
+void Refiner::insert_for(TriangleId t, const Eval& ev, const Point& p, TriangleId t0, bool centroid_next) {
+  const InsertKind r = insert_free(p, t0);
   if (r == InsertKind::kProtected) {
-    ++protected_skips_;
+    if (centroid_next) {
+      split_at_centroid(t, ev);
+    } else {
+      ++protected_skips_;
+    }
   } else if (r == InsertKind::kEncroaches) {
     ++stats_.rejected;
     if (split_all_pending()) {
@@ -573,7 +573,7 @@ void Refiner::split_at_centroid(TriangleId t, const Eval& ev) {
       ++stats_.precision_skips;
     }
   } else if (r == InsertKind::kFailed) {
-    insert_lawson(p, w.handle >> 2);
+    insert_lawson(p, t0);
   }
 }
 
