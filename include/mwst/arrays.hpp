@@ -51,6 +51,15 @@ struct MeshArrays {
   std::size_t segment_count() const { return segment_markers.size(); }
 };
 
+// Triangle's regions: for each triangle slot of `mesh`, the index of the region whose seed reaches
+// it without crossing a subsegment (regions applied in order, a later one winning), or -1 (outside
+// the domain, or reached by no seed). A seed outside the domain is skipped with a warning
+// ("region seed N (x, y) lies outside the domain: ...") appended to `warnings` when not null;
+// `what` completes that warning (what is not applied).
+MWST_API std::vector<std::int32_t> region_of_triangles(const Mesh& mesh, const std::vector<Region>& regions,
+                                                       std::vector<std::string>* warnings,
+                                                       const char* what = "its attribute is not applied");
+
 // The domain triangles of `mesh` as flat arrays. Vertices removed from the mesh
 // (VertexKind::kRemoved) are left out and the rest numbered in order. `regions` (a Pslg's) give
 // triangle_attributes; a region seed outside the domain is skipped with a warning in

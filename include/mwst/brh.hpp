@@ -15,6 +15,7 @@ struct BrhOptions {
   std::size_t bundle_k = 0;     // K (≥ 3): a skinny triangle is split only inside a K-bundle
   RefineOptions refine;         // Steiner rule, budgets, ... (its angle / is_bad are set by BRH)
   std::size_t max_rounds = 1000;
+  unsigned threads = 0;         // threads of the exact bundle tests (0: all hardware threads)
 };
 
 struct BrhStats {

@@ -42,6 +42,7 @@ namespace mwst {
 
 struct CheckOptions {
   bool delaunay = false;         // constrained Delaunay across every edge not on an input segment
+  bool conforming_delaunay = false;  // Delaunay across every interior edge, input segments included
   double min_angle_deg = 0.0;    // > 0: every angle at least this (up to 1e-9 degrees of rounding)
   std::size_t max_messages = 1000;  // violations beyond this are counted, not described
 };

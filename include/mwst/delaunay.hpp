@@ -21,11 +21,14 @@ struct DelaunayStats {
 // Duplicate points are merged (kept in Mesh::points as VertexKind::kDuplicate, listed in
 // Mesh::duplicates). Throws InputError if a coordinate is outside the supported range, if fewer
 // than three distinct points remain, or if all points are collinear (the messages say which).
-MWST_API Mesh delaunay(std::vector<Point> points, DelaunayStats* stats = nullptr);
+// Large inputs are triangulated in two halves, on two threads unless `threads` is 1 (0: all
+// hardware threads); the halves depend only on the input, so the mesh does not depend on it.
+MWST_API Mesh delaunay(std::vector<Point> points, DelaunayStats* stats = nullptr, unsigned threads = 0);
 
 struct ConstrainOptions {
   bool strict = false;       // refuse crossing segments (InputError naming both) instead of splitting
   bool convex_hull = false;  // keep the whole convex hull (Triangle's -c); holes still carve
+  unsigned threads = 0;      // delaunay()'s threads (1: one; 0: all hardware threads)
 };
 
 struct ConstrainStats {

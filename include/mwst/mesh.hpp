@@ -89,6 +89,12 @@ class MWST_API Mesh {
   // Boundary marker of each subsegment, 3 per triangle (index 3*t+e); sized only once a segment
   // exists. Meaningful where the segment bit is set.
   std::vector<std::int32_t> segment_marker;
+  // Per-triangle area bounds (Triangle's regional -a and .area files), one per slot; empty: none.
+  // A value <= 0 means no bound. Once sized, the local operations keep it: the triangles a split
+  // makes inherit their parent's bound, and a flip gives both new triangles the mean of the two
+  // old bounds (none if either had none) — Triangle's rule, which keeps a small bound from
+  // travelling far through flips. Trials do not journal it (the optimiser does not use it).
+  std::vector<double> area_bound;
   std::vector<std::pair<VertexId, VertexId>> duplicates;  // (duplicate input point, the vertex kept)
   std::uint32_t input_vertex_count = 0;  // vertices [0, input_vertex_count) are input points
 

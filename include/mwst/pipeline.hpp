@@ -76,13 +76,6 @@ double estimated_bytes(Method method, double triangles);
 
 inline constexpr std::size_t kDefaultOptTrials = std::numeric_limits<std::size_t>::max();
 
-// Where refinement may put Steiner points on input segments (Triangle's -Y and -YY).
-enum class SegmentSplitting {
-  kAllowed,      // anywhere (the default)
-  kNotBoundary,  // not on segments of the triangulation's boundary (-Y)
-  kNever,        // on no input segment (-YY)
-};
-
 struct TriangulateOptions {
   Method method = Method::kDt;
   double min_angle_deg = 20.0;                 // DR / BRH angle bound α; 0 = none
@@ -108,12 +101,21 @@ struct TriangulateOptions {
   // that) is refused with a ResourceError before any refinement.
   double memory_budget_bytes = 0.0;
   // Triangle's -D: the result is Delaunay across segments too (conforming Delaunay), input segments
-  // being split where needed.
+  // being split where needed (RefineOptions::conforming_delaunay). Methods dt (segment splits
+  // only) and dr; not with flip. A warning says if it was not reached (a budget, the guard).
   bool conforming_delaunay = false;
+  // Triangle's -Y / -YY (RefineOptions::segment_splitting): methods dt, dr and brh. Triangles that
+  // cannot be improved without splitting a protected subsegment are left, and the stop reason
+  // counts them ("N triangles left beside subsegments that may not be split"); triangles above
+  // an area bound get interior points instead, so area bounds are still met.
   SegmentSplitting segment_splitting = SegmentSplitting::kAllowed;
-  // Triangle's -a without a number: each Region's max_area bounds the triangles of its region.
+  // Triangle's -a without a number: each Region's max_area bounds the triangles of its region
+  // (found as arrays.hpp's region_of_triangles finds them; kept in Mesh::area_bound and inherited
+  // by the triangles refinement makes). Methods dr and brh.
   bool regional_area_limits = false;
-  // Worker threads (0: all hardware threads). Results do not depend on it.
+  // Worker threads (0: all hardware threads; 1: everything on the calling thread) of the parallel
+  // parts: the Delaunay triangulation, the quadtree, the exact bundle tests. Results do not depend
+  // on it.
   unsigned threads = 0;
   // Called at every phase (may be empty).
   ProgressCallback progress;
@@ -133,18 +135,22 @@ enum class StopKind {
   kBelowBoundAfterFlips,  // --flip: `count` triangles below the bound after the flips
   kSkinnyInBundles,       // brh --flip: `count` skinny triangles in K-bundles after the flips
   kLeftBelowBound,        // `count` triangles miss the bound, none of the reasons above holds
+  kProtectedSegments,     // `count` triangles miss the bound beside subsegments that may not be
+                          // split (segment_splitting, Triangle's -Y / -YY)
   kOther,                 // a reason an engine gave in its own words (`text`)
 };
 struct StopReason {
   StopKind kind = StopKind::kUnset;
-  std::size_t count = 0;  // kSmallInputAngles, kBelowBoundAfterFlips, kSkinnyInBundles, kLeftBelowBound
+  std::size_t count = 0;  // kSmallInputAngles, kBelowBoundAfterFlips, kSkinnyInBundles, kLeftBelowBound,
+                          // kProtectedSegments
   std::string text;       // kOther
   friend bool operator==(const StopReason&, const StopReason&) = default;
 };
 // The words of the report: "bound reached", "N triangles left near small input angles",
 // "steiner budget", "time budget", "local minimum", "round limit", "N triangles below the angle
 // bound after the flips", "N skinny triangles in K-bundles after the flips", "N triangles left
-// outside the bounds", or the engine's text; "" for kUnset.
+// outside the bounds", "N triangles left beside subsegments that may not be split", or the
+// engine's text; "" for kUnset.
 std::string to_string(const StopReason& reason);
 // The reason an engine (RefineStats::stop_reason, BrhStats::stop_reason) gives in words.
 StopReason parse_stop_reason(std::string_view text);
@@ -155,8 +161,10 @@ StopReason parse_stop_reason(std::string_view text);
 // input angles" (dr; brh's K-bundle test stands for its angle bound, checked again after flips
 // with in_k_bundle), opt's "local minimum" unless it ran out of time; a mesh that does not is a
 // budget stop (steiner or time) when the engine ran out of one, "below the angle bound after the
-// flips" when the flips broke it, and otherwise "N triangles left outside the bounds". Never a
-// reason the mesh contradicts.
+// flips" when the flips broke it, "N triangles left beside subsegments that may not be split" when
+// segment_splitting protects subsegments, and otherwise "N triangles left outside the bounds".
+// The area bound includes the mesh's own per-triangle bounds (Mesh::area_bound: regional limits,
+// .area files). Never a reason the mesh contradicts.
 // brh --flip's exact test stops at `deadline` (the time budget's), and the reason is then "time budget".
 StopReason settle_stop_reason(const Mesh& mesh, const TriangulateOptions& options, const StopReason& engine,
                               bool flipped,
@@ -206,7 +214,10 @@ struct MWST_API Report {
   double total_seconds() const;
 };
 
-// Runs options.method on the input. If `out` is not null the final mesh is moved there.
+// Runs options.method on the input. If `out` is not null the final mesh is moved there. With
+// Pslg::triangles (Triangle's -r) dt, dr and brh start from that triangulation instead of the CDT
+// (validated: an InputError names the first problem; see pipeline.cpp), dt keeping it as it is;
+// Pslg::triangle_max_area bounds its triangles and those refinement makes from them.
 // Throws InputError for input the mesher refuses (naming pslg.source and, where known, the line),
 // ResourceError for a request that cannot fit in options.memory_budget_bytes, std::invalid_argument for unusable options (a bundle size below 3, an angle outside [0, 60), ...),
 // and InternalError for broken invariants.

@@ -15,7 +15,9 @@ struct Segment {
   std::int32_t marker = 1;  // Triangle's boundary marker (copied to output subsegments)
 };
 
-// A regional attribute / area constraint seed of Triangle's .poly (accepted, kept, not applied).
+// A regional attribute / area constraint seed of Triangle's .poly: the attribute goes to the
+// triangles its seed reaches (arrays.hpp), the area limit bounds them with
+// TriangulateOptions::regional_area_limits (≤ 0: none).
 struct Region {
   Point seed;
   double attribute = 0.0;

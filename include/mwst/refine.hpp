@@ -17,6 +17,16 @@ namespace mwst {
 
 enum class SteinerRule { kOffCenter, kCircumcenter };
 
+// Where refinement may put Steiner points on input segments (Triangle's -Y and -YY). A subsegment
+// refinement may not split is never split, even when encroached: a Steiner point that encroaches
+// it is inserted all the same (the mesh stays constrained Delaunay), and a triangle whose Steiner
+// point lies beyond or on it is left as it is and counted (RefineStats::left_protected).
+enum class SegmentSplitting {
+  kAllowed,      // anywhere (the default)
+  kNotBoundary,  // not on subsegments of the triangulation's boundary (-Y)
+  kNever,        // on no subsegment (-YY)
+};
+
 // Which vertices encroach a subsegment: those in its diametral circle (Ruppert), or only those in
 // its diametral lens, the intersection of the two disks through both endpoints whose arcs meet the
 // subsegment at the angle bound (Chew; Triangle's default). Lenses are smaller, so fewer segment
@@ -54,6 +64,17 @@ struct RefineOptions {
   RefineOrder order = RefineOrder::kShortestEdgeFirst;
   BadTriangleTest is_bad;        // empty: the angle test (the area bound applies either way)
   SteinerPointRule steiner_point;  // empty: circumcenter or off-center per `rule`
+  SegmentSplitting segment_splitting = SegmentSplitting::kAllowed;
+  // Conforming Delaunay (Triangle's -D): a subsegment is also split while it is not locally
+  // Delaunay, i.e. while the apex of a triangle on one side (in the domain or carved away, not a
+  // ghost) lies strictly inside the circumcircle of the triangle on the other side. With every
+  // other edge kept locally Delaunay this makes the whole triangulation of the convex hull
+  // Delaunay (the Delaunay lemma), so every domain triangle has an empty circumcircle. Subsegments
+  // with no domain triangle beside them are unmarked first (they bound nothing that is output).
+  // Every such split is of a subsegment encroached in Ruppert's sense (an apex in its diametral
+  // circle), so with concentric-shell splitting the splits stop, as in Ruppert's proof; the
+  // termination guard stops them otherwise.
+  bool conforming_delaunay = false;
   // Seeded (incremental) refinement, for a mesh a previous refine() pass already refined (hull
   // edges marked, no encroached subsegment left) when only a few triangles are to be re-examined.
   // Used only when non-empty and is_bad is set: then only these triangles (live, in-domain slots;
@@ -70,6 +91,10 @@ struct RefineOptions {
 // smallest feature allows when it terminates (angle bounds above about 34°; see refine.cpp).
 inline constexpr const char* kStopBeyondFeatureSize = "no progress: size beyond the local-feature-size bound";
 
+// The end of the stop reason "N triangles left beside subsegments that may not be split": bad
+// triangles remain whose Steiner points lie on or beyond protected subsegments (segment_splitting).
+inline constexpr const char* kStopProtectedSuffix = " triangles left beside subsegments that may not be split";
+
 struct RefineStats {
   std::size_t steiner_inserted = 0;   // free Steiner points
   std::size_t segment_splits = 0;     // Steiner points on segments
@@ -80,16 +105,24 @@ struct RefineStats {
   std::size_t rejected = 0;           // Steiner points not inserted (they encroached a subsegment
                                       // or lay beyond one); the subsegment was split instead
   std::size_t skipped_mpw = 0;        // times a skinny triangle was left by the MPW rule
+  std::size_t left_protected = 0;     // bad triangles left because their Steiner point lies on
+                                      // or beyond a subsegment that may not be split
+                                      // (segment_splitting), counted at the end
+  std::size_t conforming_splits = 0;  // conforming_delaunay: splits of subsegments not locally Delaunay
   std::size_t precision_skips = 0;    // points not insertable at double precision (duplicate
                                       // vertex, or no valid rounded split point)
   std::string stop_reason;            // "bound reached" | "steiner budget" | "time budget" |
                                       // "N triangles left near small input angles" |
+                                      // "N" kStopProtectedSuffix |
                                       // kStopBeyondFeatureSize
   double seconds = 0.0;               // total
   double seconds_segments = 0.0;      // first phase: splitting the initially encroached subsegments
   double seconds_triangles = 0.0;     // second phase: splitting bad triangles
 };
 
+// Mesh::area_bound, when sized, bounds each triangle's area as well (a triangle above its own
+// bound is bad), and the triangles refinement makes inherit the bound of the one they replace.
+//
 // Refines a carved constrained Delaunay mesh in place (Ruppert / Shewchuk / Üngör). The mesh stays
 // constrained Delaunay; every free Steiner point lies inside the domain; triangles outside the
 // domain (kOutside) are only touched where a boundary subsegment is split. With min_angle_deg ≤ 0,

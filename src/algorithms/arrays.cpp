@@ -41,42 +41,57 @@ TriangleId domain_triangle_at(const Mesh& mesh, const Location& where) {
   return kNone;
 }
 
-// Triangle's regional attributes: each region's attribute spreads from the triangle holding its
-// seed to every domain triangle reachable without crossing a subsegment; regions are applied in
-// order, so a later one overwrites an earlier one in the same part of the domain.
-void spread_region_attributes(const Mesh& mesh, const std::vector<Region>& regions,
-                              const std::vector<std::int32_t>& index_of_slot, MeshArrays& out) {
-  out.triangle_attributes.assign(out.triangle_count(), 0.0);
-  std::vector<std::uint32_t> visited(mesh.triangle_slots(), 0);  // region number + 1 that reached it
+}  // namespace
+
+std::vector<std::int32_t> region_of_triangles(const Mesh& mesh, const std::vector<Region>& regions,
+                                              std::vector<std::string>* warnings, const char* what) {
+  std::vector<std::int32_t> region(mesh.triangle_slots(), -1);
   std::vector<TriangleId> stack;
   for (std::size_t r = 0; r < regions.size(); ++r) {
     const Point& seed = regions[r].seed;
     const TriangleId start = in_supported_range(seed) ? domain_triangle_at(mesh, mesh.locate(seed)) : kNone;
     if (start == kNone) {
-      std::ostringstream warning;
-      warning.precision(17);
-      warning << "region seed " << r + 1 << " (" << seed.x << ", " << seed.y
-              << ") lies outside the domain: its attribute is not applied";
-      out.report.warnings.push_back(warning.str());
+      if (warnings) {
+        std::ostringstream warning;
+        warning.precision(17);
+        warning << "region seed " << r + 1 << " (" << seed.x << ", " << seed.y << ") lies outside the domain: " << what;
+        warnings->push_back(warning.str());
+      }
       continue;
     }
-    const auto mark = static_cast<std::uint32_t>(r + 1);
-    visited[start] = mark;
+    // Each region spreads from the triangle holding its seed to every domain triangle reachable
+    // without crossing a subsegment, overwriting an earlier region there.
+    const auto mark = static_cast<std::int32_t>(r);
+    region[start] = mark;
     stack.assign(1, start);
     while (!stack.empty()) {
       const TriangleId t = stack.back();
       stack.pop_back();
-      out.triangle_attributes[static_cast<std::size_t>(index_of_slot[t])] = regions[r].attribute;
       for (unsigned e = 0; e < 3; ++e) {
         const Handle h = make_handle(t, e);
         if (mesh.is_segment(h)) continue;
         const TriangleId u = triangle_of(mesh.sym(h));
-        if (visited[u] != mark && mesh.in_domain(u)) {
-          visited[u] = mark;
+        if (region[u] != mark && mesh.in_domain(u)) {
+          region[u] = mark;
           stack.push_back(u);
         }
       }
     }
+  }
+  return region;
+}
+
+namespace {
+
+// Triangle's regional attributes (region_of_triangles), 0 where no region reaches.
+void spread_region_attributes(const Mesh& mesh, const std::vector<Region>& regions,
+                              const std::vector<std::int32_t>& index_of_slot, MeshArrays& out) {
+  out.triangle_attributes.assign(out.triangle_count(), 0.0);
+  const std::vector<std::int32_t> region = region_of_triangles(mesh, regions, &out.report.warnings);
+  for (TriangleId t = 0; t < mesh.triangle_slots(); ++t) {
+    if (index_of_slot[t] == kNoTriangle || region[t] < 0) continue;
+    out.triangle_attributes[static_cast<std::size_t>(index_of_slot[t])] =
+        regions[static_cast<std::size_t>(region[t])].attribute;
   }
 }
 

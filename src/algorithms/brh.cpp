@@ -513,7 +513,7 @@ BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
         sweep_cache.reuse_sweeps = use_cache;
         std::vector<std::uint8_t> answers;
         try {
-          answers = in_k_bundle(mesh, K, asked, nullptr, 0, &sweep_cache, deadline);
+          answers = in_k_bundle(mesh, K, asked, nullptr, options.threads, &sweep_cache, deadline);
         } catch (const KBundleTimeout&) {  // (the mesh is as the last pass left it)
           stats.stop_reason = "time budget";
           break;

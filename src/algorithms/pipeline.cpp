@@ -17,8 +17,10 @@
 #include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 #include <utility>
 
+#include "mwst/arrays.hpp"
 #include "mwst/brh.hpp"
 #include "mwst/bundle.hpp"
 #include "mwst/flip.hpp"
@@ -119,6 +121,7 @@ Mesh constrained_delaunay_phase(const Pslg& pslg, const TriangulateOptions& opti
   ConstrainOptions constrain;
   constrain.strict = options.strict;
   constrain.convex_hull = options.convex_hull;
+  constrain.threads = options.threads;
   ConstrainStats stats;
   Mesh mesh = constrained_delaunay(pslg, constrain, &stats);
   report.seconds.emplace_back("delaunay", stats.seconds_delaunay);
@@ -148,6 +151,208 @@ Mesh constrained_delaunay_phase(const Pslg& pslg, const TriangulateOptions& opti
   return mesh;
 }
 
+// Lawson flips of every non-subsegment edge between two finite triangles on the same side of the
+// domain's boundary until each is locally Delaunay (an edge failing the test has a convex
+// quadrilateral, so every flip is legal, and the flips end: Lawson). `domain` says whether edges
+// between two domain triangles are flipped too, or only those of the outside region.
+void flip_to_constrained_delaunay(Mesh& mesh, bool domain) {
+  std::vector<Handle> stack;
+  for (TriangleId t = 0; t < mesh.triangles.size(); ++t) {
+    if (mesh.is_dead(t) || mesh.is_ghost(t)) continue;
+    for (unsigned e = 0; e < 3; ++e) stack.push_back(make_handle(t, e));
+  }
+  while (!stack.empty()) {
+    const Handle h = stack.back();
+    stack.pop_back();
+    const TriangleId t = h >> 2, u = mesh.sym(h) >> 2;
+    if (mesh.is_dead(t) || mesh.is_segment(h) || mesh.is_ghost(t) || mesh.is_ghost(u) ||
+        mesh.is_outside(t) != mesh.is_outside(u) || (!domain && !mesh.is_outside(t)) ||
+        !mesh.is_locally_non_delaunay(h)) {
+      continue;
+    }
+    const Handle diagonal = mesh.flip(h);
+    for (const TriangleId w : {diagonal >> 2, mesh.sym(diagonal) >> 2}) {
+      for (unsigned e = 0; e < 3; ++e) stack.push_back(make_handle(w, e));
+    }
+  }
+}
+
+// Triangle's -r: the start mesh is the triangulation the input gives (Pslg::triangles), not the
+// constrained Delaunay triangulation. It is validated — corner indices in range, no collinear
+// corners, clockwise triangles turned counter-clockwise (with a warning), every edge in at most
+// two triangles and on opposite sides of it, every input segment an edge, the triangles covering
+// their union without overlap — and an InputError names the first problem. The mesh is built as
+// the constrained Delaunay triangulation of the points with every edge of the triangles as a
+// constraint, which contains exactly those triangles when they form a triangulation; the rest of
+// the convex hull is marked outside. The domain's boundary edges and the input segments are
+// subsegments (marker: the segment's, else 1); the outside region is made Delaunay, and with
+// `make_delaunay` (the refining methods: their insertions need a constrained Delaunay mesh) the
+// domain too, by flips that keep the subsegments. Pslg::triangle_max_area goes to Mesh::area_bound.
+// Holes are not used (the triangles say where the domain is).
+Mesh mesh_from_triangles(const Pslg& pslg, bool make_delaunay, unsigned threads, Report& report) {
+  const std::size_t n = pslg.points.size();
+  const std::string& file = pslg.source;
+  const auto number = [&](std::size_t i) { return std::to_string(i + static_cast<std::size_t>(pslg.first_index)); };
+  if (pslg.triangles.size() % 3 != 0) {
+    throw InputError(file, 0, "the triangle list has " + std::to_string(pslg.triangles.size()) +
+                                  " corner indices, not a multiple of 3");
+  }
+  const std::size_t count = pslg.triangles.size() / 3;
+  if (!pslg.triangle_max_area.empty() && pslg.triangle_max_area.size() != count) {
+    throw InputError(file, 0, "the area bounds list " + std::to_string(pslg.triangle_max_area.size()) +
+                                  " values for " + std::to_string(count) + " triangles");
+  }
+  std::vector<std::array<VertexId, 3>> triangles(count);
+  std::size_t reoriented = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    std::array<VertexId, 3> v{pslg.triangles[3 * i], pslg.triangles[3 * i + 1], pslg.triangles[3 * i + 2]};
+    for (const VertexId x : v) {
+      if (x >= n) {
+        throw InputError(file, 0, "triangle " + number(i) + " names vertex " + number(x) + ", but there are only " +
+                                      std::to_string(n) + " vertices");
+      }
+    }
+    const int o = orient2d(pslg.points[v[0]], pslg.points[v[1]], pslg.points[v[2]]);
+    if (o == 0) throw InputError(file, 0, "triangle " + number(i) + " is degenerate: its corners are collinear");
+    if (o < 0) {
+      std::swap(v[1], v[2]);
+      ++reoriented;
+    }
+    triangles[i] = v;
+  }
+  if (reoriented > 0) {
+    report.warnings.push_back(plural(reoriented, "triangle was", "triangles were") +
+                              " clockwise and turned counter-clockwise");
+  }
+  const auto key = [](VertexId a, VertexId b) {
+    return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
+  };
+  // Each undirected edge: the triangles on it (at most two), and the origin of its direction in
+  // the first (counter-clockwise triangles on the two sides traverse it in opposite directions).
+  struct EdgeUse {
+    std::size_t first = 0;
+    VertexId first_org = 0;
+    std::size_t uses = 0;
+  };
+  std::unordered_map<std::uint64_t, EdgeUse> edges;
+  edges.reserve(2 * count + 16);
+  for (std::size_t i = 0; i < count; ++i) {
+    for (unsigned e = 0; e < 3; ++e) {
+      const VertexId a = triangles[i][next3(e)], b = triangles[i][prev3(e)];
+      EdgeUse& use = edges[key(a, b)];
+      const auto edge = [&] {  // (only for a message)
+        std::string text = "(";
+        text += number(a);
+        text += ", ";
+        text += number(b);
+        text += ")";
+        return text;
+      };
+      if (use.uses == 2) {
+        throw InputError(file, 0, "edge " + edge() + " belongs to more than two triangles (triangle " + number(i) +
+                                      " is the third): the triangles do not form a triangulation");
+      }
+      if (use.uses == 1 && use.first_org == a) {
+        throw InputError(file, 0, "triangles " + number(use.first) + " and " + number(i) +
+                                      " overlap: both lie on the same side of their edge " + edge());
+      }
+      if (use.uses == 0) {
+        use.first = i;
+        use.first_org = a;
+      }
+      ++use.uses;
+    }
+  }
+  std::unordered_map<std::uint64_t, std::int32_t> segment_marker;
+  for (std::size_t k = 0; k < pslg.segments.size(); ++k) {
+    const Segment& seg = pslg.segments[k];
+    if (seg.a >= n || seg.b >= n || !edges.count(key(seg.a, seg.b))) {
+      const std::size_t line = k < pslg.segment_lines.size() ? pslg.segment_lines[k] : 0;
+      throw InputError(file, line, "segment " + number(k) + " (" + number(seg.a) + ", " + number(seg.b) +
+                                       ") is not an edge of the triangles");
+    }
+    segment_marker[key(seg.a, seg.b)] = seg.marker;
+  }
+  // Every edge of the triangles as a constraint: the boundary (used once) and the input segments
+  // with their markers, the other edges with marker 0 (unmarked again below).
+  Pslg constraints;
+  constraints.points = pslg.points;
+  constraints.point_markers = pslg.point_markers;
+  constraints.source = file;
+  constraints.segments.reserve(edges.size());
+  for (const auto& [k, use] : edges) {
+    const auto a = static_cast<VertexId>(k >> 32), b = static_cast<VertexId>(k & 0xFFFFFFFFu);
+    const auto marked = segment_marker.find(k);
+    const std::int32_t marker = marked != segment_marker.end() ? marked->second : use.uses == 1 ? 1 : 0;
+    constraints.segments.push_back({a, b, marker});
+  }
+  // (The hash map's order is not the input's: sorted, so that the mesh does not depend on it.)
+  std::sort(constraints.segments.begin(), constraints.segments.end(),
+            [](const Segment& x, const Segment& y) { return x.a < y.a || (x.a == y.a && x.b < y.b); });
+  ConstrainOptions constrain;
+  constrain.strict = true;
+  constrain.convex_hull = true;
+  constrain.threads = threads;
+  ConstrainStats stats;
+  Mesh mesh;
+  try {
+    mesh = constrained_delaunay(constraints, constrain, &stats);
+  } catch (const InputError& e) {
+    throw InputError(file, 0, std::string("the triangles do not form a triangulation: ") + e.what());
+  }
+  // Which slot is which input triangle: by its sorted corners.
+  struct TripleHash {
+    std::size_t operator()(const std::array<VertexId, 3>& v) const {
+      std::uint64_t h = v[0];
+      h = h * 0x9E3779B97F4A7C15ull ^ v[1];
+      h = h * 0x9E3779B97F4A7C15ull ^ v[2];
+      return static_cast<std::size_t>(h ^ (h >> 29));
+    }
+  };
+  std::unordered_map<std::array<VertexId, 3>, std::size_t, TripleHash> input_index;
+  input_index.reserve(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    std::array<VertexId, 3> v = triangles[i];
+    std::sort(v.begin(), v.end());
+    input_index.emplace(v, i);
+  }
+  const bool bounds = !pslg.triangle_max_area.empty();
+  if (bounds) mesh.area_bound.assign(mesh.triangle_slots(), -1.0);
+  std::size_t matched = 0;
+  for (TriangleId t = 0; t < mesh.triangle_slots(); ++t) {
+    if (mesh.is_dead(t) || mesh.is_ghost(t)) continue;
+    std::array<VertexId, 3> v = mesh.triangles[t].v;
+    std::sort(v.begin(), v.end());
+    const auto it = input_index.find(v);
+    if (it == input_index.end()) {
+      mesh.flags[t] = static_cast<std::uint8_t>(mesh.flags[t] | kOutside);
+      continue;
+    }
+    mesh.flags[t] = static_cast<std::uint8_t>(mesh.flags[t] & ~kOutside);
+    if (bounds) mesh.area_bound[t] = pslg.triangle_max_area[it->second];
+    ++matched;
+  }
+  if (matched != count) {
+    throw InputError(file, 0, "the triangles do not form a triangulation: " + std::to_string(count - matched) +
+                                  " of them overlap others, or have a vertex inside them");
+  }
+  // Subsegments: the input segments and the domain's boundary only.
+  for (TriangleId t = 0; t < mesh.triangle_slots(); ++t) {
+    if (mesh.is_dead(t)) continue;
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle h = make_handle(t, e);
+      if (!mesh.is_segment(h)) continue;
+      const bool inside = mesh.in_domain(t), across = mesh.in_domain(mesh.sym(h) >> 2);
+      if (inside != across) continue;  // the domain's boundary
+      if (inside && segment_marker.count(key(mesh.org(h), mesh.dest(h)))) continue;  // an input segment
+      mesh.clear_segment(h);
+    }
+  }
+  flip_to_constrained_delaunay(mesh, make_delaunay);
+  report.extra["start"] = {{"triangles", count}, {"reoriented", reoriented}};
+  return mesh;
+}
+
 // Delaunay refinement (Ruppert / Chew / Shewchuk with Üngör's off-centers): phase "refine".
 void refine_phase(Mesh& mesh, const TriangulateOptions& options, Clock::time_point start, Report& report) {
   RefineOptions refine_options;
@@ -156,6 +361,8 @@ void refine_phase(Mesh& mesh, const TriangulateOptions& options, Clock::time_poi
   refine_options.max_steiner = options.max_steiner;
   refine_options.rule = options.steiner;
   refine_options.time_budget_seconds = budget_left(options, start);
+  refine_options.segment_splitting = options.segment_splitting;
+  refine_options.conforming_delaunay = options.conforming_delaunay;
   Phase phase(report, "refine");
   const RefineStats stats = refine(mesh, refine_options);
   phase.finish();
@@ -163,6 +370,54 @@ void refine_phase(Mesh& mesh, const TriangulateOptions& options, Clock::time_poi
   report.extra["refine"] = {{"steiner_inserted", stats.steiner_inserted},
                             {"segment_splits", stats.segment_splits},
                             {"left_small_angle", stats.left_small_angle}};
+  if (options.segment_splitting != SegmentSplitting::kAllowed) {
+    report.extra["refine"]["left_protected"] = stats.left_protected;
+  }
+}
+
+// Conforming Delaunay without refinement (dt with Triangle's -D): only the subsegments that are not
+// locally Delaunay are split (refine with no bound and RefineOptions::conforming_delaunay). Phase
+// "conform".
+void conform_phase(Mesh& mesh, const TriangulateOptions& options, Clock::time_point start, Report& report) {
+  RefineOptions refine_options;
+  refine_options.min_angle_deg = 0.0;
+  refine_options.max_steiner = options.max_steiner;
+  refine_options.time_budget_seconds = budget_left(options, start);
+  refine_options.segment_splitting = options.segment_splitting;
+  refine_options.conforming_delaunay = true;
+  Phase phase(report, "conform");
+  const RefineStats stats = refine(mesh, refine_options);
+  phase.finish();
+  report.extra["conform"] = {{"segment_splits", stats.segment_splits}};
+  if (stats.stop_reason != "bound reached") report.warnings.push_back("conforming Delaunay stopped: " + stats.stop_reason);
+}
+
+// The edges of the final mesh that are not locally Delaunay (exact incircle across every edge with
+// finite triangles on both sides, subsegments included): 0 for a conforming Delaunay mesh.
+std::size_t non_delaunay_edges(const Mesh& mesh) {
+  std::size_t count = 0;
+  for (TriangleId t = 0; t < mesh.triangles.size(); ++t) {
+    if (mesh.is_dead(t) || mesh.is_ghost(t)) continue;
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle h = make_handle(t, e);
+      const TriangleId u = mesh.sym(h) >> 2;
+      if (u < t || mesh.is_ghost(u) || (!mesh.in_domain(t) && !mesh.in_domain(u))) continue;
+      if (mesh.is_locally_non_delaunay(h) || mesh.is_locally_non_delaunay(mesh.sym(h))) ++count;
+    }
+  }
+  return count;
+}
+
+// Triangle's -a without a number: each region's max_area bounds the domain triangles its seed
+// reaches (region_of_triangles: a later region wins); kept in Mesh::area_bound, which refinement
+// hands down to the triangles it makes.
+void apply_regional_area_limits(Mesh& mesh, const Pslg& pslg, Report& report) {
+  const std::vector<std::int32_t> region =
+      region_of_triangles(mesh, pslg.regions, &report.warnings, "its area limit is not applied");
+  if (mesh.area_bound.empty()) mesh.area_bound.assign(mesh.triangle_slots(), -1.0);
+  for (TriangleId t = 0; t < mesh.triangle_slots(); ++t) {
+    if (region[t] >= 0) mesh.area_bound[t] = pslg.regions[static_cast<std::size_t>(region[t])].max_area;
+  }
 }
 
 // Bundle removal (BRH): phase "brh".
@@ -174,7 +429,20 @@ void brh_phase(Mesh& mesh, const TriangulateOptions& options, Clock::time_point 
   brh.refine.max_steiner = options.max_steiner;
   brh.refine.rule = options.steiner;
   brh.refine.time_budget_seconds = budget_left(options, start);
+  brh.refine.segment_splitting = options.segment_splitting;
+  brh.threads = options.threads;
   Phase phase(report, "brh");
+  if (!mesh.area_bound.empty()) {
+    // The mesh's own area bounds first (bundle_removal's own area pass reads max_area only); its
+    // passes then test the bounds of every triangle they make.
+    RefineOptions area = brh.refine;
+    area.min_angle_deg = 0.0;
+    const RefineStats rs = refine(mesh, area);
+    if (brh.refine.max_steiner != static_cast<std::size_t>(-1)) {
+      brh.refine.max_steiner -= std::min(brh.refine.max_steiner, rs.steiner_inserted + rs.segment_splits);
+    }
+    brh.refine.time_budget_seconds = budget_left(options, start);
+  }
   const BrhStats stats = bundle_removal(mesh, brh);
   phase.finish();
   report.stop = parse_stop_reason(stats.stop_reason);
@@ -498,6 +766,7 @@ std::string to_string(const StopReason& r) {
       return std::to_string(r.count) + " triangles below the angle bound after the flips";
     case StopKind::kSkinnyInBundles: return std::to_string(r.count) + " skinny triangles in K-bundles after the flips";
     case StopKind::kLeftBelowBound: return std::to_string(r.count) + " triangles left outside the bounds";
+    case StopKind::kProtectedSegments: return std::to_string(r.count) + kStopProtectedSuffix;
     case StopKind::kOther: return r.text;
   }
   throw InternalError("to_string: unknown stop reason");
@@ -509,6 +778,14 @@ StopReason parse_stop_reason(std::string_view text) {
   for (const StopKind kind : {StopKind::kBoundReached, StopKind::kSteinerBudget, StopKind::kTimeBudget,
                               StopKind::kLocalMinimum, StopKind::kRoundLimit, StopKind::kBeyondFeatureSize}) {
     if (to_string(StopReason{kind, 0, {}}) == text) return StopReason{kind, 0, {}};
+  }
+  // "N triangles left beside subsegments that may not be split"
+  const std::string_view protected_suffix = kStopProtectedSuffix;
+  if (text.size() > protected_suffix.size() && text.ends_with(protected_suffix)) {
+    const std::string_view digits = text.substr(0, text.size() - protected_suffix.size());
+    if (std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }) && digits.size() < 19) {
+      return StopReason{StopKind::kProtectedSegments, std::stoull(std::string(digits)), {}};
+    }
   }
   // "N triangles left near small input angles"
   constexpr std::string_view kSmall = " triangles left near small input angles";
@@ -530,9 +807,34 @@ StopReason settle_stop_reason(const Mesh& mesh, const TriangulateOptions& option
   // dr's bound is the angle and the area; brh's the area (its angle bound is the K-bundle test, as
   // the paper states it: a skinny triangle is left if it is in no K-bundle); opt's the area.
   const double angle = options.method == Method::kDr ? options.min_angle_deg : 0.0;
-  const BoundCheck check = check_bounds(mesh, angle, options.max_area);
+  BoundCheck check = check_bounds(mesh, angle, options.max_area);
+  if (!mesh.area_bound.empty()) {
+    // The mesh's own per-triangle bounds (regional limits, .area files). A triangle check_bounds
+    // already counted as a violation (above the global bound, or below the angle bound and not
+    // next to a small input angle) is not counted again; one it exempted is a violation now.
+    const double c = std::cos(std::max(0.0, angle) * std::numbers::pi / 180.0);
+    std::vector<std::uint8_t> near;
+    for (TriangleId t = 0; t < mesh.triangles.size(); ++t) {
+      const double bound = mesh.area_bound[t];
+      if (!(bound > 0.0) || !mesh.in_domain(t)) continue;
+      const auto& v = mesh.triangles[t].v;
+      const Point &a = mesh.points[v[0]], &b = mesh.points[v[1]], &p = mesh.points[v[2]];
+      const double area = triangle_area(a, b, p);
+      if (!(area > bound) || (options.max_area > 0.0 && area > options.max_area)) continue;
+      if (angle > 0.0 && below_angle_bound(a, b, p, c * c)) {
+        if (near.empty()) near = near_small_input_angles(mesh);
+        if (!near[t]) continue;
+        --check.exempt;
+      }
+      ++check.above_area;
+      ++check.violations;
+    }
+  }
   if (check.violations > 0) {
     if (cut_short) return engine;
+    if (options.segment_splitting != SegmentSplitting::kAllowed) {
+      return StopReason{StopKind::kProtectedSegments, check.violations, {}};
+    }
     // The refinement reached its bound and the flips broke it (flips keep the area bound).
     if (flipped && check.above_area == 0) return StopReason{StopKind::kBelowBoundAfterFlips, check.violations, {}};
     return StopReason{StopKind::kLeftBelowBound, check.violations, {}};
@@ -559,7 +861,7 @@ StopReason settle_stop_reason(const Mesh& mesh, const TriangulateOptions& option
     const std::size_t k = options.bundle_k != 0 ? options.bundle_k : default_bundle_k(options.min_angle_deg);
     std::vector<std::uint8_t> in_bundle;
     try {
-      in_bundle = in_k_bundle(mesh, static_cast<std::uint32_t>(k), skinny, nullptr, 0, nullptr, deadline);
+      in_bundle = in_k_bundle(mesh, static_cast<std::uint32_t>(k), skinny, nullptr, options.threads, nullptr, deadline);
     } catch (const KBundleTimeout&) {
       return StopReason{StopKind::kTimeBudget, 0, {}};
     }
@@ -602,13 +904,10 @@ void check_options(const TriangulateOptions& o) {
     // Every triangle with a vertex-empty disk inside it is a 1-bundle; two neighbours a 2-bundle.
     throw std::invalid_argument("bundle_k must be at least 3 (0 = the default from the angle)");
   }
-  // Declared for Triangle's -D, -Y/-YY and -a (issue: Triangle's formats and switches in full);
-  // refused until the mesher honours them, so that no caller gets a mesh that silently ignores them.
-  if (o.conforming_delaunay) throw std::invalid_argument("conforming_delaunay is not supported yet");
-  if (o.segment_splitting != SegmentSplitting::kAllowed) {
-    throw std::invalid_argument("segment_splitting other than kAllowed is not supported yet");
+  if (o.conforming_delaunay && o.flip) {
+    // The weight-reducing flips would undo the Delaunay property.
+    throw std::invalid_argument("conforming_delaunay and flip exclude each other");
   }
-  if (o.regional_area_limits) throw std::invalid_argument("regional_area_limits is not supported yet");
 }
 
 bool method_reads_option(Method method, std::string_view option) {
@@ -635,8 +934,25 @@ double Report::total_seconds() const {
 
 Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* out) {
   check_options(options);
-  if (!pslg.triangles.empty()) {
-    throw std::invalid_argument(pslg.source + ": refining an existing triangulation is not supported yet");
+  if (!pslg.triangles.empty() && (options.method == Method::kQtr || options.method == Method::kOpt)) {
+    throw std::invalid_argument("an existing triangulation (Pslg::triangles) is refined by the methods dt, dr and "
+                                "brh only, not " + std::string(method_name(options.method)));
+  }
+  // The Triangle switches the methods honour: regional area limits need refinement (dr, brh);
+  // conforming Delaunay is made by dt and dr; protected segments hold for every method that only
+  // adds points through Delaunay refinement (dt, dr, brh).
+  const bool refining = options.method == Method::kDr || options.method == Method::kBrh;
+  if (options.regional_area_limits && !refining) {
+    throw std::invalid_argument("regional_area_limits is supported by the methods dr and brh only, not " +
+                                std::string(method_name(options.method)));
+  }
+  if (options.conforming_delaunay && options.method != Method::kDt && options.method != Method::kDr) {
+    throw std::invalid_argument("conforming_delaunay is supported by the methods dt and dr only, not " +
+                                std::string(method_name(options.method)));
+  }
+  if (options.segment_splitting != SegmentSplitting::kAllowed && !refining && options.method != Method::kDt) {
+    throw std::invalid_argument("segment_splitting other than kAllowed is supported by the methods dt, dr and brh only, "
+                                "not " + std::string(method_name(options.method)));
   }
   const Clock::time_point start = Clock::now();
   Report report;
@@ -648,19 +964,30 @@ Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* ou
   const std::size_t phases = 2 + (options.flip ? 1 : 0) + (options.bundle ? 1 : 0);
   std::size_t phase_number = 0;
   announce(options, start, "delaunay", phase_number++, phases);
+  // The start of dt, dr and brh: the given triangulation (Triangle's -r), else the carved CDT.
+  const auto start_mesh = [&] {
+    if (pslg.triangles.empty()) return constrained_delaunay_phase(pslg, options, report);
+    Phase phase(report, "start");
+    Mesh m = mesh_from_triangles(pslg, options.method != Method::kDt || options.conforming_delaunay, options.threads, report);
+    phase.finish();
+    return m;
+  };
   Mesh mesh;
   switch (options.method) {
     case Method::kDt:
-      mesh = constrained_delaunay_phase(pslg, options, report);
+      mesh = start_mesh();
+      if (options.conforming_delaunay) conform_phase(mesh, options, start, report);
       break;
     case Method::kDr:
-      mesh = constrained_delaunay_phase(pslg, options, report);
+      mesh = start_mesh();
+      if (options.regional_area_limits) apply_regional_area_limits(mesh, pslg, report);
       check_memory_for_area_bound(mesh, options);
       announce(options, start, "refine", phase_number++, phases);
       refine_phase(mesh, options, start, report);
       break;
     case Method::kBrh:
-      mesh = constrained_delaunay_phase(pslg, options, report);
+      mesh = start_mesh();
+      if (options.regional_area_limits) apply_regional_area_limits(mesh, pslg, report);
       check_memory_for_area_bound(mesh, options);
       announce(options, start, "brh", phase_number++, phases);
       brh_phase(mesh, options, start, report);
@@ -672,6 +999,8 @@ Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* ou
       quadtree_options.convex_hull = options.convex_hull;
       quadtree_options.strict = options.strict;
       quadtree_options.max_leaves = options.quadtree_max_leaves;
+      // QuadtreeOptions::threads: 1 is one thread, 0 two on large inputs (its most).
+      quadtree_options.threads = options.threads == 1 ? 1u : 0u;
       QuadtreeStats qs;
       mesh = quadtree_refinement(pslg, quadtree_options, &qs);
       report.seconds.emplace_back("input", qs.seconds_input);
@@ -716,6 +1045,7 @@ Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* ou
     Phase bundle_phase(report, "bundle");
     BundleOptions bundle_options;
     bundle_options.deadline = detail::deadline_after(start, options.time_budget_seconds);
+    bundle_options.threads = options.threads;
     try {
       const BundleResult bundle = bundle_number(mesh, bundle_options);
       report.extra["bundle_number"] = bundle.bundle_number;
@@ -725,6 +1055,13 @@ Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* ou
       report.warnings.push_back("the bundle number was not computed: the time budget (--time-limit) ran out");
     }
     bundle_phase.finish();
+  }
+  if (options.conforming_delaunay) {
+    const std::size_t bad = non_delaunay_edges(mesh);
+    if (bad > 0) {
+      report.warnings.push_back(plural(bad, "edge is", "edges are") +
+                                " not Delaunay: conforming Delaunay was not reached (see the stop reason)");
+    }
   }
   if (report.stop.kind == StopKind::kLeftBelowBound) {
     report.warnings.push_back(plural(report.stop.count, "triangle does", "triangles do") +

@@ -178,13 +178,16 @@ class Refiner {
     }
     // Lens: apex angle ≥ 180° − 2α, i.e. cos(apex) ≤ −cos 2α. For α ≥ 45° the lens would exceed
     // the diametral circle, and for α = 0 it is empty; both fall back to the circle.
+    // Conforming Delaunay asks for empty diametral circles (Triangle's -D does the same).
+    conforming_ = options.conforming_delaunay;
     lens_ = options.encroachment == Encroachment::kDiametralLens && options.min_angle_deg > 0.0 &&
-            options.min_angle_deg < 45.0;
+            options.min_angle_deg < 45.0 && !conforming_;
     if (lens_) {
       const double c2 = std::cos(2.0 * alpha);
       lens_cos2_ = c2 * c2;
     }
     max_area_ = options.max_area;
+    own_bounds_ = !mesh.area_bound.empty();
     custom_test_ = static_cast<bool>(options.is_bad);
     seeded_ = custom_test_ && !options.seed_triangles.empty();
     worst_first_ = options.order == RefineOrder::kWorstQualityFirst;
@@ -202,11 +205,14 @@ class Refiner {
   }
   bool encroaches(const Point& x, const Point& a, const Point& b) const;
   void check_subsegment(Handle h);
+  bool may_split(Handle h) const;
   bool mpw_leaves(TriangleId t, const Eval& ev) const;
 
   // ---- Steiner points --------------------------------------------------------------------------
   Point steiner_point(TriangleId t, const Eval& ev) const;
   void split_triangle(TriangleId t, const Eval& ev);
+  void split_at_centroid(TriangleId t, const Eval& ev);
+  void insert_for(TriangleId t, const Eval& ev, const Point& p, TriangleId t0, bool centroid_next);
 
   // ---- walking and inserting -------------------------------------------------------------------
   enum class WalkKind { kInTriangle, kOnEdge, kOnVertex, kBlocked };
@@ -215,7 +221,7 @@ class Refiner {
     Handle handle;
   };
   WalkResult walk(const Point& p, TriangleId start);
-  enum class InsertKind { kInserted, kEncroaches, kFailed };
+  enum class InsertKind { kInserted, kEncroaches, kProtected, kFailed };
   InsertKind insert_free(const Point& p, TriangleId t0);
   void insert_lawson(const Point& p, TriangleId t0);
   void after_insertion(VertexId v, Handle around);
@@ -241,7 +247,9 @@ class Refiner {
 
   // ---- bookkeeping -----------------------------------------------------------------------------
   void mark_hull_segments();
+  double smallest_feature2() const;
   void set_feature_guard();
+  void prepare_conforming();
   void reserve_for_area_bound();
   bool budget_reached() const {
     return stats_.steiner_inserted + stats_.segment_splits >= opt_.max_steiner;
@@ -271,6 +279,12 @@ class Refiner {
   bool lens_ = false;
   double lens_cos2_ = 0.0;
   double max_area_ = -1.0;
+  bool own_bounds_ = false;  // Mesh::area_bound in use
+  bool conforming_ = false;  // RefineOptions::conforming_delaunay
+  std::size_t protected_skips_ = 0;  // triangles left: their point lies on or beyond a protected subsegment
+  // Squared length below which a subsegment is no longer split for conforming Delaunay (the
+  // termination guard of those splits; 0 = none).
+  double conforming_guard2_ = 0.0;
   bool custom_test_ = false;
   bool seeded_ = false;  // RefineOptions::seed_triangles in use
   bool worst_first_ = false;
@@ -304,6 +318,7 @@ class Refiner {
     Handle outer;
     bool segment;
     std::int32_t marker;
+    double bound;  // Mesh::area_bound of the cavity triangle on this edge
   };
   std::vector<BoundaryEdge> ring_;
   std::vector<TriangleId> slots_;
@@ -353,8 +368,13 @@ bool Refiner::evaluate(TriangleId t, Eval& ev) {
   ev.shortest2 = shortest;
   ev.angle_bad = alpha_ > 0.0 && cos2 > good_cos2_;
   ev.size_bad = false;
-  if (max_area_ > 0.0) {
-    ev.size_bad = triangle_area(a, b, c) > max_area_;
+  if (max_area_ > 0.0 || own_bounds_) {
+    const double area = triangle_area(a, b, c);
+    ev.size_bad = max_area_ > 0.0 && area > max_area_;
+    if (own_bounds_) {
+      const double bound = m_.area_bound[t];
+      ev.size_bad = ev.size_bad || (bound > 0.0 && area > bound);
+    }
   }
   if (custom_test_) {
     // The area bound holds with a custom test too (bundle removal's --max-area); the test is
@@ -379,6 +399,11 @@ bool Refiner::encroaches(const Point& x, const Point& a, const Point& b) const {
 
 // Queues subsegment h if the apex of an in-domain triangle beside it encroaches it.
 void Refiner::check_subsegment(Handle h) {
+  if (!may_split(h)) return;
+  if (conforming_ && !m_.is_ghost(h >> 2) && !m_.is_ghost(m_.sym(h) >> 2) && m_.is_locally_non_delaunay(h)) {
+    push_pending(h);
+    return;
+  }
   const VertexId a = m_.org(h), b = m_.dest(h);
   const Point& pa = m_.points[a];
   const Point& pb = m_.points[b];
@@ -388,6 +413,18 @@ void Refiner::check_subsegment(Handle h) {
     return;
   }
   if (m_.in_domain(s >> 2) && encroaches(m_.points[m_.apex(s)], pa, pb)) push_pending(h);
+}
+
+// May refinement split subsegment h (RefineOptions::segment_splitting)? Triangle's -Y protects the
+// subsegments on the boundary of the triangulation (a side not in the domain: a hole, the outside,
+// the hull), -YY every subsegment.
+bool Refiner::may_split(Handle h) const {
+  switch (opt_.segment_splitting) {
+    case SegmentSplitting::kAllowed: return true;
+    case SegmentSplitting::kNever: return false;
+    case SegmentSplitting::kNotBoundary: return m_.in_domain(h >> 2) && m_.in_domain(m_.sym(h) >> 2);
+  }
+  return true;
 }
 
 // The Miller–Pav–Walkington rule (in Triangle's form): a skinny triangle is left alone if the two
@@ -470,6 +507,11 @@ void Refiner::split_triangle(TriangleId t, const Eval& ev) {
     case WalkKind::kBlocked:
     case WalkKind::kOnEdge:
       if (w.kind == WalkKind::kBlocked || m_.is_segment(w.handle)) {
+        if (!may_split(w.handle)) {
+          // Beyond or on a subsegment that may not be split.
+          split_at_centroid(t, ev);
+          return;
+        }
         // Beyond a subsegment or on one: that subsegment is encroached (Ruppert's lemma: a
         // circumcenter hidden behind a subsegment implies the triangle's vertices encroach it).
         ++stats_.rejected;
@@ -483,19 +525,55 @@ void Refiner::split_triangle(TriangleId t, const Eval& ev) {
       }
       [[fallthrough]];
     case WalkKind::kInTriangle: {
-      const InsertKind r = insert_free(p, w.handle >> 2);
-      if (r == InsertKind::kEncroaches) {
-        ++stats_.rejected;
-        if (split_all_pending()) {
-          queue_.push(ev.key, t, m_.triangles[t].v[0]);
-        } else {
-          ++stats_.precision_skips;
-        }
-      } else if (r == InsertKind::kFailed) {
-        insert_lawson(p, w.handle >> 2);
-      }
+      insert_for(t, ev, p, w.handle >> 2, true);
       return;
     }
+  }
+}
+
+// The Steiner point of t lies on or beyond a subsegment that may not be split (segment_splitting).
+// A triangle too large for its area bound gets its centroid instead, which lies inside it, so the
+// area bounds are always met; a triangle bad by its angle alone is left as it is (Triangle's -Y
+// warns of the same: the quality may suffer) and counted.
+void Refiner::split_at_centroid(TriangleId t, const Eval& ev) {
+  if (!ev.size_bad) {
+    ++protected_skips_;
+    return;
+  }
+  const Triangle& T = m_.triangles[t];
+  const Point& a = m_.points[T.v[0]];
+  const Point& b = m_.points[T.v[1]];
+  const Point& c = m_.points[T.v[2]];
+  const Point p{(a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0};
+  const WalkResult w = walk(p, t);
+  if (w.kind == WalkKind::kOnVertex || w.kind == WalkKind::kBlocked ||
+      (w.kind == WalkKind::kOnEdge && m_.is_segment(w.handle))) {
+    ++protected_skips_;  // (a sliver whose rounded centroid is not inside it)
+    return;
+  }
+  insert_for(t, ev, p, w.handle >> 2, false);
+}
+
+// Inserts the Steiner point p (lying in t0) of bad triangle t. If p encroaches subsegments they are
+// split instead and t is queued again; if it lies on or beyond a protected one, t gets its
+// centroid when `centroid_next` (split_at_centroid), else it is left and counted.
+void Refiner::insert_for(TriangleId t, const Eval& ev, const Point& p, TriangleId t0, bool centroid_next) {
+  const InsertKind r = insert_free(p, t0);
+  if (r == InsertKind::kProtected) {
+    if (centroid_next) {
+      split_at_centroid(t, ev);
+    } else {
+      ++protected_skips_;
+    }
+  } else if (r == InsertKind::kEncroaches) {
+    ++stats_.rejected;
+    if (split_all_pending()) {
+      queue_.push(ev.key, t, m_.triangles[t].v[0]);
+    } else {
+      ++stats_.precision_skips;
+    }
+  } else if (r == InsertKind::kFailed) {
+    insert_lawson(p, t0);
   }
 }
 
@@ -598,6 +676,11 @@ Refiner::InsertKind Refiner::insert_free(const Point& p, TriangleId t0) {
     const Point& b = m_.points[m_.dest(h)];
     const int o = orient2d(a, b, p);
     if (m_.is_segment(h)) {
+      if (!may_split(h)) {
+        // A protected subsegment: p may encroach it, but not lie on or beyond it.
+        if (o <= 0) return InsertKind::kProtected;
+        continue;
+      }
       if (o <= 0 || encroaches(p, a, b)) {
         if (unsplittable_.empty() || !unsplittable_.count(pair_key(m_.org(h), m_.dest(h)))) {
           push_pending(h);
@@ -619,7 +702,10 @@ Refiner::InsertKind Refiner::insert_free(const Point& p, TriangleId t0) {
   ring_.clear();
   for (const Handle h : boundary_) {
     const bool seg = m_.is_segment(h);
-    ring_.push_back({m_.org(h), m_.sym(h), seg, seg ? m_.marker(h) : 0});
+    // Each triangle of the star inherits the area bound of the cavity triangle it replaces on its
+    // boundary edge (so bounds stay where they were; the cavity never crosses a subsegment, so
+    // regional bounds are one value here).
+    ring_.push_back({m_.org(h), m_.sym(h), seg, seg ? m_.marker(h) : 0, own_bounds_ ? m_.area_bound[h >> 2] : -1.0});
   }
   slots_.assign(cavity_.begin(), cavity_.end());
   slots_.push_back(m_.new_triangle());
@@ -639,8 +725,15 @@ Refiner::InsertKind Refiner::insert_free(const Point& p, TriangleId t0) {
     m_.triangles[outer >> 2].n[outer & 3] = make_handle(t, 0);
     m_.flags[t] = ring_[i].segment ? kSegmentEdge0 : std::uint8_t{0};
     if (has_markers && ring_[i].segment) m_.segment_marker[3 * t] = ring_[i].marker;
+    if (own_bounds_) m_.area_bound[t] = ring_[i].bound;
   }
   ++stats_.steiner_inserted;
+  if (conforming_) {
+    // p faces each subsegment of the ring across it now: is each still locally Delaunay?
+    for (std::size_t i = 0; i < n; ++i) {
+      if (ring_[i].segment) check_subsegment(make_handle(slots_[i], 0));
+    }
+  }
   if (n <= kScatteredStar) {
     for (std::size_t i = 0; i < n; ++i) enqueue_if_bad(slots_[i]);
   } else {
@@ -694,6 +787,12 @@ void Refiner::after_insertion(VertexId v, Handle around) {
         const Handle g = make_handle(t, e);
         if (m_.is_segment(g)) check_subsegment(g);
       }
+    } else if (conforming_ && !m_.is_ghost(t) && !m_.is_dead(t)) {
+      // An outside triangle of the star faces subsegments of the domain's boundary too.
+      for (unsigned e = 0; e < 3; ++e) {
+        const Handle g = make_handle(t, e);
+        if (m_.is_segment(g)) check_subsegment(g);
+      }
     }
     h = m_.onext(h);
     if (++guard > m_.triangles.size()) throw InternalError("refine: vertex star does not close");
@@ -731,7 +830,7 @@ bool Refiner::split_all_pending() {
     pending_.pop_back();
     if (!unsplittable_.empty() && unsplittable_.count(pair_key(p.u, p.w))) continue;
     const Handle h = find_subsegment(p);
-    if (h == kNone) continue;
+    if (h == kNone || !may_split(h)) continue;
     if (budget_reached()) {
       stop_ = true;
       stop_reason_ = "steiner budget";
@@ -913,6 +1012,12 @@ bool Refiner::split_subsegment(Handle h) {
   const Point pa = m_.points[a], pb = m_.points[b];
   // Concentric shells (Ruppert; Shewchuk): with exactly one endpoint shared with another segment
   // at an acute angle, split at a power of two P from it with 1.5P ≤ L < 3P.
+  if (conforming_ && squared_distance(pa, pb) < conforming_guard2_) {
+    // The conforming splits went far below the input's smallest feature: stop (termination guard).
+    stop_ = true;
+    stop_reason_ = kStopBeyondFeatureSize;
+    return false;
+  }
   const bool shared_a = shares_acute_segment(h);
   const bool shared_b = shares_acute_segment(m_.sym(h));
   const double length = distance(pa, pb);
@@ -1070,8 +1175,8 @@ void Refiner::mark_hull_segments() {
 // of that area; an angle-bad triangle (not exempted by the Miller–Pav–Walkington rule) whose
 // shortest edge is below kFeatureGuardFraction of that stops the refinement with its own stop
 // reason. Only the default quality test is guarded (a custom test, as BRH's, decides itself).
-void Refiner::set_feature_guard() {
-  if (custom_test_ || alpha_ <= 0.0) return;
+// The squared smallest feature of the mesh (see set_feature_guard); infinity for an empty domain.
+double Refiner::smallest_feature2() const {
   double smallest2 = std::numeric_limits<double>::infinity();
   const std::size_t slots = m_.triangles.size();
   for (TriangleId t = 0; t < slots; ++t) {
@@ -1092,9 +1197,43 @@ void Refiner::set_feature_guard() {
       smallest2 = std::min(smallest2, dx * dx + dy * dy);
     }
   }
+  return smallest2;
+}
+
+void Refiner::set_feature_guard() {
+  if (custom_test_ || alpha_ <= 0.0) return;
+  double smallest2 = smallest_feature2();
   if (!(smallest2 > 0.0) || !std::isfinite(smallest2)) return;
   if (max_area_ > 0.0) smallest2 = std::min(smallest2, max_area_);
+  if (own_bounds_) {
+    for (TriangleId t = 0; t < m_.triangles.size(); ++t) {
+      const double bound = m_.area_bound[t];
+      if (bound > 0.0 && m_.in_domain(t)) smallest2 = std::min(smallest2, bound);
+    }
+  }
   guard_length2_ = smallest2 * kFeatureGuardFraction * kFeatureGuardFraction;
+}
+
+// Conforming Delaunay: subsegments with no domain triangle beside them (dangling segments in a
+// hole, segments outside the domain) are unmarked, and the outside region is made Delaunay across
+// them, so that only subsegments of the domain remain to be made locally Delaunay. The guard of
+// the conforming splits is set at kFeatureGuardFraction of the smallest feature.
+void Refiner::prepare_conforming() {
+  const std::size_t slots = m_.triangles.size();
+  stack_.clear();
+  for (TriangleId t = 0; t < slots; ++t) {
+    if (m_.is_dead(t) || m_.is_ghost(t)) continue;
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle h = make_handle(t, e);
+      if (m_.is_segment(h) && !m_.in_domain(t) && !m_.in_domain(m_.sym(h) >> 2)) m_.clear_segment(h);
+      stack_.push_back(h);
+    }
+  }
+  relax();
+  const double smallest2 = smallest_feature2();
+  if (smallest2 > 0.0 && std::isfinite(smallest2)) {
+    conforming_guard2_ = smallest2 * kFeatureGuardFraction * kFeatureGuardFraction;
+  }
 }
 
 // With an area bound the final size is known in advance to within a few per cent (about 1.6
@@ -1136,6 +1275,7 @@ void Refiner::run() {
     mark_hull_segments();
     reserve_for_area_bound();
     set_feature_guard();
+    if (conforming_) prepare_conforming();
   }
   // Phase 1: every encroached subsegment, before any triangle (Ruppert's order).
   const std::size_t slots = seeded_ ? seeds.size() : m_.triangles.size();
@@ -1213,7 +1353,7 @@ void Refiner::run() {
       Eval ev;
       if (evaluate(t, ev)) ++left;
     }
-  } else if (stop_ || custom_test_ || stats_.skipped_mpw > 0 || stats_.precision_skips > 0) {
+  } else if (stop_ || custom_test_ || stats_.skipped_mpw > 0 || stats_.precision_skips > 0 || protected_skips_ > 0) {
     for (TriangleId t = 0; t < m_.triangles.size(); ++t) {
       if (!m_.in_domain(t)) continue;
       Eval ev;
@@ -1221,8 +1361,12 @@ void Refiner::run() {
     }
   }
   stats_.left_small_angle = left;
+  if (protected_skips_ > 0) stats_.left_protected = left;
   if (!stop_reason_.empty()) {
     stats_.stop_reason = stop_reason_;
+  } else if (left > 0 && protected_skips_ > 0) {
+    stats_.stop_reason = std::to_string(left);
+    stats_.stop_reason += kStopProtectedSuffix;
   } else if (left > 0) {
     stats_.stop_reason = std::to_string(left);
     stats_.stop_reason += " triangles left near small input angles";
@@ -1240,7 +1384,8 @@ RefineStats refine(Mesh& mesh, const RefineOptions& options) {
   if (options.min_angle_deg > 60.0) {
     throw InputError("", 0, "minimum angle bound above 60 degrees cannot be met");
   }
-  if (options.min_angle_deg <= 0.0 && options.max_area <= 0.0 && !options.is_bad) {
+  if (options.min_angle_deg <= 0.0 && options.max_area <= 0.0 && !options.is_bad && mesh.area_bound.empty() &&
+      !options.conforming_delaunay) {
     // Nothing asked: the constrained Delaunay triangulation is returned unchanged.
     stats.stop_reason = "bound reached";
     stats.seconds = seconds_since(t0);

@@ -1,7 +1,7 @@
 // `mwst triangulate INPUT [-o PREFIX] [--method dt|dr|brh|qtr|opt] [--min-angle DEG]
 //  [--steiner offcenter|circumcenter] [--bundle-k K] [--flip] [--max-area A] [--max-steiner N]
 //  [--convex-hull] [--strict] [--bundle] [--time-limit SECONDS] [--exact-polish] [--opt-trials N] [--json FILE]
-//  [--draw FILE] [--max-memory BYTES] [--quiet]`
+//  [--draw FILE] [--max-memory BYTES] [--threads N] [--quiet]`
 // Reads a Triangle .node/.poly, runs triangulate() (mwst/pipeline.hpp: the methods of Boyacı,
 // Erten, Üngör, "Triangulations Loosing Bundles and Weight", and ours) and writes PREFIX.node,
 // PREFIX.ele, PREFIX.poly and the JSON report, all only after the computation succeeded. A run
@@ -44,6 +44,7 @@ struct TriangulateArgs {
   std::string draw;
   bool quiet = false;
   std::string max_memory;  // --max-memory (parse_bytes); empty: the default budget
+  unsigned threads = 0;    // TriangulateOptions::threads
 };
 
 std::string fixed(double v, int digits) {
@@ -74,6 +75,7 @@ int run_triangulate(const TriangulateArgs& a) {
   options.steiner = *parse_steiner_rule(a.steiner);
   options.bundle_k = a.bundle_k;
   options.flip = a.flip;
+  options.threads = a.threads;
   options.max_area = a.max_area;
   if (a.max_steiner_given) options.max_steiner = a.max_steiner;
   options.convex_hull = a.convex_hull;
@@ -194,6 +196,10 @@ void register_triangulate(CLI::App& app, Action& action) {
                   "(default: 75% of the machine's memory, or less if the process may use less)")
       ->type_name("BYTES")
       ->check(byte_count());
+  sub->add_option("--threads", args->threads,
+                  "Worker threads (0 = all hardware threads); the results do not depend on it")
+      ->type_name("N")
+      ->capture_default_str();
   sub->add_flag("-q,--quiet", args->quiet, "No summary, no warnings and no progress line");
   sub->callback([args, max_steiner, sub, &action] {
     args->max_steiner_given = max_steiner->count() > 0;

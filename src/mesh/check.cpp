@@ -136,7 +136,7 @@ class Checker {
     check_subsegments();
     check_input_segments();
     check_turning();
-    if (options_.delaunay) check_delaunay();
+    if (options_.delaunay || options_.conforming_delaunay) check_delaunay();
     if (options_.min_angle_deg > 0.0) check_min_angle();
     return std::move(result_);
   }
@@ -646,7 +646,8 @@ class Checker {
   }
 
   // Constrained Delaunay: across every interior edge not on an input segment (nor listed as a
-  // subsegment), the far apex is not strictly inside the circumcircle (exact incircle).
+  // subsegment) — conforming Delaunay: across every interior edge —, the far apex is not strictly
+  // inside the circumcircle (exact incircle).
   void check_delaunay() {
     std::unordered_set<std::uint64_t> listed;
     for (const Segment& s : subsegments_) listed.insert(undirected_key(s.a, s.b));
@@ -655,7 +656,10 @@ class Checker {
       if (u > v) continue;
       const auto other = apex_.find(edge_key(v, u));
       if (other == apex_.end()) continue;
-      if (chain_.count(undirected_key(u, v)) != 0 || listed.count(undirected_key(u, v)) != 0) continue;
+      if (!options_.conforming_delaunay &&
+          (chain_.count(undirected_key(u, v)) != 0 || listed.count(undirected_key(u, v)) != 0)) {
+        continue;
+      }
       if (incircle(p_[u], p_[v], p_[apex.apex], p_[other->second.apex]) > 0) {
         violation(edge_name(u, v) + " is not Delaunay: " + vertex_name(other->second.apex) +
                   " lies inside the circumcircle of " + tri_name(apex.triangle));

@@ -564,7 +564,7 @@ Mesh constrained_delaunay(const Pslg& pslg, const ConstrainOptions& options, Con
   const auto t0 = Clock::now();
   Mesh m;
   try {
-    m = delaunay(pslg.points);
+    m = delaunay(pslg.points, nullptr, options.threads);
   } catch (const InputError& e) {
     throw InputError(pslg.source, e.line(), e.what());
   }

@@ -17,6 +17,7 @@
 #include <limits>
 #include <numeric>
 #include <thread>
+#include <utility>
 
 #include "mwst/delaunay.hpp"
 #include "mwst/error.hpp"
@@ -195,13 +196,27 @@ void brio_rounds(std::uint32_t* idx, std::size_t count) {
 // Inputs of at least this many points are sorted and triangulated in two halves on two threads.
 constexpr std::size_t kParallelThreshold = 1u << 15;
 
+// Runs `beside` and `here` — on two threads if `parallel`, else one after the other — and returns
+// when both are done. The work is split the same way either way, so results never depend on it.
+template <class Beside, class Here>
+void run_both(bool parallel, Beside&& beside, Here&& here) {
+  if (!parallel) {
+    here();
+    beside();
+    return;
+  }
+  std::jthread worker(std::forward<Beside>(beside));
+  here();
+  worker.join();
+}
+
 // Returns the input indices in insertion order: BRIO rounds (brio_rounds) of the adaptive Hilbert
 // curve order. Large inputs are first split at the median x coordinate (left: x below it; right:
 // the rest, so the halves are separated by a vertical line as merge_halves needs) and each half is
 // ordered in its own bounding box on its own thread; *left_count receives the left half's size
 // (0: no split). The median, not the middle of the bounding box, keeps the halves balanced when a
 // few outliers stretch the box (Kuzmin's distribution).
-std::vector<std::uint32_t> hilbert_order(const std::vector<Point>& points, std::size_t* left_count) {
+std::vector<std::uint32_t> hilbert_order(const std::vector<Point>& points, std::size_t* left_count, bool parallel) {
   const std::size_t n = points.size();
   std::vector<std::uint32_t> order(n);
   std::iota(order.begin(), order.end(), 0u);
@@ -217,15 +232,18 @@ std::vector<std::uint32_t> hilbert_order(const std::vector<Point>& points, std::
     if (left >= n / 8 && n - left >= n / 8) {
       std::size_t l = 0, r = left;
       for (std::uint32_t i = 0; i < n; ++i) order[points[i].x < median ? l++ : r++] = i;
-      std::jthread worker([&] {
-        std::vector<std::uint64_t> words, buffer;
-        hilbert_sort(points.data(), order.data() + left, n - left, words, buffer, 0);
-        brio_rounds(order.data() + left, n - left);
-      });
-      std::vector<std::uint64_t> words, buffer;
-      hilbert_sort(points.data(), order.data(), left, words, buffer, 0);
-      brio_rounds(order.data(), left);
-      worker.join();
+      run_both(
+          parallel,
+          [&] {
+            std::vector<std::uint64_t> words, buffer;
+            hilbert_sort(points.data(), order.data() + left, n - left, words, buffer, 0);
+            brio_rounds(order.data() + left, n - left);
+          },
+          [&] {
+            std::vector<std::uint64_t> words, buffer;
+            hilbert_sort(points.data(), order.data(), left, words, buffer, 0);
+            brio_rounds(order.data(), left);
+          });
       *left_count = left;
       return order;
     }
@@ -634,7 +652,8 @@ void restore_delaunay(Mesh& m, std::vector<Handle>& stack) {
   }
 }
 
-Mesh delaunay(std::vector<Point> points, DelaunayStats* stats) {
+Mesh delaunay(std::vector<Point> points, DelaunayStats* stats, unsigned threads) {
+  const bool parallel = threads != 1;
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   const std::size_t n = points.size();
@@ -652,7 +671,7 @@ Mesh delaunay(std::vector<Point> points, DelaunayStats* stats) {
   if (n < 3) throw InputError("", 0, "fewer than three points (" + std::to_string(n) + ")");
 
   std::size_t left_count = 0;
-  std::vector<std::uint32_t> order = hilbert_order(points, &left_count);
+  std::vector<std::uint32_t> order = hilbert_order(points, &left_count, parallel);
   const auto t1 = Clock::now();
 
   // Work on copies in curve order (vertex id i here = order[i] in the input). Large inputs are
@@ -675,13 +694,16 @@ Mesh delaunay(std::vector<Point> points, DelaunayStats* stats) {
     advise_huge_pages(right.points);
     right.points.resize(n - left_count);
     Degeneracy dl = Degeneracy::kValid, dr = Degeneracy::kValid;
-    std::jthread worker([&] {
-      for (std::size_t i = left_count; i < n; ++i) right.points[i - left_count] = points[order[i]];
-      dr = build_incremental(right, kept_right);
-    });
-    for (std::size_t i = 0; i < left_count; ++i) m.points[i] = points[order[i]];
-    dl = build_incremental(m, kept);
-    worker.join();
+    run_both(
+        parallel,
+        [&] {
+          for (std::size_t i = left_count; i < n; ++i) right.points[i - left_count] = points[order[i]];
+          dr = build_incremental(right, kept_right);
+        },
+        [&] {
+          for (std::size_t i = 0; i < left_count; ++i) m.points[i] = points[order[i]];
+          dl = build_incremental(m, kept);
+        });
     if (dl == Degeneracy::kValid && dr == Degeneracy::kValid) {
       merge_halves(m, std::move(right));
       kept.reserve(n);
@@ -731,9 +753,8 @@ Mesh delaunay(std::vector<Point> points, DelaunayStats* stats) {
   };
   const std::size_t triangle_count = m.triangles.size();
   if (n >= kParallelThreshold) {
-    std::jthread worker(map_back, triangle_count / 2, triangle_count);
-    map_back(0, triangle_count / 2);
-    worker.join();
+    run_both(
+        parallel, [&] { map_back(triangle_count / 2, triangle_count); }, [&] { map_back(0, triangle_count / 2); });
   } else {
     map_back(0, triangle_count);
   }

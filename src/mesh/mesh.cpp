@@ -54,6 +54,7 @@ void Mesh::undo_trial() {
   if (!trial_.open) throw InternalError("Mesh::undo_trial: no trial is open");
   triangles.resize(trial_.triangles);
   flags.resize(trial_.triangles);
+  if (!area_bound.empty()) area_bound.resize(trial_.triangles, -1.0);
   segment_marker.resize(trial_.segment_markers);
   points.resize(trial_.points);
   vertex_kind.resize(trial_.points);
@@ -127,6 +128,7 @@ TriangleId Mesh::new_triangle() {
   triangles.push_back(Triangle{{kNone, kNone, kNone}, {kNone, kNone, kNone}});
   flags.push_back(0);
   if (!segment_marker.empty()) segment_marker.resize(3 * triangles.size(), 0);
+  if (!area_bound.empty()) area_bound.resize(triangles.size(), -1.0);
   return t;
 }
 
@@ -188,6 +190,12 @@ Handle Mesh::flip(Handle h) {
     write_mark(*this, make_handle(t, e1), {false, 0});
     write_mark(*this, make_handle(u, f1), {false, 0});
   }
+  if (!area_bound.empty()) {
+    const double bt = area_bound[t], bu = area_bound[u];
+    const double mean = bt > 0.0 && bu > 0.0 ? 0.5 * (bt + bu) : -1.0;
+    area_bound[t] = mean;
+    area_bound[u] = mean;
+  }
   return make_handle(t, e1);
 }
 
@@ -219,6 +227,7 @@ std::array<Handle, 3> Mesh::split_triangle(TriangleId t, VertexId p) {
   link(triangles, make_handle(t2, 0), make_handle(t, 1));   // a→p / p→a
   flags[t1] = static_cast<std::uint8_t>(flags[t] & kOutside);
   flags[t2] = static_cast<std::uint8_t>(flags[t] & kOutside);
+  if (!area_bound.empty()) area_bound[t1] = area_bound[t2] = area_bound[t];
   if (marked) {
     write_mark(*this, make_handle(t1, 2), m_a);
     write_mark(*this, make_handle(t2, 2), m_b);
@@ -273,6 +282,10 @@ std::array<Handle, 4> Mesh::split_edge(Handle h, VertexId p) {
   // The outside flag of the two halves follows their parent triangles.
   flags[t1] = static_cast<std::uint8_t>((flags[t1] & 7) | (flags[t] & kOutside));
   flags[u1] = static_cast<std::uint8_t>((flags[u1] & 7) | (flags[u] & kOutside));
+  if (!area_bound.empty()) {
+    area_bound[t1] = area_bound[t];
+    area_bound[u1] = area_bound[u];
+  }
   return {make_handle(t, prev3(e)), make_handle(t1, 0), make_handle(u, prev3(f)), make_handle(u1, 0)};
 }
 
@@ -456,9 +469,11 @@ void compact(Mesh& m) {
     if (!(m.flags[t] & kDead)) new_triangle[t] = nt++;
   }
   const bool markers = !m.segment_marker.empty();
+  const bool bounds = !m.area_bound.empty();
   for (TriangleId t = 0; t < m.triangles.size(); ++t) {
     const TriangleId u = new_triangle[t];
     if (u == kNone) continue;
+    if (bounds) m.area_bound[u] = m.area_bound[t];
     Triangle T = m.triangles[t];
     for (VertexId& v : T.v) {
       if (v != kInfinite) v = new_vertex[v];
@@ -473,6 +488,7 @@ void compact(Mesh& m) {
   m.triangles.resize(nt);
   m.flags.resize(nt);
   if (markers) m.segment_marker.resize(3 * static_cast<std::size_t>(nt));
+  if (bounds) m.area_bound.resize(nt);
   m.clear_free_slots();
 }
 
