@@ -171,5 +171,45 @@ TEST(Brh, LargeKLeavesTheDelaunayTriangulation) {
   EXPECT_EQ(m.domain_triangle_count(), before);
 }
 
+// BRH splits only skinny triangles, as DR does, so above the angles where DR provably stops it can
+// crowd vertices without end too (issue 36: a polygon with a 1° spike at 38° and K = 3 made 900k
+// triangles in 10 s). DR's termination guard, measured once on the input, stops it with DR's stop
+// reason, long before a Steiner budget far below the runaway's size, with a valid mesh and skinny
+// triangles still in K-bundles (it stopped, not finished).
+TEST(BrhTermination, GuardStopsASpikeOfOneDegreeAtHighAngles) {
+  const Pslg g = io::read_input(std::string(MWST_REGRESSION_DIR) + "/spike_1deg.poly");
+  for (const double angle : {38.0, 50.0}) {
+    for (const std::size_t k : {std::size_t{3}, std::size_t{4}}) {
+      SCOPED_TRACE("A=" + std::to_string(angle) + " K=" + std::to_string(k));
+      Mesh m = constrained_delaunay(g);
+      BrhOptions o;
+      o.min_angle_deg = angle;
+      o.bundle_k = k;
+      o.refine.max_steiner = 100000;
+      const BrhStats stats = bundle_removal(m, o);
+      EXPECT_EQ(stats.stop_reason, kStopBeyondFeatureSize);
+      EXPECT_LT(stats.steiner_inserted + stats.segment_splits, 100000u);
+      ASSERT_TRUE(validate(m, {.delaunay = true}).empty());
+      const BundleResult exact = bundle_number(m, {.per_triangle = true});
+      std::size_t skinny_in_bundles = 0;
+      for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+        if (m.in_domain(t) && test::min_angle_of(m, t) < angle && exact.per_triangle[t] >= k) ++skinny_in_bundles;
+      }
+      EXPECT_GT(skinny_in_bundles, 0u);
+    }
+  }
+}
+
+// The guard's length is a 1024th of the smallest feature, hull edges counted as subsegments (DR's
+// first pass marks them before it measures): for three points the apex's distance to the hull edge
+// opposite, not the shortest edge.
+TEST(BrhTermination, GuardLengthCountsHullEdges) {
+  Pslg g;
+  g.points = {{0.0, 0.0}, {1.0, 0.0}, {0.5, 0.01}};
+  const Mesh m = constrained_delaunay(g);
+  EXPECT_DOUBLE_EQ(feature_guard_length(m, -1.0), 0.01 / 1024.0);
+  EXPECT_DOUBLE_EQ(feature_guard_length(m, 1e-6), 1e-3 / 1024.0);  // the side of a triangle of max area
+}
+
 }  // namespace
 }  // namespace mwst

@@ -10,6 +10,7 @@
 // case table's angles; the worst warped point-set cell over an enumeration of its configurations;
 // leaf size against the local feature size; the angle bound on the data sets and random inputs;
 // determinism; and the fallback.
+#include <gmpxx.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -1035,6 +1036,81 @@ TEST(QuadtreeRegression, CornersBelowTheRangeFallBackInsteadOfBeingWritten) {
         << s.stats.fallback_reason;
     expect_round_trip(square, s.mesh, "square");
   }
+}
+
+// tests/regression/qtr_crossing_below_range.poly: qtr's grid lines through the origin cross a short
+// segment at about 3e-51 from it. segment_intersection snapped that crossing to the origin, off the
+// segment by 2e13 ulps of its coordinates, and the mesh failed the independent checker. The exact
+// crossing rounded (exact_crossing, as the CDT places crossings) lies outside the range: qtr falls
+// back to the CDT, which reads back and passes the checker.
+TEST(QuadtreeRegression, CrossingsBelowTheRangeFallBackInsteadOfBeingSnapped) {
+  const Pslg g = io::read_input(std::string(MWST_REGRESSION_DIR) + "/qtr_crossing_below_range.poly");
+  const Result r = run(g);
+  check_output(g, r, /*expect_no_fallback=*/false);
+  EXPECT_TRUE(r.stats.fallback);
+  EXPECT_NE(r.stats.fallback_reason.find("outside the supported coordinate range"), std::string::npos)
+      << r.stats.fallback_reason;
+  expect_round_trip(g, r.mesh, "crossing_below_range");
+}
+
+// exact_crossing (geometry.hpp) against GMP: each coordinate is the exact intersection of the two
+// lines rounded to the nearest double, ties to even, on random crossings at every scale of the
+// range, nearly parallel ones, crossings at 0, and ties.
+double nearest_double(const mpq_class& q) {
+  const double toward_zero = q.get_d();  // truncates
+  if (q == 0) return 0.0;
+  const double away = std::nextafter(toward_zero, q > 0 ? 1e308 : -1e308);
+  const mpq_class near_gap = abs(q - mpq_class(toward_zero)), far_gap = abs(mpq_class(away) - q);
+  if (near_gap == far_gap) return (std::bit_cast<std::uint64_t>(toward_zero) & 1u) == 0 ? toward_zero : away;
+  return near_gap < far_gap ? toward_zero : away;
+}
+
+Point rational_crossing(const Point& a, const Point& b, const Point& c, const Point& d) {
+  auto orient = [](const Point& p, const Point& q, const Point& r) -> mpq_class {
+    return (mpq_class(q.x) - p.x) * (mpq_class(r.y) - p.y) - (mpq_class(q.y) - p.y) * (mpq_class(r.x) - p.x);
+  };
+  const mpq_class oa = orient(c, d, a), ob = orient(c, d, b), den = oa - ob;
+  return {nearest_double((oa * b.x - ob * a.x) / den), nearest_double((oa * b.y - ob * a.y) / den)};
+}
+
+TEST(ExactCrossing, IsTheExactIntersectionRoundedToNearest) {
+  std::mt19937_64 rng(36);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::size_t tested = 0;
+  for (const double scale : {1e-48, 1e-20, 1.0, 3.7e12, 1e45}) {
+    for (int i = 0; i < 4000; ++i) {
+      const Point a{scale * unit(rng), scale * unit(rng)}, b{scale * unit(rng), scale * unit(rng)};
+      Point c{scale * unit(rng), scale * unit(rng)}, d{scale * unit(rng), scale * unit(rng)};
+      if (i % 4 == 1) {  // nearly parallel: cd is ab turned by about 1e-12 about a point on it
+        const double t = 0.5 + 0.4 * unit(rng), turn = 1e-12 * unit(rng);
+        const Point m{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
+        c = {m.x - (a.x - m.x) - turn * (a.y - m.y), m.y - (a.y - m.y) + turn * (a.x - m.x)};
+        d = {m.x + (a.x - m.x) + turn * (a.y - m.y), m.y + (a.y - m.y) - turn * (a.x - m.x)};
+      }
+      const int o1 = orient2d(a, b, c), o2 = orient2d(a, b, d), o3 = orient2d(c, d, a), o4 = orient2d(c, d, b);
+      if (o1 * o2 >= 0 || o3 * o4 >= 0) continue;  // not a proper crossing
+      const Point got = exact_crossing(a, b, c, d), want = rational_crossing(a, b, c, d);
+      ASSERT_EQ(std::bit_cast<std::uint64_t>(got.x), std::bit_cast<std::uint64_t>(want.x)) << got.x << " " << want.x;
+      ASSERT_EQ(std::bit_cast<std::uint64_t>(got.y), std::bit_cast<std::uint64_t>(want.y)) << got.y << " " << want.y;
+      ++tested;
+    }
+  }
+  EXPECT_GT(tested, 5000u);
+  // A crossing at 0 is 0; a crossing exactly halfway between two doubles rounds to the even one.
+  const Point zero = exact_crossing({-1.0, -3.0}, {1.0, 3.0}, {-2.0, 1.0}, {2.0, -1.0});
+  EXPECT_EQ(zero.x, 0.0);
+  EXPECT_EQ(zero.y, 0.0);
+  // (x = (1 + X) / 2 where ab crosses y = 0.) 1 + 2^-53, halfway between 1 and 1 + 2^-52: to 1.
+  const Point halfway = exact_crossing({1.0, -1.0}, {1.0 + 0x1p-52, 1.0}, {-1.0, 0.0}, {3.0, 0.0});
+  EXPECT_EQ(halfway.x, 1.0);
+  // 1 + 1.5·2^-52, halfway between 1 + 2^-52 and 1 + 2^-51: to the even 1 + 2^-51.
+  const Point odd = exact_crossing({1.0, -1.0}, {1.0 + 3 * 0x1p-52, 1.0}, {-1.0, 0.0}, {3.0, 0.0});
+  EXPECT_EQ(odd.x, 1.0 + 0x1p-51);
+  // Below the range the rounded value is kept, not snapped to 0 (the caller refuses or falls back).
+  const Point tiny = exact_crossing({-5e-49, -1e-48}, {5.06e-49, 1e-48}, {-1e-48, 0.0}, {1e-48, 0.0});
+  EXPECT_EQ(tiny, rational_crossing({-5e-49, -1e-48}, {5.06e-49, 1e-48}, {-1e-48, 0.0}, {1e-48, 0.0}));
+  EXPECT_GT(tiny.x, 0.0);
+  EXPECT_LT(tiny.x, kMinCoordinate);
 }
 
 // Outlines (where the corners outside the domain were 45 % of the vertices written): only used

@@ -40,7 +40,9 @@ struct BrhStats {
 // reached"): every triangle left with an angle below A is in no K-bundle; when K ≥ ⌈4π/A⌉ + 3 the
 // mesh is K-bundle-free. With refine.max_area > 0 every triangle larger than it is split as well
 // (a pass with the area bound alone comes first, and every pass tests the area of the triangles it
-// makes), so on a normal stop none is left. Passes after the first are seeded (RefineOptions::seed_triangles) with
+// makes), so on a normal stop none is left. Above the angles where DR provably terminates BRH can
+// crowd vertices without end as DR can: it shares DR's termination guard (measured once on its
+// input, refine.hpp feature_guard_length) and stops with kStopBeyondFeatureSize. Passes after the first are seeded (RefineOptions::seed_triangles) with
 // the triangles the exact test marked, and the skinny list is updated, not recounted, between
 // them. From the second exact test on, a skinny triangle the last test found in no K-bundle is not
 // asked again while no triangle made since lies near it (its "reach", KBundleCache::reach: a

@@ -127,6 +127,13 @@ MWST_API Point off_center(const Point& p, const Point& q, const Point& circumcen
 // Intersection point of the segments ab and cd, which must properly cross (rounded).
 MWST_API Point segment_intersection(const Point& a, const Point& b, const Point& c, const Point& d);
 
+// The crossing point of the segments ab and cd, which must properly cross, each coordinate the
+// exact intersection rounded to the nearest double (rational arithmetic; src/mesh/constrain.cpp):
+// on both segments within rounding. Unlike segment_intersection it is not snapped into the
+// supported range: a coordinate may fall between 0 and kMinCoordinate in magnitude, and the caller
+// decides what that means (the CDT refuses the input, qtr falls back to it).
+MWST_API Point exact_crossing(const Point& a, const Point& b, const Point& c, const Point& d);
+
 // Signed area of triangle (a, b, c) (rounded; positive when counter-clockwise).
 MWST_API double signed_area(const Point& a, const Point& b, const Point& c);
 

@@ -131,7 +131,7 @@ enum class StopKind {
   kTimeBudget,            // --time-limit passed first
   kLocalMinimum,          // opt: no move lowers the weight, and the area bound holds
   kRoundLimit,            // brh: its pass limit
-  kBeyondFeatureSize,     // dr's termination guard (refine.hpp, kStopBeyondFeatureSize)
+  kBeyondFeatureSize,     // the termination guard of dr and brh (refine.hpp, kStopBeyondFeatureSize)
   kBelowBoundAfterFlips,  // --flip: `count` triangles below the bound after the flips
   kSkinnyInBundles,       // brh --flip: `count` skinny triangles in K-bundles after the flips
   kLeftBelowBound,        // `count` triangles miss the bound, none of the reasons above holds

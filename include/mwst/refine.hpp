@@ -85,15 +85,28 @@ struct RefineOptions {
   // among those tested. Empty: the whole mesh, as always (the output does not depend on this
   // field then).
   std::vector<TriangleId> seed_triangles;
+  // The termination guard's edge length (see feature_guard_length): an angle-bad triangle the test
+  // calls bad whose shortest edge is shorter stops the refinement with kStopBeyondFeatureSize.
+  // < 0: computed from the mesh at the start of an unseeded run with the default test, none with
+  // a custom one; 0: none; > 0: this length (a caller refining in passes, as BRH, computes it once
+  // from its input and passes it to every pass, seeded or not).
+  double feature_guard_length = -1.0;
 };
 
-// The stop reason of the termination guard: refinement made an edge far shorter than the input's
-// smallest feature allows when it terminates (angle bounds above about 34°; see refine.cpp).
+// The stop reason of the termination guard (DR's and BRH's): refinement made an edge far shorter
+// than the input's smallest feature allows when it terminates (angle bounds above about 34°; see
+// refine.cpp).
 inline constexpr const char* kStopBeyondFeatureSize = "no progress: size beyond the local-feature-size bound";
 
 // The end of the stop reason "N triangles left beside subsegments that may not be split": bad
 // triangles remain whose Steiner points lie on or beyond protected subsegments (segment_splitting).
 inline constexpr const char* kStopProtectedSuffix = " triangles left beside subsegments that may not be split";
+
+// The termination guard's edge length for a carved mesh not yet refined: kFeatureGuardFraction
+// (1/1024, refine.cpp) of its smallest feature, the shortest edge of a domain triangle or distance
+// from a corner to a subsegment or hull edge of its triangle not ending at it, and with an area
+// bound (max_area > 0) at most √max_area. 0 if the mesh has no positive feature.
+MWST_API double feature_guard_length(const Mesh& mesh, double max_area);
 
 struct RefineStats {
   std::size_t steiner_inserted = 0;   // free Steiner points

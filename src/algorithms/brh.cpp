@@ -384,6 +384,11 @@ BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
   const SkinnyTest is_skinny(A);
   RefineOptions ro = options.refine;
   ro.min_angle_deg = A;
+  // DR's termination guard (refine.hpp), measured once on the input: BRH splits only skinny
+  // triangles, as DR does, so above the angles where DR provably stops it may crowd vertices
+  // without end as well; its passes stop once a skinny triangle to split is far below the input's
+  // smallest feature.
+  if (ro.feature_guard_length < 0.0) ro.feature_guard_length = A > 0.0 ? feature_guard_length(mesh, options.refine.max_area) : 0.0;
   // Skinny triangles a pass tested: every triangle a pass makes passes through is_bad, and an
   // unseeded pass (a custom is_bad) ends by testing every triangle of the domain again (refine.cpp).
   std::vector<TriangleId> made_skinny;
@@ -562,7 +567,7 @@ BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options) {
     stats.steiner_inserted += rs.steiner_inserted;
     stats.segment_splits += rs.segment_splits;
     stats.left_small_angle = rs.left_small_angle;
-    if (rs.stop_reason == "steiner budget" || rs.stop_reason == "time budget") {
+    if (rs.stop_reason == "steiner budget" || rs.stop_reason == "time budget" || rs.stop_reason == kStopBeyondFeatureSize) {
       stats.stop_reason = rs.stop_reason;
       break;
     }

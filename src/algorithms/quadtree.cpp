@@ -2372,7 +2372,8 @@ void Builder::segments_pass() {
     // 2a. Crossings.
     for_each_crossed_edge(near, [&](std::uint32_t k, unsigned, std::uint32_t u, std::uint32_t w, std::uint32_t s,
                                     const Point& a, const Point& b) {
-      const Point x = segment_intersection(gpos_[std::min(u, w)], gpos_[std::max(u, w)], a, b);
+      // (The exact crossing rounded: a corner moved there lies on the segment within rounding.)
+      const Point x = exact_crossing(gpos_[std::min(u, w)], gpos_[std::max(u, w)], a, b);
       const double length = distance(gpos_[u], gpos_[w]);
       const double size = tree_.cell_size(tree_.nodes[leaves_[k]].level);
       for (const std::uint32_t c : {u, w}) {
@@ -2433,7 +2434,10 @@ void Builder::segments_pass() {
       x = static_cast<std::uint32_t>(gpos_.size());
       const Point& lo = gpos_[std::min(u, w)];
       const Point& hi = gpos_[std::max(u, w)];
-      gpos_.push_back(segment_intersection(lo, hi, a, b));
+      // The exact crossing rounded, as the CDT places crossings. A coordinate it puts below the
+      // supported range (segment_intersection snapped it to 0, off the segment by more than the
+      // rounding of its coordinates) sends the input to the fallback (out_of_range_vertex).
+      gpos_.push_back(exact_crossing(lo, hi, a, b));
       gon_segment_.push_back(true);
       gsegment_[x] = s;
       gwarped_.push_back(false);

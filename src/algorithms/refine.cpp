@@ -189,6 +189,7 @@ class Refiner {
     max_area_ = options.max_area;
     own_bounds_ = !mesh.area_bound.empty();
     custom_test_ = static_cast<bool>(options.is_bad);
+    if (options.feature_guard_length > 0.0) guard_length2_ = options.feature_guard_length * options.feature_guard_length;
     seeded_ = custom_test_ && !options.seed_triangles.empty();
     worst_first_ = options.order == RefineOrder::kWorstQualityFirst;
   }
@@ -247,7 +248,6 @@ class Refiner {
 
   // ---- bookkeeping -----------------------------------------------------------------------------
   void mark_hull_segments();
-  double smallest_feature2() const;
   void set_feature_guard();
   void prepare_conforming();
   void reserve_for_area_bound();
@@ -1174,44 +1174,12 @@ void Refiner::mark_hull_segments() {
 // triangle not ending at it, if shorter; with an area bound, no more than the side of a triangle
 // of that area; an angle-bad triangle (not exempted by the Miller–Pav–Walkington rule) whose
 // shortest edge is below kFeatureGuardFraction of that stops the refinement with its own stop
-// reason. Only the default quality test is guarded (a custom test, as BRH's, decides itself).
-// The squared smallest feature of the mesh (see set_feature_guard); infinity for an empty domain.
-double Refiner::smallest_feature2() const {
-  double smallest2 = std::numeric_limits<double>::infinity();
-  const std::size_t slots = m_.triangles.size();
-  for (TriangleId t = 0; t < slots; ++t) {
-    if (!m_.in_domain(t)) continue;
-    const Triangle& T = m_.triangles[t];
-    for (unsigned e = 0; e < 3; ++e) {
-      const Point& a = m_.points[T.v[next3(e)]];
-      const Point& b = m_.points[T.v[prev3(e)]];
-      const double l2 = squared_distance(a, b);
-      smallest2 = std::min(smallest2, l2);
-      if (!m_.is_segment(make_handle(t, e)) || l2 == 0.0) continue;
-      // Distance from the opposite corner to the subsegment a–b (to its nearer end if the foot of
-      // the perpendicular is outside it).
-      const Point& c = m_.points[T.v[e]];
-      const double ux = b.x - a.x, uy = b.y - a.y;
-      const double s = std::clamp(((c.x - a.x) * ux + (c.y - a.y) * uy) / l2, 0.0, 1.0);
-      const double dx = c.x - (a.x + s * ux), dy = c.y - (a.y + s * uy);
-      smallest2 = std::min(smallest2, dx * dx + dy * dy);
-    }
-  }
-  return smallest2;
-}
-
+// reason. With a custom quality test the caller passes the length (RefineOptions::
+// feature_guard_length): BRH computes it once from its input, as its passes refine in turn.
 void Refiner::set_feature_guard() {
-  if (custom_test_ || alpha_ <= 0.0) return;
-  double smallest2 = smallest_feature2();
-  if (!(smallest2 > 0.0) || !std::isfinite(smallest2)) return;
-  if (max_area_ > 0.0) smallest2 = std::min(smallest2, max_area_);
-  if (own_bounds_) {
-    for (TriangleId t = 0; t < m_.triangles.size(); ++t) {
-      const double bound = m_.area_bound[t];
-      if (bound > 0.0 && m_.in_domain(t)) smallest2 = std::min(smallest2, bound);
-    }
-  }
-  guard_length2_ = smallest2 * kFeatureGuardFraction * kFeatureGuardFraction;
+  if (opt_.feature_guard_length >= 0.0 || custom_test_ || alpha_ <= 0.0) return;  // given, or none
+  const double length = feature_guard_length(m_, max_area_);
+  guard_length2_ = length * length;
 }
 
 // Conforming Delaunay: subsegments with no domain triangle beside them (dangling segments in a
@@ -1230,10 +1198,8 @@ void Refiner::prepare_conforming() {
     }
   }
   relax();
-  const double smallest2 = smallest_feature2();
-  if (smallest2 > 0.0 && std::isfinite(smallest2)) {
-    conforming_guard2_ = smallest2 * kFeatureGuardFraction * kFeatureGuardFraction;
-  }
+  const double length = feature_guard_length(m_, -1.0);
+  if (length > 0.0) conforming_guard2_ = length * length;
 }
 
 // With an area bound the final size is known in advance to within a few per cent (about 1.6
@@ -1377,6 +1343,42 @@ void Refiner::run() {
 }
 
 }  // namespace
+
+// Hull edges count as subsegments, as the first unseeded pass marks them (mark_hull_segments)
+// before it measures: a caller measuring the unrefined mesh gets the length that pass would.
+double feature_guard_length(const Mesh& mesh, double max_area) {
+  double smallest2 = std::numeric_limits<double>::infinity();
+  const std::size_t slots = mesh.triangles.size();
+  for (TriangleId t = 0; t < slots; ++t) {
+    if (!mesh.in_domain(t)) continue;
+    const Triangle& T = mesh.triangles[t];
+    for (unsigned e = 0; e < 3; ++e) {
+      const Point& a = mesh.points[T.v[next3(e)]];
+      const Point& b = mesh.points[T.v[prev3(e)]];
+      const double l2 = squared_distance(a, b);
+      smallest2 = std::min(smallest2, l2);
+      const Handle h = make_handle(t, e);
+      if (!(mesh.is_segment(h) || mesh.is_ghost(mesh.sym(h) >> 2)) || l2 == 0.0) continue;
+      // Distance from the opposite corner to the subsegment a–b (to its nearer end if the foot of
+      // the perpendicular is outside it).
+      const Point& c = mesh.points[T.v[e]];
+      const double ux = b.x - a.x, uy = b.y - a.y;
+      const double s = std::clamp(((c.x - a.x) * ux + (c.y - a.y) * uy) / l2, 0.0, 1.0);
+      const double dx = c.x - (a.x + s * ux), dy = c.y - (a.y + s * uy);
+      smallest2 = std::min(smallest2, dx * dx + dy * dy);
+    }
+  }
+  if (!(smallest2 > 0.0) || !std::isfinite(smallest2)) return 0.0;
+  if (max_area > 0.0) smallest2 = std::min(smallest2, max_area);
+  // Per-triangle area bounds (regional limits, a refined mesh's .area) bound it the same way.
+  if (!mesh.area_bound.empty()) {
+    for (TriangleId t = 0; t < slots; ++t) {
+      const double bound = mesh.area_bound[t];
+      if (bound > 0.0 && mesh.in_domain(t)) smallest2 = std::min(smallest2, bound);
+    }
+  }
+  return std::sqrt(smallest2) * kFeatureGuardFraction;
+}
 
 RefineStats refine(Mesh& mesh, const RefineOptions& options) {
   RefineStats stats;
