@@ -132,15 +132,15 @@ MWST_API OptimizeStats optimize(Mesh& mesh, const OptimizeOptions& options = {})
 // the mesh and from every segment and domain boundary edge other than the polygon's chords. The
 // search runs outward from the polygon's edges across the ones nearer than `separation` to q
 // (every nearer vertex lies beyond such edges), so it is local; past 256 triangles it says no.
-bool point_is_separated(const Mesh& mesh, const Point& q, const std::vector<Handle>& beyond, double separation);
+MWST_API bool point_is_separated(const Mesh& mesh, const Point& q, const std::vector<Handle>& beyond, double separation);
 
 // Distance from p to the closed segment ab, in floating point (the separation it is compared with
 // is far above its rounding).
-double point_segment_distance(const Point& p, const Point& a, const Point& b);
+MWST_API double point_segment_distance(const Point& p, const Point& a, const Point& b);
 
 // OptimizeOptions::min_separation's default for a search of `mesh`: kSeparationFraction × its
 // shortest domain edge (0 for an empty domain).
-double default_min_separation(const Mesh& mesh);
+MWST_API double default_min_separation(const Mesh& mesh);
 
 // One exact polish step on its own: compacts `mesh` and, within the exact_polish_* size limits of
 // `options`, replaces its triangulation by the exact MWT of its vertices with its segments
@@ -164,9 +164,9 @@ struct DomainPieces {
   std::vector<Pslg> pslgs;
   std::vector<std::vector<VertexId>> input_ids;
 };
-bool split_domain(const Pslg& input, const Mesh& cdt, DomainPieces& out);
-bool merge_pieces(const Pslg& input, const Mesh& cdt, const DomainPieces& pieces, const std::vector<Mesh>& results,
-                  Mesh& out);
+MWST_API bool split_domain(const Pslg& input, const Mesh& cdt, DomainPieces& out);
+MWST_API bool merge_pieces(const Pslg& input, const Mesh& cdt, const DomainPieces& pieces,
+                           const std::vector<Mesh>& results, Mesh& out);
 
 // Partition crossover (crossover.cpp): cuts the domain along the edges two triangulations of the
 // same input share, and replaces each piece of `a` by `b`'s triangles there when those are lighter
