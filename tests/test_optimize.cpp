@@ -15,6 +15,7 @@
 #include "mwst/io.hpp"
 #include "mwst/metrics.hpp"
 #include "mwst/optimize.hpp"
+#include "mwst/pipeline.hpp"
 #include "mwst/refine.hpp"
 
 #include "test_helpers.hpp"
@@ -497,6 +498,126 @@ TEST(Optimize, KicksUndoneByTheJournalAsByACopy) {
     EXPECT_EQ(by_journal.weight_after, by_copy.weight_after);
     EXPECT_TRUE(validate(journal).empty());
   });
+}
+
+}  // namespace
+}  // namespace mwst
+
+namespace mwst {
+namespace {
+
+// Issue 36, item 5: a 1 × 2 rectangle crossed by a chain of 1,000 segments whose vertices, 0.001
+// apart in x, wobble by about 1e-17 in y. opt's moves once stacked Steiner points one ulp apart on
+// the rectangle's side (edges of 4e-28) and put free ones 1e-17 off the chain. Now no move places
+// a Steiner vertex nearer than OptimizeOptions::min_separation — a quarter of the input CDT's
+// shortest edge — to another vertex or to a segment it is not on (optimize.hpp). Checked here
+// independently: the input's closest pair of points bounds that edge from below, and every edge
+// and every vertex-to-subsegment distance of the result is measured directly.
+TEST(OptimizeRegression, NearCollinearChainKeepsSteinerPointsSeparated) {
+  const std::string path = std::string(MWST_TEST_DATA_DIR) + "/../regression/opt_nearcollinear_chain.poly";
+  const Pslg g = io::read_input(path);
+  TriangulateOptions o;
+  o.method = Method::kOpt;
+  o.opt_trials = 10;
+  Mesh m;
+  triangulate(g, o, &m);
+  EXPECT_TRUE(validate(m).empty());
+  const CheckResult check = check_mesh(g, m);
+  EXPECT_TRUE(check.ok()) << (check.messages.empty() ? "" : check.messages.front());
+  double closest_input_pair = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < g.points.size(); ++i) {
+    for (std::size_t j = i + 1; j < g.points.size(); ++j) {
+      closest_input_pair = std::min(closest_input_pair, std::hypot(g.points[i].x - g.points[j].x, g.points[i].y - g.points[j].y));
+    }
+  }
+  const double bound = OptimizeOptions::kSeparationFraction * closest_input_pair * (1.0 - 1e-12);
+  ASSERT_GT(bound, 1e-4);  // the input as written: points 0.001 apart
+  const auto dist = [](const Point& p, const Point& a, const Point& b) {
+    const double dx = b.x - a.x, dy = b.y - a.y;
+    const double t = std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / (dx * dx + dy * dy), 0.0, 1.0);
+    return std::hypot(p.x - a.x - t * dx, p.y - a.y - t * dy);
+  };
+  std::vector<std::pair<VertexId, VertexId>> subsegments;
+  std::vector<char> used(m.points.size(), 0);
+  std::size_t steiner = 0;
+  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+    if (m.is_dead(t) || m.is_ghost(t)) continue;
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle h = make_handle(t, e);
+      const VertexId a = m.org(h), b = m.dest(h);
+      used[a] = 1;
+      if (a > b) continue;  // each edge once
+      EXPECT_GE(std::hypot(m.points[a].x - m.points[b].x, m.points[a].y - m.points[b].y), bound)
+          << "edge " << a << "-" << b;
+      if (m.is_segment(h)) subsegments.emplace_back(a, b);
+    }
+  }
+  for (std::size_t v = g.points.size(); v < m.points.size(); ++v) steiner += used[v];
+  EXPECT_GT(steiner, 0u);  // the optimiser did place Steiner points
+  for (VertexId v = 0; v < m.points.size(); ++v) {
+    if (!used[v]) continue;
+    for (const auto& [a, b] : subsegments) {
+      if (v == a || v == b) continue;
+      ASSERT_GE(dist(m.points[v], m.points[a], m.points[b]), bound) << "vertex " << v << " near subsegment " << a << "-" << b;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace mwst
+
+namespace mwst {
+namespace {
+
+// Issue 32, opt at scale: disjoint copies of one input are independent, so opt of the copies
+// together weighs what the copies weigh alone (split_domain / merge_pieces: each piece gets the
+// search a whole input gets). An outline on a 1/8 grid, tiled 2 × 2 by translations of 64
+// (powers of two: every translated coordinate exact), against 4 × one copy.
+TEST(OptimizePieces, DisjointCopiesWeighTheirSum) {
+  // A 16 × 16 square with 40 points inside on a 1/8 grid (a seeded generator): its light mesh
+  // has Steiner points.
+  const std::vector<Point> outline{{0, 0}, {16, 0}, {16, 16}, {0, 16}};
+  std::vector<Point> inside;
+  std::mt19937_64 rng(32);
+  for (int i = 0; i < 40; ++i) {
+    inside.push_back({0.125 * static_cast<double>(1 + rng() % 127), 0.125 * static_cast<double>(1 + rng() % 127)});
+  }
+  const auto tiled = [&](int side) {
+    Pslg g;
+    g.is_poly = true;
+    for (int c = 0; c < side * side; ++c) {
+      const double dx = 64.0 * (c % side), dy = 64.0 * (c / side);
+      const auto first = static_cast<std::uint32_t>(g.points.size());
+      for (std::size_t i = 0; i < outline.size(); ++i) {
+        g.points.push_back({outline[i].x + dx, outline[i].y + dy});
+        g.point_markers.push_back(0);
+        g.segments.push_back({first + static_cast<std::uint32_t>(i),
+                              first + static_cast<std::uint32_t>((i + 1) % outline.size()), 1});
+      }
+      for (const Point& p : inside) {
+        g.points.push_back({p.x + dx, p.y + dy});
+        g.point_markers.push_back(0);
+      }
+    }
+    return g;
+  };
+  TriangulateOptions o;
+  o.method = Method::kOpt;
+  o.opt_trials = 20;
+  const Pslg one = tiled(1), four = tiled(2);
+  Mesh m1, m4;
+  const Report r1 = triangulate(one, o, &m1);
+  const Report r4 = triangulate(four, o, &m4);
+  ASSERT_TRUE(r4.extra.contains("optimize"));
+  EXPECT_EQ(r4.extra["optimize"].value("pieces", std::size_t{0}), 4u);
+  EXPECT_GT(measure(m1).steiner, 0u);  // the search did something to be repeated
+  EXPECT_TRUE(validate(m4).empty());
+  const CheckResult check = check_mesh(four, m4);
+  EXPECT_TRUE(check.ok()) << (check.messages.empty() ? "" : check.messages.front());
+  const double w1 = measure(m1).weight_total, w4 = measure(m4).weight_total;
+  EXPECT_NEAR(w4, 4.0 * w1, 1e-12 * w4);
+  EXPECT_EQ(m4.domain_triangle_count(), 4 * m1.domain_triangle_count());
+  EXPECT_EQ(measure(m4).steiner, 4 * measure(m1).steiner);
 }
 
 }  // namespace

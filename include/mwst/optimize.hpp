@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "mwst/mesh.hpp"
+#include "mwst/pslg.hpp"
 
 namespace mwst {
 
@@ -27,6 +28,19 @@ struct OptimizeOptions {
   // refused when one of their new triangles would be; insertions only split triangles. A mesh
   // given with larger triangles keeps them until a move replaces them by smaller ones.
   double max_area = -1.0;
+  // Separation (no degenerate geometry): no move of the search places a Steiner vertex — a
+  // relocation (Weiszfeld step), a slide along a segment, an insertion, a kick, a perturbation —
+  // nearer than this distance to any other vertex, or to any segment or domain boundary edge it
+  // is not on (point_is_separated). So every edge the search makes to a vertex it placed is at
+  // least this long, and no such vertex lies within rounding of a segment. (Interior edges may
+  // pass nearer: light triangulations have flat triangles.) Flips, removals and
+  // re-triangulations only join vertices already there; vertices of the mesh given keep their
+  // places. < 0 (the default): default_min_separation(mesh given), kSeparationFraction × its
+  // shortest domain edge; method opt passes default_min_separation of the input's constrained
+  // Delaunay triangulation (pipeline.cpp), the input's smallest feature, for every start alike.
+  // 0: no separation (the strict orientation tests and in_kernel's rounding margin only).
+  static constexpr double kSeparationFraction = 0.25;
+  double min_separation = -1.0;
   bool relocate = true;            // move Steiner vertices to the geometric median of neighbours
   bool remove = true;              // remove Steiner vertices whose star re-triangulates lighter
   bool insert = true;              // try Steiner points at the Fermat points of heavy triangles
@@ -112,11 +126,47 @@ struct OptimizeStats {
 // the two results is kept. Either way the result is never heavier than without the polish.
 MWST_API OptimizeStats optimize(Mesh& mesh, const OptimizeOptions& options = {});
 
+// OptimizeOptions::min_separation's test: may a Steiner vertex be placed at q, inside the polygon
+// of mesh triangles whose edges the handles `beyond` see from the triangles outside them (q's
+// star to be, or the triangles q splits)? True if q is at least `separation` from every vertex of
+// the mesh and from every segment and domain boundary edge other than the polygon's chords. The
+// search runs outward from the polygon's edges across the ones nearer than `separation` to q
+// (every nearer vertex lies beyond such edges), so it is local; past 256 triangles it says no.
+MWST_API bool point_is_separated(const Mesh& mesh, const Point& q, const std::vector<Handle>& beyond, double separation);
+
+// Distance from p to the closed segment ab, in floating point (the separation it is compared with
+// is far above its rounding).
+MWST_API double point_segment_distance(const Point& p, const Point& a, const Point& b);
+
+// OptimizeOptions::min_separation's default for a search of `mesh`: kSeparationFraction × its
+// shortest domain edge (0 for an empty domain).
+MWST_API double default_min_separation(const Mesh& mesh);
+
 // One exact polish step on its own: compacts `mesh` and, within the exact_polish_* size limits of
 // `options`, replaces its triangulation by the exact MWT of its vertices with its segments
 // (exact_mwt, mwt.hpp) if that is solved and lighter by more than min_relative_gain. Returns true
 // if it did; vertices, segments and markers are unchanged either way.
 MWST_API bool exact_polish_mesh(Mesh& mesh, const OptimizeOptions& options);
+
+// Independent pieces (issue 32, opt at scale): the search's budgets (trials per start, the starts
+// tried) are per mesh, so an input of many disjoint parts got a thinner search per part than each
+// part alone. split_domain cuts the input by the connected components of its carved CDT `cdt`'s
+// domain (triangles joined across any shared edge, segments included) into one input per piece,
+// with the input's points in their order (input_ids[p][i]: the input id of piece p's point i), its
+// segments and the hole seeds in its bounding box. False (and no pieces) unless there are two or
+// more and the input is plain: no crossing or duplicate points, every point on the domain, no two
+// pieces touching at a point. merge_pieces puts the pieces' meshes (from method opt run on each
+// alone) back together as one mesh of the input: the input points keep their ids, the pieces'
+// Steiner points follow in piece order, every piece's triangles are kept as they are, the rest is
+// triangulated and carved as before. It checks that the pieces add up to the domain (triangles,
+// area, weight) and is valid, and returns false otherwise.
+struct DomainPieces {
+  std::vector<Pslg> pslgs;
+  std::vector<std::vector<VertexId>> input_ids;
+};
+MWST_API bool split_domain(const Pslg& input, const Mesh& cdt, DomainPieces& out);
+MWST_API bool merge_pieces(const Pslg& input, const Mesh& cdt, const DomainPieces& pieces,
+                           const std::vector<Mesh>& results, Mesh& out);
 
 // Partition crossover (crossover.cpp): cuts the domain along the edges two triangulations of the
 // same input share, and replaces each piece of `a` by `b`'s triangles there when those are lighter

@@ -45,12 +45,15 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
+#include <numeric>
 #include <random>
 #include <tuple>
 #include <unordered_map>
 #include <vector>
 
+#include "mwst/delaunay.hpp"
 #include "mwst/error.hpp"
 #include "mwst/flip.hpp"
 #include "mwst/metrics.hpp"
@@ -340,11 +343,23 @@ bool in_kernel(const Point& p, const std::vector<Point>& polygon) {
   return true;
 }
 
+// The shortest edge of the domain (OptimizeOptions::min_separation's default scale).
+double shortest_domain_edge(const Mesh& m) {
+  double shortest = std::numeric_limits<double>::infinity();
+  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+    if (!m.in_domain(t)) continue;
+    const auto& v = m.triangles[t].v;
+    for (unsigned k = 0; k < 3; ++k) shortest = std::min(shortest, distance(m.points[v[k]], m.points[v[(k + 1) % 3]]));
+  }
+  return std::isfinite(shortest) ? shortest : 0.0;
+}
+
 class Optimizer {
  public:
   Optimizer(Mesh& m, const OptimizeOptions& o, OptimizeStats& s, std::chrono::steady_clock::time_point deadline)
       : m_(m), opt_(o), stats_(s),
         first_free_(static_cast<VertexId>(std::max<std::size_t>(m.input_vertex_count, o.fixed_vertices))),
+        separation_(o.min_separation >= 0.0 ? o.min_separation : default_min_separation(m)),
         deadline_(deadline) {}
 
   // With polish_start, first replaces the mesh by the MWT of its vertices, and returns false
@@ -579,6 +594,26 @@ class Optimizer {
 
   double edge_length(Handle h) const { return distance(m_.points[m_.org(h)], m_.points[m_.dest(h)]); }
 
+  // OptimizeOptions::min_separation: may a Steiner vertex be placed at q inside the polygon whose
+  // edges `beyond` sees from outside (point_is_separated)?
+  bool separated(const Point& q, const std::vector<Handle>& beyond) const {
+    return !(separation_ > 0.0) || point_is_separated(m_, q, beyond, separation_);
+  }
+  bool separated(const Point& q, std::initializer_list<Handle> inside) {
+    if (!(separation_ > 0.0)) return true;
+    beyond_.clear();
+    for (const Handle h : inside) beyond_.push_back(m_.sym(h));
+    return separated(q, beyond_);
+  }
+  // ... inside triangle t; inside the two triangles of edge h.
+  bool separated_in_triangle(const Point& q, TriangleId t) {
+    return separated(q, {make_handle(t, 0), make_handle(t, 1), make_handle(t, 2)});
+  }
+  bool separated_at_edge(const Point& q, Handle h) {
+    const Handle g = m_.sym(h);
+    return separated(q, {Mesh::lnext(h), Mesh::lprev(h), Mesh::lnext(g), Mesh::lprev(g)});
+  }
+
   // Weight-reducing flips from the edges on `flip_stack_` (and the edges they expose); returns the
   // change in weight (≤ 0). Each flip lowers the weight strictly (exact test), so it terminates.
   double local_flips() {
@@ -637,7 +672,7 @@ class Optimizer {
         q = {snap_to_range(q.x), snap_to_range(q.y)};
         if (in_supported_range(q)) {
           const double after = spoke_sum(q, polygon_);
-          if (after < before && in_kernel(q, polygon_) && star_within_area(q, polygon_)) {
+          if (after < before && in_kernel(q, polygon_) && separated(q, region_.outer) && star_within_area(q, polygon_)) {
             m_.save_vertex(v);
             m_.points[v] = q;
             delta += after - before;
@@ -665,7 +700,8 @@ class Optimizer {
     const Point a = m_.points[T.v[0]];
     const Point b = m_.points[T.v[1]];
     const Point c = m_.points[T.v[2]];
-    if (!in_supported_range(p) || orient2d(a, b, p) <= 0 || orient2d(b, c, p) <= 0 || orient2d(c, a, p) <= 0) {
+    if (!in_supported_range(p) || orient2d(a, b, p) <= 0 || orient2d(b, c, p) <= 0 || orient2d(c, a, p) <= 0 ||
+        !separated_in_triangle(p, t)) {
       return false;
     }
     if (steiner_room() == 0) return false;
@@ -767,6 +803,7 @@ class Optimizer {
       // The triangle that must hold q strictly inside (or both, on the edge).
       if (side >= 0 && (orient2d(b, c, q) <= 0 || orient2d(c, a, q) <= 0)) continue;
       if (side <= 0 && (orient2d(a, d, q) <= 0 || orient2d(d, b, q) <= 0)) continue;
+      if (!separated_at_edge(q, h)) continue;
       if (steiner_room() == 0) break;
       ++kick_trials_;
       begin_trial();
@@ -853,6 +890,7 @@ class Optimizer {
       const Triangle& T = m_.triangles[t];
       const Point a = m_.points[T.v[0]], b = m_.points[T.v[1]], c = m_.points[T.v[2]];
       if (orient2d(a, b, q) <= 0 || orient2d(b, c, q) <= 0 || orient2d(c, a, q) <= 0) return kInfinite;
+      if (!separated_in_triangle(q, t)) return kInfinite;
       const VertexId v = m_.add_vertex(q, VertexKind::kSteiner, 0);
       delta += distance(q, a) + distance(q, b) + distance(q, c);
       m_.split_triangle(t, v);
@@ -862,6 +900,7 @@ class Optimizer {
     if (m_.is_segment(h) || !m_.in_domain(h >> 2) || !m_.in_domain(m_.sym(h) >> 2)) return kInfinite;
     const Point a = m_.points[m_.org(h)], b = m_.points[m_.dest(h)];
     const Point c = m_.points[m_.apex(h)], d = m_.points[m_.apex(m_.sym(h))];
+    if (!separated_at_edge(q, h)) return kInfinite;
     const VertexId v = m_.add_vertex(q, VertexKind::kSteiner, 0);
     delta += distance(q, a) + distance(q, b) + distance(q, c) + distance(q, d) - distance(a, b);
     m_.split_edge(h, v);
@@ -981,8 +1020,12 @@ class Optimizer {
         if (orient2d(a, q, m_.points[c]) <= 0 || orient2d(q, b, m_.points[c]) <= 0) return false;
         if (d != kInfinite && (orient2d(b, q, m_.points[d]) <= 0 || orient2d(q, a, m_.points[d]) <= 0)) return false;
         // Strictly between a and b (collinear): also catches the ghost side.
-        return (q.x - a.x) * (b.x - a.x) + (q.y - a.y) * (b.y - a.y) > 0 &&
-               (q.x - b.x) * (a.x - b.x) + (q.y - b.y) * (a.y - b.y) > 0;
+        if (!((q.x - a.x) * (b.x - a.x) + (q.y - a.y) * (b.y - a.y) > 0 &&
+              (q.x - b.x) * (a.x - b.x) + (q.y - b.y) * (a.y - b.y) > 0)) {
+          return false;
+        }
+        // Separated (on the hull, the ghost beyond ab holds nothing).
+        return d == kInfinite ? separated(q, {Mesh::lnext(h), Mesh::lprev(h)}) : separated_at_edge(q, h);
       };
       Point q = cand.foot;
       bool found = false;
@@ -1293,7 +1336,7 @@ class Optimizer {
       q = {snap_to_range(q.x), snap_to_range(q.y)};
       // (The cheap test first: in_kernel's margins cost a hypot per edge.)
       if (in_supported_range(q) && spoke_sum(q, polygon_) < before && in_kernel(q, polygon_) &&
-          star_within_area(q, polygon_)) {
+          separated(q, region_.outer) && star_within_area(q, polygon_)) {
         m_.save_vertex(v);
         m_.points[v] = q;
         ++stats_.relocations;
@@ -1322,6 +1365,7 @@ class Optimizer {
     slide_spokes_.clear();
     slide_triangles_.clear();
     slide_domain_triangles_.clear();
+    slide_beyond_.clear();
     // On the hull, the hull vertices around v in the order mesh.hpp reads hull edges:
     // before2 → hull_prev → v → hull_next → after2.
     VertexId before2 = kNone, hull_prev = kNone, hull_next = kNone, after2 = kNone;
@@ -1333,6 +1377,7 @@ class Optimizer {
       const VertexId u = m_.dest(s);
       if (!m_.is_ghost(t)) {
         slide_triangles_.push_back({u, m_.apex(s)});  // triangle (v, u, apex)
+        slide_beyond_.push_back(m_.sym(Mesh::lnext(s)));  // across its link edge u → apex
         if (m_.in_domain(t)) slide_domain_triangles_.push_back({u, m_.apex(s)});
       } else if (m_.apex(s) == kInfinite) {
         // The ghost (v, u, ∞); the next ghost (u, after2, ∞) lies across its edge u → ∞.
@@ -1407,7 +1452,7 @@ class Optimizer {
     Point q = at(0.5 * (lo + hi));
     for (int halving = 0; halving < 40; ++halving) {
       q = {snap_to_range(q.x), snap_to_range(q.y)};
-      if (valid_at(q) && weight_at(q) < before) {
+      if (valid_at(q) && weight_at(q) < before && separated(q, slide_beyond_)) {
         m_.save_vertex(v);
         m_.points[v] = q;
         ++stats_.relocations;
@@ -1605,7 +1650,8 @@ class Optimizer {
       // (A star that cannot win is not tested for the kernel, whose margins cost a hypot per edge.)
       if (in_supported_range(q)) {
         const double spokes = spoke_sum(q, polygon_);
-        if (spokes < current && spokes < mwt && in_kernel(q, polygon_) && star_within_area(q, polygon_)) {
+        if (spokes < current && spokes < mwt && in_kernel(q, polygon_) && separated(q, region_.outer) &&
+            star_within_area(q, polygon_)) {
           star_weight = spokes;
         }
       }
@@ -1675,6 +1721,8 @@ class Optimizer {
   const OptimizeOptions& opt_;
   OptimizeStats& stats_;
   VertexId first_free_;  // the first vertex the search may move or remove (OptimizeOptions::fixed_vertices)
+  double separation_;    // OptimizeOptions::min_separation, resolved
+  std::vector<Handle> beyond_;  // separated(): the handles beyond a polygon's edges
   std::vector<Handle> vertex_handle_;
   Region region_;
   std::vector<Point> polygon_;
@@ -1688,6 +1736,7 @@ class Optimizer {
   std::vector<Point> slide_spokes_;
   std::vector<std::pair<VertexId, VertexId>> slide_triangles_;
   std::vector<std::pair<VertexId, VertexId>> slide_domain_triangles_;  // those in the domain
+  std::vector<Handle> slide_beyond_;  // across their link edges
   std::vector<VertexId> neighbours_;
   std::vector<double> cumulative_;  // perimeter prefix sums (perturbation_search)
   bool focused_ = false;  // local_search visits only what lies in [focus_lo_, focus_hi_]
@@ -1698,6 +1747,52 @@ class Optimizer {
 };
 
 }  // namespace
+
+double point_segment_distance(const Point& p, const Point& a, const Point& b) {
+  const double dx = b.x - a.x, dy = b.y - a.y;
+  const double length2 = dx * dx + dy * dy;
+  const double t = length2 > 0.0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / length2, 0.0, 1.0) : 0.0;
+  return std::hypot(p.x - (a.x + t * dx), p.y - (a.y + t * dy));
+}
+
+bool point_is_separated(const Mesh& mesh, const Point& q, const std::vector<Handle>& beyond, double separation) {
+  // The disk of radius `separation` around q is searched outward from the polygon: a vertex x
+  // nearer than that is a corner of the polygon, or the segment qx leaves the polygon through an
+  // edge nearer than `separation` and reaches x through triangles whose entry edges are too.
+  // Segments and domain boundary edges are not crossed: one that near refuses q.
+  thread_local std::vector<TriangleId> visited;
+  thread_local std::vector<Handle> stack;
+  visited.clear();
+  stack.clear();
+  const auto near = [&](VertexId v) { return v != kInfinite && distance(q, mesh.points[v]) < separation; };
+  for (const Handle h : beyond) {
+    if (near(mesh.org(h)) || near(mesh.dest(h))) return false;
+    visited.push_back(triangle_of(mesh.sym(h)));  // the polygon's own triangles
+  }
+  stack = beyond;
+  constexpr std::size_t kMaxTriangles = 256;  // beyond this many, refuse (a disk that large is no "near")
+  while (!stack.empty()) {
+    const Handle h = stack.back();  // an edge, seen from the triangle beyond it
+    stack.pop_back();
+    const VertexId a = mesh.org(h), b = mesh.dest(h);
+    if (a == kInfinite || b == kInfinite) continue;
+    if (point_segment_distance(q, mesh.points[a], mesh.points[b]) >= separation) continue;
+    const TriangleId t = triangle_of(h);
+    const bool boundary = mesh.in_domain(t) != mesh.in_domain(triangle_of(mesh.sym(h)));
+    if (mesh.is_segment(h) || boundary) return false;
+    if (mesh.is_ghost(t) || std::find(visited.begin(), visited.end(), t) != visited.end()) continue;
+    if (visited.size() >= kMaxTriangles) return false;
+    visited.push_back(t);
+    if (near(mesh.apex(h))) return false;
+    stack.push_back(mesh.sym(Mesh::lnext(h)));
+    stack.push_back(mesh.sym(Mesh::lprev(h)));
+  }
+  return true;
+}
+
+double default_min_separation(const Mesh& mesh) {
+  return OptimizeOptions::kSeparationFraction * shortest_domain_edge(mesh);
+}
 
 bool exact_polish_mesh(Mesh& mesh, const OptimizeOptions& options) {
   compact(mesh);
@@ -1749,6 +1844,167 @@ OptimizeStats optimize(Mesh& mesh, const OptimizeOptions& options) {
   }
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return stats;
+}
+
+}  // namespace mwst
+
+// ---- independent pieces of the domain (issue 32: opt at scale) ------------------------------
+
+namespace mwst {
+
+bool split_domain(const Pslg& input, const Mesh& cdt, DomainPieces& out) {
+  out = {};
+  const std::size_t n = input.points.size();
+  // Pieces need a plain input: every CDT vertex an input point (no crossings, no duplicates).
+  if (cdt.points.size() != n) return false;
+  for (std::size_t v = 0; v < n; ++v) {
+    if (cdt.vertex_kind[v] != VertexKind::kInput) return false;
+  }
+  // Domain triangles joined across shared edges (segments included: a segment's Steiner points
+  // serve both sides), by union-find.
+  const std::size_t slots = cdt.triangles.size();
+  std::vector<TriangleId> parent(slots);
+  std::iota(parent.begin(), parent.end(), TriangleId{0});
+  const auto find = [&](TriangleId t) {
+    while (parent[t] != t) t = parent[t] = parent[parent[t]];
+    return t;
+  };
+  for (TriangleId t = 0; t < slots; ++t) {
+    if (!cdt.in_domain(t)) continue;
+    for (unsigned e = 0; e < 3; ++e) {
+      const TriangleId u = triangle_of(cdt.sym(make_handle(t, e)));
+      if (cdt.in_domain(u)) parent[find(u)] = find(t);
+    }
+  }
+  // Pieces numbered by their smallest vertex; each vertex in exactly one piece.
+  constexpr std::uint32_t kNoPiece = 0xFFFFFFFFu;
+  std::vector<std::uint32_t> piece_of_root(slots, kNoPiece), piece_of_vertex(n, kNoPiece);
+  std::vector<TriangleId> root_of_vertex(n, kNone);
+  for (TriangleId t = 0; t < slots; ++t) {
+    if (!cdt.in_domain(t)) continue;
+    for (const VertexId v : cdt.triangles[t].v) {
+      const TriangleId r = find(t);
+      if (root_of_vertex[v] != kNone && root_of_vertex[v] != r) return false;  // pieces touching at v
+      root_of_vertex[v] = r;
+    }
+  }
+  std::uint32_t pieces = 0;
+  for (std::size_t v = 0; v < n; ++v) {
+    if (root_of_vertex[v] == kNone) return false;  // a point off the domain
+    std::uint32_t& p = piece_of_root[root_of_vertex[v]];
+    if (p == kNoPiece) p = pieces++;
+    piece_of_vertex[v] = p;
+  }
+  if (pieces < 2) return false;
+  out.pslgs.resize(pieces);
+  out.input_ids.resize(pieces);
+  std::vector<std::uint32_t> local(n);
+  for (std::size_t v = 0; v < n; ++v) {
+    const std::uint32_t p = piece_of_vertex[v];
+    local[v] = static_cast<std::uint32_t>(out.input_ids[p].size());
+    out.input_ids[p].push_back(static_cast<VertexId>(v));
+    out.pslgs[p].points.push_back(input.points[v]);
+    out.pslgs[p].point_markers.push_back(v < input.point_markers.size() ? input.point_markers[v] : 0);
+  }
+  for (const Segment& s : input.segments) {
+    const std::uint32_t p = piece_of_vertex[s.a];
+    if (piece_of_vertex[s.b] != p) return false;
+    out.pslgs[p].segments.push_back({local[s.a], local[s.b], s.marker});
+  }
+  // Each piece keeps the hole seeds inside its bounding box (the others lie in other pieces or
+  // outside; merge_pieces checks that the pieces' domains add up to the whole).
+  for (std::uint32_t p = 0; p < pieces; ++p) {
+    Pslg& g = out.pslgs[p];
+    Point lo = g.points.front(), hi = lo;
+    for (const Point& q : g.points) {
+      lo = {std::min(lo.x, q.x), std::min(lo.y, q.y)};
+      hi = {std::max(hi.x, q.x), std::max(hi.y, q.y)};
+    }
+    for (const Point& h : input.holes) {
+      if (lo.x <= h.x && h.x <= hi.x && lo.y <= h.y && h.y <= hi.y) g.holes.push_back(h);
+    }
+    g.is_poly = input.is_poly;
+    g.first_index = input.first_index;
+    g.source = input.source;
+  }
+  return true;
+}
+
+bool merge_pieces(const Pslg& input, const Mesh& cdt, const DomainPieces& pieces, const std::vector<Mesh>& results,
+                  Mesh& out) {
+  // One graph: the input points (same ids), every piece's Steiner points after them, and every
+  // edge of every piece as a constraint (so its triangles come back as they are; the gaps between
+  // pieces are triangulated afresh and carved as before). Edges that are no subsegments carry
+  // kNotSegment and are cleared after.
+  constexpr std::int32_t kNotSegment = std::numeric_limits<std::int32_t>::min();
+  Pslg g;
+  g.points = input.points;
+  g.point_markers = input.point_markers;
+  g.holes = input.holes;
+  g.is_poly = input.is_poly;
+  g.first_index = input.first_index;
+  g.source = input.source;
+  std::vector<VertexKind> kinds(input.points.size(), VertexKind::kInput);
+  std::vector<std::int32_t> markers(input.points.size(), 0);
+  double domain_area = 0.0, pieces_area = 0.0, pieces_weight = 0.0;
+  std::size_t pieces_triangles = 0;
+  for (std::size_t p = 0; p < results.size(); ++p) {
+    const Mesh& m = results[p];
+    const std::vector<VertexId>& ids = pieces.input_ids[p];
+    std::vector<VertexId> global(m.points.size(), kNone);
+    for (std::size_t v = 0; v < m.points.size(); ++v) {
+      if (v < ids.size()) {
+        global[v] = ids[v];
+      } else if (m.vertex_kind[v] == VertexKind::kSteiner || m.vertex_kind[v] == VertexKind::kSteinerOnSegment) {
+        global[v] = static_cast<VertexId>(g.points.size());
+        g.points.push_back(m.points[v]);
+        g.point_markers.push_back(m.vertex_marker[v]);
+        kinds.push_back(m.vertex_kind[v]);
+        markers.push_back(m.vertex_marker[v]);
+      }
+    }
+    const Metrics metrics = measure(m);
+    pieces_area += metrics.area;
+    pieces_weight += metrics.weight_total;
+    for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+      if (m.is_dead(t) || m.is_ghost(t)) continue;
+      pieces_triangles += m.in_domain(t) ? 1 : 0;
+      for (unsigned e = 0; e < 3; ++e) {
+        const Handle h = make_handle(t, e);
+        const TriangleId u = triangle_of(m.sym(h));
+        const bool segment = m.is_segment(h);
+        if (!segment && !m.in_domain(t) && !m.in_domain(u)) continue;  // the piece's own outside
+        if (!m.is_ghost(u) && !m.is_dead(u) && u < t) continue;       // each edge once
+        const VertexId a = global[m.org(h)], b = global[m.dest(h)];
+        if (a == kNone || b == kNone) return false;
+        g.segments.push_back({a, b, segment ? m.marker(h) : kNotSegment});
+      }
+    }
+  }
+  domain_area = measure(cdt).area;
+  Mesh merged = constrained_delaunay(g);
+  if (merged.points.size() != g.points.size()) return false;
+  for (TriangleId t = 0; t < merged.triangles.size(); ++t) {
+    if (merged.is_dead(t)) continue;
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle h = make_handle(t, e);
+      if (merged.is_segment(h) && merged.marker(h) == kNotSegment) merged.clear_segment(h);
+    }
+  }
+  merged.input_vertex_count = static_cast<std::uint32_t>(input.points.size());
+  for (std::size_t v = input.points.size(); v < g.points.size(); ++v) {
+    merged.vertex_kind[v] = kinds[v];
+    merged.vertex_marker[v] = markers[v];
+  }
+  // The pieces add up to the domain, triangle for triangle.
+  const Metrics m = measure(merged);
+  const auto close = [](double x, double y) { return std::fabs(x - y) <= 1e-9 * std::max(std::fabs(x), std::fabs(y)); };
+  if (merged.domain_triangle_count() != pieces_triangles || !close(m.area, pieces_area) ||
+      !close(m.area, domain_area) || !close(m.weight_total, pieces_weight) || !validate(merged).empty()) {
+    return false;
+  }
+  out = std::move(merged);
+  return true;
 }
 
 }  // namespace mwst

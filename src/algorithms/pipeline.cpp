@@ -9,14 +9,17 @@
 #include "mwst/pipeline.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <numbers>
 #include <numeric>
 #include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <unordered_map>
 #include <utility>
 
@@ -482,6 +485,44 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
   Mesh best = constrained_delaunay_phase(pslg, options, report);
   check_memory_for_area_bound(best, options);
   const Mesh cdt = best;
+  // Independent pieces of the domain (optimize.hpp, split_domain): each searched alone, as if it
+  // were the whole input (its own starts and budgets), on all cores, and put back together.
+  // (Not with --max-steiner, a budget for the whole mesh.)
+  const bool whole_budget = options.max_steiner != std::numeric_limits<std::size_t>::max();
+  if (DomainPieces pieces; !options.convex_hull && !whole_budget && split_domain(pslg, cdt, pieces)) {
+    Phase phase(report, "optimize");
+    const std::size_t count = pieces.pslgs.size();
+    std::vector<Mesh> results(count);
+    std::vector<Report> reports(count);
+    std::vector<std::exception_ptr> errors(count);
+    std::atomic<std::size_t> next{0};
+    const auto work = [&] {
+      for (std::size_t i = next++; i < count; i = next++) {
+        try {
+          results[i] = optimize_phase(pieces.pslgs[i], options, start, reports[i]);
+        } catch (...) {
+          errors[i] = std::current_exception();
+        }
+      }
+    };
+    const unsigned threads = options.threads != 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+    std::vector<std::thread> workers(std::min<std::size_t>(count, threads) - 1);
+    for (std::thread& w : workers) w = std::thread(work);
+    work();
+    for (std::thread& w : workers) w.join();
+    for (const std::exception_ptr& e : errors) {
+      if (e) std::rethrow_exception(e);  // the first piece's error, whichever thread ran it
+    }
+    Mesh merged;
+    if (merge_pieces(pslg, cdt, pieces, results, merged)) {
+      phase.finish();
+      // optimize_phase settles each piece's stop (the string form comes later, in triangulate()).
+      const bool cut = std::any_of(reports.begin(), reports.end(), [](const Report& r) { return r.stop.kind == StopKind::kTimeBudget; });
+      report.stop = StopReason{cut ? StopKind::kTimeBudget : StopKind::kLocalMinimum, 0, {}};
+      report.extra["optimize"] = {{"pieces", count}, {"weight_after", measure(merged).weight_total}};
+      return merged;
+    }
+  }
   Phase phase(report, "optimize");
   // --max-steiner bounds the Steiner points beyond the CDT's (its crossing points) in every start
   // and every search; a mesh over it (a seeded start, a crossover) is not taken.
@@ -597,6 +638,7 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
   local.fixed_vertices = cdt.points.size();  // the input and the CDT's crossing points
   local.max_steiner = options.max_steiner;
   local.max_area = options.max_area;
+  local.min_separation = default_min_separation(cdt);  // one scale for every start: the input's CDT
   std::vector<double> local_weight;
   double lightest = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < starts.size(); ++i) {
@@ -611,6 +653,7 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
   kicks.fixed_vertices = local.fixed_vertices;
   kicks.max_steiner = local.max_steiner;
   kicks.max_area = local.max_area;
+  kicks.min_separation = local.min_separation;
   kicks.max_exact_polygon = 0;
   kicks.max_exact_convex_polygon = 0;
   kicks.exact_polish = options.exact_polish;  // and after the search (optimize.hpp)

@@ -40,13 +40,20 @@ std::size_t seed_steiner_points(Mesh& mesh, SeedPoints which) {
     }
   }
   // Insert each seed that lies strictly inside an in-domain triangle (a circumcenter may lie beyond
-  // the boundary or on an edge; a rounded centroid of a needle may fall on an edge: skipped).
+  // the boundary or on an edge; a rounded centroid of a needle may fall on an edge: skipped) and
+  // is separated as the optimiser's own insertions are (OptimizeOptions::min_separation: here
+  // default_min_separation of the mesh given, the same as opt's when it is the input's CDT).
+  const double separation = default_min_separation(mesh);
+  std::vector<Handle> beyond;
   std::size_t inserted = 0;
   Handle hint = kNone;
   for (const Point& p : seeds) {
     if (!std::isfinite(p.x) || !std::isfinite(p.y)) continue;
     const Location where = mesh.locate(p, hint);
     if (where.kind != Location::Kind::kInTriangle || !mesh.in_domain(triangle_of(where.handle))) continue;
+    const TriangleId t = triangle_of(where.handle);
+    beyond.assign({mesh.sym(make_handle(t, 0)), mesh.sym(make_handle(t, 1)), mesh.sym(make_handle(t, 2))});
+    if (separation > 0.0 && !point_is_separated(mesh, p, beyond, separation)) continue;
     const VertexId v = mesh.add_vertex(p, VertexKind::kSteiner);
     mesh.insert_vertex(v, where.handle, &hint);
     ++inserted;
