@@ -637,7 +637,9 @@ TEST(Cli, TimeLimitBoundsTheBundleNumber) {
   const auto j = nlohmann::json::parse(box.get("u.json"));
   EXPECT_EQ(j.at("stop_reason").get<std::string>(), "time budget");
   EXPECT_FALSE(j.contains("bundle_number"));
-  EXPECT_NE(r.err.find("the bundle number was not computed"), std::string::npos) << describe(r);
+  EXPECT_NE(r.err.find("the bundle number was not computed: the time budget (--time-limit) ran out"),
+            std::string::npos)
+      << describe(r);
   EXPECT_EQ(box.run({"check", data("Superior.poly"), "u"}).exit_code, 0);
 }
 
@@ -1164,6 +1166,47 @@ TEST(Cli, OptionErrorsOfTheLibraryNameTheFlags) {
   EXPECT_EQ(box.entries(), (std::set<std::string>{"in.poly"}));
 }
 
+// The library's other messages name fields too (issue 34: "the library speaks its own language"),
+// and method_reads_option takes field names; `mwst triangulate` maps them back to its flags.
+TEST(Cli, LibraryMessagesNameFieldsAndTheCliMapsThem) {
+  try {
+    (void)mwst::default_bundle_k(0.0);
+    ADD_FAILURE() << "a default bundle size without an angle";
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("needs min_angle_deg > 0; give bundle_k"), std::string::npos) << what;
+    EXPECT_EQ(what.find("--"), std::string::npos) << what;
+  }
+  mwst::TriangulateOptions options;
+  options.method = mwst::Method::kDr;
+  options.max_area = 1e-12;
+  options.memory_budget_bytes = 1e9;
+  try {
+    (void)mwst::triangulate(mwst::io::read_input(regression("unit_square_area_runaway.poly")), options);
+    ADD_FAILURE() << "an area bound of 2e12 triangles was accepted";
+  } catch (const mwst::ResourceError& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind("max_area 1e-12 on a domain of area 1 would make about 2e+12 triangles", 0), 0u) << what;
+    EXPECT_NE(what.find("(memory_budget_bytes): give a larger max_area"), std::string::npos) << what;
+    EXPECT_EQ(what.find("--"), std::string::npos) << what;
+  }
+  EXPECT_FALSE(mwst::method_reads_option(mwst::Method::kDt, "max_area"));
+  EXPECT_TRUE(mwst::method_reads_option(mwst::Method::kDr, "max_area"));
+  EXPECT_FALSE(mwst::method_reads_option(mwst::Method::kDr, "bundle_k"));
+  EXPECT_TRUE(mwst::method_reads_option(mwst::Method::kBrh, "bundle_k"));
+  EXPECT_FALSE(mwst::method_reads_option(mwst::Method::kQtr, "time_budget_seconds"));
+  EXPECT_TRUE(mwst::method_reads_option(mwst::Method::kOpt, "opt_trials"));
+  // The CLI: the refusal names the flags (exit 4, one line).
+  Sandbox box;
+  const Outcome r = box.run({"triangulate", regression("unit_square_area_runaway.poly"), "-o", "u", "--method", "dr",
+                             "--max-area", "1e-12", "--max-memory", "1G"});
+  EXPECT_EQ(r.exit_code, 4) << describe(r);
+  EXPECT_EQ(r.err.rfind("mwst: --max-area 1e-12 on a domain of area 1 would make about 2e+12 triangles", 0), 0u)
+      << describe(r);
+  EXPECT_NE(r.err.find("(--max-memory): give a larger --max-area, or a larger --max-memory"), std::string::npos)
+      << describe(r);
+}
+
 TEST(Cli, DefaultPrefixFollowsTriangle) {
   Sandbox box;
   box.put("shape.poly", kSquare + "4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n");
@@ -1266,6 +1309,50 @@ TEST(Cli, TwoRunsGiveIdenticalFiles) {
       if (box.has(std::string("one") + ext)) {
         EXPECT_TRUE(box.get(std::string("one") + ext) == box.get(std::string("two") + ext)) << ext;
       }
+    }
+    for (const auto& e : fs::directory_iterator(box.dir())) fs::remove(e.path());
+  }
+}
+
+// TriangulateOptions::threads (--threads N): the results do not depend on N. One and two worker
+// threads give byte-identical files for the phases that use them: the Delaunay triangulation,
+// BRH's K-bundle test, opt's pieces, and the bundle number (compared in the report).
+TEST(Cli, ThreadCountDoesNotChangeTheOutput) {
+  Sandbox box;
+  EXPECT_NE(box.run({"triangulate", "--help"}).out.find("--threads"), std::string::npos);
+  const std::vector<std::pair<std::string, std::vector<std::string>>> runs = {
+      {"Kuzmin2K.node", {"--method", "dt"}},
+      {"Superior.poly", {"--method", "dr", "--bundle"}},
+      {"Plate.poly", {"--method", "brh", "--flip"}},
+      {"Plate.poly", {"--method", "opt", "--opt-trials", "40"}}};
+  for (const auto& [name, method] : runs) {
+    std::string trace = name;
+    for (const std::string& m : method) trace += " " + m;
+    SCOPED_TRACE(trace);
+    for (const std::string threads : {"1", "2"}) {
+      std::vector<std::string> call = {"triangulate", data(name), "-o", "t" + threads, "-q", "--threads", threads,
+                                       "--json", "t" + threads + ".json"};
+      call.insert(call.end(), method.begin(), method.end());
+      const Outcome r = box.run(call);
+      ASSERT_EQ(r.exit_code, 0) << describe(r);
+    }
+    for (const char* ext : {".node", ".ele", ".poly"}) {
+      EXPECT_EQ(box.has(std::string("t1") + ext), box.has(std::string("t2") + ext)) << ext;
+      if (box.has(std::string("t1") + ext)) {
+        EXPECT_TRUE(box.get(std::string("t1") + ext) == box.get(std::string("t2") + ext)) << ext;
+      }
+    }
+    ASSERT_TRUE(box.has("t1.node") && box.has("t1.ele"));
+    const auto one = nlohmann::json::parse(box.get("t1.json"));
+    const auto two = nlohmann::json::parse(box.get("t2.json"));
+    for (const char* key : {"weight_total", "vertices", "triangles", "stop_reason", "bundle_number"}) {
+      EXPECT_EQ(one.contains(key), two.contains(key)) << key;
+      if (one.contains(key)) {
+        EXPECT_EQ(one[key], two[key]) << key;
+      }
+    }
+    if (method[1] == "dr") {
+      EXPECT_TRUE(one.contains("bundle_number"));
     }
     for (const auto& e : fs::directory_iterator(box.dir())) fs::remove(e.path());
   }

@@ -176,14 +176,16 @@ StopReason settle_stop_reason(const Mesh& mesh, const TriangulateOptions& option
 MWST_API std::size_t default_bundle_k(double min_angle_deg);
 
 // Checks the options for values no method can use (negative angles, an angle of 60° or more,
-// NaN, ...). Throws std::invalid_argument naming the option as the command line spells it.
+// NaN, ...). Throws std::invalid_argument naming the TriangulateOptions field ("min_angle_deg
+// must be in [0, 60) degrees"); the library's messages and warnings all name fields, never
+// command-line flags (a command line maps them to its own spellings).
 MWST_API void check_options(const TriangulateOptions& options);
 
-// Does `method` read the option the command line spells `option` ("--min-angle", "--steiner",
-// "--bundle-k", "--max-area", "--max-steiner", "--time-limit", "--exact-polish", "--opt-trials")?
-// dt and qtr read none of them; dr the angle, rule and budgets; brh also --bundle-k; opt all but
-// --max-area (its BRH and DR starts, its search). Options every method reads (--flip,
-// --convex-hull, --strict, --bundle) and names not listed: true.
+// Does `method` read the TriangulateOptions field named `option` ("min_angle_deg", "steiner",
+// "bundle_k", "max_area", "max_steiner", "time_budget_seconds", "exact_polish", "opt_trials")?
+// dt and qtr read none of them; dr the angle, rule and budgets; brh also bundle_k; opt all of
+// them (its BRH and DR starts, its search). Fields every method reads (flip, convex_hull,
+// strict, bundle, ...) and names not listed: true.
 MWST_API bool method_reads_option(Method method, std::string_view option);
 
 struct MWST_API Report {

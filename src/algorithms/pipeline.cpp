@@ -107,11 +107,11 @@ void check_memory_for_area_bound(const Mesh& cdt, const TriangulateOptions& opti
   const double expected = 2.0 * least;
   if (!(estimated_bytes(options.method, least) > options.memory_budget_bytes)) return;
   char text[256];
-  std::snprintf(text, sizeof text, "--max-area %g on a domain of area %g would make about %.3g triangles (at least %.3g), ",
+  std::snprintf(text, sizeof text, "max_area %g on a domain of area %g would make about %.3g triangles (at least %.3g), ",
                 options.max_area, area, expected, least);
   throw ResourceError(std::string(text) + "needing about " + bytes_text(estimated_bytes(options.method, expected)) +
                       ", more than the memory budget of " + bytes_text(options.memory_budget_bytes) +
-                      " (--max-memory): give a larger --max-area, or a larger --max-memory if the machine has it");
+                      " (memory_budget_bytes): give a larger max_area, or a larger memory_budget_bytes if the machine has it");
 }
 
 std::string plural(std::size_t n, const char* one, const char* many) {
@@ -144,7 +144,7 @@ Mesh constrained_delaunay_phase(const Pslg& pslg, const TriangulateOptions& opti
   if (stats.crossings > 0) {
     report.warnings.push_back("crossing segments split at " +
                               plural(stats.crossings, "intersection point", "intersection points") +
-                              " (use --strict to refuse them)");
+                              " (the option strict refuses them)");
   }
   if (stats.overlaps > 0) {
     report.warnings.push_back(plural(stats.overlaps, "overlapping collinear segment piece",
@@ -461,7 +461,7 @@ void brh_phase(Mesh& mesh, const TriangulateOptions& options, Clock::time_point 
 // reads it (dr, brh, opt) holds after the flips too: no flip makes a triangle larger than it.
 void flip_phase(Mesh& mesh, const TriangulateOptions& options, Report& report) {
   Phase phase(report, "flip");
-  const double max_area = method_reads_option(options.method, "--max-area") ? options.max_area : -1.0;
+  const double max_area = method_reads_option(options.method, "max_area") ? options.max_area : -1.0;
   const FlipStats stats = flip_to_local_minimum(mesh, max_area);
   phase.finish();
   report.extra["flip"] = {{"flips", stats.flips},
@@ -928,8 +928,8 @@ double estimated_bytes(Method method, double triangles) {
 
 std::size_t default_bundle_k(double min_angle_deg) {
   if (!(min_angle_deg > 0.0)) {
-    throw std::invalid_argument("the default bundle size ceil(4*pi/alpha)+3 needs --min-angle > 0; "
-                                "give --bundle-k");
+    throw std::invalid_argument("the default bundle size ceil(4*pi/alpha)+3 needs min_angle_deg > 0; "
+                                "give bundle_k");
   }
   // 4π/α with α in radians is 720/deg with deg in degrees.
   return static_cast<std::size_t>(std::ceil(720.0 / min_angle_deg)) + 3;
@@ -954,10 +954,10 @@ void check_options(const TriangulateOptions& o) {
 }
 
 bool method_reads_option(Method method, std::string_view option) {
-  const bool refinement = option == "--min-angle" || option == "--steiner" || option == "--max-area" ||
-                          option == "--max-steiner" || option == "--time-limit";
-  const bool bundle_size = option == "--bundle-k";
-  const bool optimiser = option == "--exact-polish" || option == "--opt-trials";
+  const bool refinement = option == "min_angle_deg" || option == "steiner" || option == "max_area" ||
+                          option == "max_steiner" || option == "time_budget_seconds";
+  const bool bundle_size = option == "bundle_k";
+  const bool optimiser = option == "exact_polish" || option == "opt_trials";
   if (!refinement && !bundle_size && !optimiser) return true;
   switch (method) {
     case Method::kDt:
@@ -1095,7 +1095,7 @@ Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* ou
       report.extra["bundle_disk"] = {{"x", bundle.disk_center.x}, {"y", bundle.disk_center.y}, {"r", bundle.disk_radius}};
       report.extra["bundle_circumdisk_bound"] = bundle.circumdisk_bound;
     } catch (const KBundleTimeout&) {
-      report.warnings.push_back("the bundle number was not computed: the time budget (--time-limit) ran out");
+      report.warnings.push_back("the bundle number was not computed: the time budget (time_budget_seconds) ran out");
     }
     bundle_phase.finish();
   }
@@ -1127,7 +1127,7 @@ Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* ou
   report.max_triangle_area = metrics.max_triangle_area;
   if (metrics.triangles == 0) {
     report.warnings.push_back("the domain is empty: the segments enclose no region outside the holes "
-                              "(--convex-hull keeps the whole hull)");
+                              "(convex_hull keeps the whole hull)");
   }
   if (out) *out = std::move(mesh);
   return report;

@@ -221,9 +221,13 @@ int run_triangle(const std::vector<std::string>& arguments) {
       mesh = triangulate_arrays(in.pslg, options);
     } catch (const std::invalid_argument& e) {
       throw UsageError(with_flag_names(e.what(), Spelling::kTriangle));
+    } catch (const ResourceError& e) {
+      throw ResourceError(with_flag_names(e.what(), Spelling::kTriangle));
     }
     progress.finish();
   }
+  // The library's warnings name option fields; the user gave switches.
+  for (std::string& w : mesh.report.warnings) w = with_flag_names(w, Spelling::kTriangle);
 
   OutputFiles out;
   std::vector<std::string> not_written;

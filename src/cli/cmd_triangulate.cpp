@@ -39,7 +39,7 @@ struct TriangulateArgs {
   bool strict = false;
   bool bundle = false;
   double time_limit = -1.0;  // seconds; ≤ 0: none (the option itself only accepts > 0)
-  std::vector<std::string> given;  // the options given, as --long-name (see method_reads_option)
+  std::vector<std::string> given;  // the options given, as --long-name (kFieldFlags maps them to fields)
   std::string json;
   std::string draw;
   bool quiet = false;
@@ -108,11 +108,20 @@ int run_triangulate(const TriangulateArgs& a) {
   options.progress = progress.callback();
   const Pslg pslg = io::read_input(a.input);
   Mesh mesh;
-  Report report = triangulate(pslg, options, &mesh);
+  Report report;
+  try {
+    report = triangulate(pslg, options, &mesh);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(with_flag_names(e.what(), Spelling::kTriangulate));
+  } catch (const ResourceError& e) {
+    throw ResourceError(with_flag_names(e.what(), Spelling::kTriangulate));
+  }
   progress.finish();
+  // The library's warnings name option fields; the user gave flags.
+  for (std::string& w : report.warnings) w = with_flag_names(w, Spelling::kTriangulate);
   // An option the method does not read is said so, not silently dropped.
   for (const std::string& option : a.given) {
-    if (!method_reads_option(options.method, option)) {
+    if (!method_reads_option(options.method, field_of_triangulate_flag(option))) {
       report.warnings.push_back(option + " has no effect with --method " + a.method);
     }
     // opt reads --min-angle for its DR and BRH starts only: its moves keep no angle bound.

@@ -84,6 +84,7 @@ inline constexpr FieldFlags kFieldFlags[] = {
     {"bundle_k", "--bundle-k", ""},
     {"steiner", "--steiner", ""},
     {"convex_hull", "--convex-hull", "-c"},
+    {"strict", "--strict", ""},
     {"opt_trials", "--opt-trials", ""},
     {"exact_polish", "--exact-polish", ""},
     {"memory_budget_bytes", "--max-memory", ""},
@@ -95,6 +96,9 @@ inline constexpr FieldFlags kFieldFlags[] = {
 // `message` with every field name of kFieldFlags (as a whole word) replaced by the flag that
 // `spelling`'s command has for it (fields it has no flag for stay as they are).
 std::string with_flag_names(std::string_view message, Spelling spelling);
+// The field of kFieldFlags that `mwst triangulate` spells `flag` ("--min-angle" → "min_angle_deg"),
+// or "" if it spells none.
+std::string_view field_of_triangulate_flag(std::string_view flag);
 
 // "mwst: warning: MESSAGE" on stderr.
 void warn(std::string_view message);

@@ -45,6 +45,13 @@ std::string with_flag_names(std::string_view message, Spelling spelling) {
   return out;
 }
 
+std::string_view field_of_triangulate_flag(std::string_view flag) {
+  for (const FieldFlags& names : kFieldFlags) {
+    if (!flag.empty() && names.triangulate == flag) return names.field;
+  }
+  return {};
+}
+
 namespace {
 
 // The value of `s` if all of it is a finite decimal number (std::stod's syntax), else nullopt.
