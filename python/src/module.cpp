@@ -52,6 +52,31 @@ using MarkerArray = py::array_t<std::int32_t, py::array::c_style>;
 
 [[noreturn]] void input_error(const std::string& message) { throw mwst::InputError("", 0, message); }
 
+// The library's option fields (mwst::TriangulateOptions) that mwst.triangulate takes under another
+// keyword: an error message naming a field names the keyword instead.
+constexpr std::array<std::pair<std::string_view, std::string_view>, 2> kKeywordOfField{{
+    {"min_angle_deg", "min_angle"},
+    {"time_budget_seconds", "time_limit"},
+}};
+
+bool is_name_char(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_'; }
+
+// `message` with each whole-word library field name of kKeywordOfField replaced by its keyword.
+std::string with_python_keywords(std::string message) {
+  for (const auto& [field, keyword] : kKeywordOfField) {
+    for (std::size_t at = message.find(field); at != std::string::npos; at = message.find(field, at)) {
+      const std::size_t end = at + field.size();
+      if ((at > 0 && is_name_char(message[at - 1])) || (end < message.size() && is_name_char(message[end]))) {
+        at = end;
+        continue;
+      }
+      message.replace(at, field.size(), keyword);
+      at += keyword.size();
+    }
+  }
+  return message;
+}
+
 std::string shape_text(const py::array& a) {
   std::string s = "(";
   for (py::ssize_t d = 0; d < a.ndim(); ++d) s += (d ? ", " : "") + std::to_string(a.shape(d));
@@ -647,9 +672,9 @@ PYBIND11_MODULE(_mwst, m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const mwst::InputError& e) {
-      input_error_type(e.located().c_str());
+      input_error_type(with_python_keywords(e.located()).c_str());
     } catch (const std::invalid_argument& e) {
-      input_error_type(e.what());
+      input_error_type(with_python_keywords(e.what()).c_str());
     } catch (const mwst::ResourceError& e) {
       resource_error_type(e.what());
     } catch (const mwst::InternalError& e) {

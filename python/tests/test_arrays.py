@@ -175,20 +175,29 @@ def test_strict_refuses_crossing_segments():
 @pytest.mark.parametrize("kwargs,message", [
     ({"method": "fast"}, "method: expected one of dt, dr, brh, qtr, opt, got 'fast'"),
     ({"steiner": "middle"}, "steiner: expected offcenter or circumcenter, got 'middle'"),
-    ({"method": "dr", "min_angle": 70}, "min_angle"),
-    ({"method": "dr", "min_angle": -1}, "min_angle"),
-    ({"method": "dr", "min_angle": float("nan")}, "min_angle"),
+    ({"method": "dr", "min_angle": 70}, r"^min_angle must be in \[0, 60\) degrees$"),
+    ({"method": "dr", "min_angle": -1}, r"^min_angle must be in \[0, 60\) degrees$"),
+    ({"method": "dr", "min_angle": float("nan")}, r"^min_angle must be in \[0, 60\) degrees$"),
     ({"method": "dr", "max_area": 0}, "max_area: expected a number > 0"),
     ({"method": "dr", "max_area": -2.5}, "max_area: expected a number > 0"),
     ({"method": "dr", "max_steiner": -1}, "max_steiner: expected a whole number >= 0"),
     ({"method": "brh", "bundle_k": -3}, "bundle_k: expected a whole number >= 0"),
-    ({"method": "brh", "bundle_k": 2}, "bundle"),
+    ({"method": "brh", "bundle_k": 2}, r"^bundle_k must be at least 3"),
     ({"method": "dr", "time_limit": 0}, "time_limit: expected seconds > 0"),
     ({"threads": -1}, "threads: expected a whole number >= 0"),
 ])
 def test_bad_options(kwargs, message):
     with pytest.raises(mwst.InputError, match=message):
         mwst.triangulate([[0, 0], [1, 0], [0, 1]], **kwargs)
+
+
+def test_option_errors_name_the_python_keywords():
+    # The library names its option fields (min_angle_deg, ...); Python callers see the keywords.
+    for kwargs in ({"method": "dr", "min_angle": 75}, {"method": "brh", "min_angle": 60.5}):
+        with pytest.raises(mwst.InputError) as raised:
+            mwst.triangulate([[0, 0], [1, 0], [0, 1]], **kwargs)
+        assert "min_angle_deg" not in str(raised.value)
+        assert str(raised.value).startswith("min_angle ")
 
 
 def test_budgets_and_bounds_reach_the_library():

@@ -100,21 +100,43 @@ void spread_region_attributes(const Mesh& mesh, const std::vector<Region>& regio
 MeshArrays to_arrays(const Mesh& mesh, const std::vector<Region>& regions) {
   MeshArrays out;
   const std::size_t slots = mesh.triangle_slots();
+  const std::size_t point_count = mesh.points.size();
+  constexpr std::uint8_t kSegmentEdges = kSegmentEdge0 * 7;  // the three subsegment bits
+
+  bool has_steiner = false;     // a Steiner point (kept or removed): its array kind needs segment_ends
+  std::size_t removed_count = 0;  // removed Steiner points: if any, the kept vertices are renumbered
+  for (VertexId v = 0; v < point_count; ++v) {
+    const VertexKind kind = mesh.vertex_kind[v];
+    has_steiner |= kind != VertexKind::kInput && kind != VertexKind::kDuplicate;
+    removed_count += kind == VertexKind::kRemoved;
+  }
+  const bool has_removed = removed_count != 0;
 
   // Subsegment ends per vertex: each subsegment has a live triangle on either side, and each side
-  // counts the origin of its directed edge, so both ends are counted once.
-  std::vector<std::uint32_t> segment_ends(mesh.points.size(), 0);
-  for (TriangleId t = 0; t < slots; ++t) {
-    if (mesh.is_dead(t)) continue;
-    for (unsigned e = 0; e < 3; ++e) {
-      const Handle h = make_handle(t, e);
-      if (mesh.is_segment(h)) ++segment_ends[mesh.org(h)];
+  // counts the origin of its directed edge, so both ends are counted once. Only Steiner points'
+  // kinds read it.
+  std::vector<std::uint32_t> segment_ends;
+  if (has_steiner) {
+    segment_ends.assign(point_count, 0);
+    for (TriangleId t = 0; t < slots; ++t) {
+      if ((mesh.flags[t] & kSegmentEdges) == 0 || mesh.is_dead(t)) continue;
+      for (unsigned e = 0; e < 3; ++e) {
+        const Handle h = make_handle(t, e);
+        if (mesh.is_segment(h)) ++segment_ends[mesh.org(h)];
+      }
     }
   }
 
-  // Vertices: all but removed Steiner points, in order (input points keep their indices).
-  std::vector<std::uint32_t> index_of_vertex(mesh.points.size(), kNone);
-  for (VertexId v = 0; v < mesh.points.size(); ++v) {
+  // Vertices: all but removed Steiner points, in order (input points keep their indices). Without
+  // a removed point every vertex keeps its index and no renumbering table is needed.
+  std::vector<std::uint32_t> index_of_vertex;
+  if (has_removed) index_of_vertex.assign(point_count, kNone);
+  const std::size_t kept = point_count - removed_count;
+  out.vertices.resize(2 * kept);
+  out.vertex_kinds.resize(kept);
+  out.vertex_markers.assign(kept, 0);
+  std::size_t next = 0;
+  for (VertexId v = 0; v < point_count; ++v) {
     const VertexKind kind = mesh.vertex_kind[v];
     if (kind == VertexKind::kRemoved) continue;
     ArrayVertexKind array_kind = ArrayVertexKind::kInput;
@@ -125,12 +147,18 @@ MeshArrays to_arrays(const Mesh& mesh, const std::vector<Region>& regions) {
                    : segment_ends[v] <= 2 ? ArrayVertexKind::kSegmentSteiner
                                           : ArrayVertexKind::kCrossing;
     }
-    index_of_vertex[v] = static_cast<std::uint32_t>(out.vertex_kinds.size());
-    out.vertices.push_back(mesh.points[v].x);
-    out.vertices.push_back(mesh.points[v].y);
-    out.vertex_kinds.push_back(array_kind);
-    out.vertex_markers.push_back(v < mesh.vertex_marker.size() ? mesh.vertex_marker[v] : 0);
+    if (has_removed) index_of_vertex[v] = static_cast<std::uint32_t>(next);
+    out.vertices[2 * next] = mesh.points[v].x;
+    out.vertices[2 * next + 1] = mesh.points[v].y;
+    out.vertex_kinds[next] = array_kind;
+    if (v < mesh.vertex_marker.size()) out.vertex_markers[next] = mesh.vertex_marker[v];
+    ++next;
   }
+  const auto array_vertex = [&](VertexId v) -> std::uint32_t {
+    if (!has_removed) return v;
+    if (index_of_vertex[v] == kNone) throw InternalError("to_arrays: a domain triangle uses a removed vertex");
+    return index_of_vertex[v];
+  };
 
   // Triangles of the domain, in slot order.
   std::vector<std::int32_t> index_of_slot(slots, kNoTriangle);
@@ -138,25 +166,27 @@ MeshArrays to_arrays(const Mesh& mesh, const std::vector<Region>& regions) {
   for (TriangleId t = 0; t < slots; ++t) {
     if (mesh.in_domain(t)) index_of_slot[t] = static_cast<std::int32_t>(count++);
   }
-  out.triangles.reserve(3 * count);
-  out.neighbours.reserve(3 * count);
+  out.triangles.resize(3 * count);
+  out.neighbours.resize(3 * count);
+  std::uint32_t* corners = out.triangles.data();
+  std::int32_t* neighbours = out.neighbours.data();
   for (TriangleId t = 0; t < slots; ++t) {
     if (index_of_slot[t] == kNoTriangle) continue;
+    const Triangle& triangle = mesh.triangles[t];
     for (unsigned i = 0; i < 3; ++i) {
-      const VertexId v = mesh.triangles[t].v[i];
-      if (index_of_vertex[v] == kNone) throw InternalError("to_arrays: a domain triangle uses a removed vertex");
-      out.triangles.push_back(index_of_vertex[v]);
+      *corners++ = array_vertex(triangle.v[i]);
       // Edge i of t is opposite corner i; its neighbour is the triangle of sym (-1 outside).
-      out.neighbours.push_back(index_of_slot[triangle_of(mesh.sym(make_handle(t, i)))]);
+      *neighbours++ = index_of_slot[triangle_of(triangle.n[i])];
     }
     // Subsegments, each once: from the lower-numbered domain triangle beside it.
+    if ((mesh.flags[t] & kSegmentEdges) == 0) continue;
     for (unsigned e = 0; e < 3; ++e) {
       const Handle h = make_handle(t, e);
       if (!mesh.is_segment(h)) continue;
       const std::int32_t other = index_of_slot[triangle_of(mesh.sym(h))];
       if (other != kNoTriangle && other < index_of_slot[t]) continue;
-      out.segments.push_back(index_of_vertex[mesh.org(h)]);
-      out.segments.push_back(index_of_vertex[mesh.dest(h)]);
+      out.segments.push_back(array_vertex(mesh.org(h)));
+      out.segments.push_back(array_vertex(mesh.dest(h)));
       out.segment_markers.push_back(mesh.marker(h));
     }
   }
