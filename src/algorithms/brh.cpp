@@ -25,6 +25,7 @@
 // give the answers a fresh test would, so the output does not depend on them.
 #include "mwst/brh.hpp"
 
+
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -39,19 +40,13 @@
 #include "mwst/bundle.hpp"
 #include "mwst/metrics.hpp"
 #include "algorithms/time_budget.hpp"
+#include "algorithms/triangle_key.hpp"
 
 namespace mwst {
 
 namespace {
 
-struct TripleHash {
-  std::size_t operator()(const std::array<VertexId, 3>& t) const {
-    std::uint64_t h = t[0];
-    h = h * 0x9E3779B97F4A7C15ull ^ t[1];
-    h = h * 0x9E3779B97F4A7C15ull ^ t[2];
-    return static_cast<std::size_t>(h ^ (h >> 29));
-  }
-};
+using detail::TripleHash;
 
 std::array<VertexId, 3> sorted_triple(const Mesh& m, TriangleId t) {
   std::array<VertexId, 3> v = m.triangles[t].v;

@@ -35,6 +35,7 @@
 #include "mwst/refine.hpp"
 #include "mwst/version.hpp"
 #include "algorithms/time_budget.hpp"
+#include "algorithms/triangle_key.hpp"
 
 namespace mwst {
 
@@ -304,15 +305,7 @@ Mesh mesh_from_triangles(const Pslg& pslg, bool make_delaunay, unsigned threads,
     throw InputError(file, 0, std::string("the triangles do not form a triangulation: ") + e.what());
   }
   // Which slot is which input triangle: by its sorted corners.
-  struct TripleHash {
-    std::size_t operator()(const std::array<VertexId, 3>& v) const {
-      std::uint64_t h = v[0];
-      h = h * 0x9E3779B97F4A7C15ull ^ v[1];
-      h = h * 0x9E3779B97F4A7C15ull ^ v[2];
-      return static_cast<std::size_t>(h ^ (h >> 29));
-    }
-  };
-  std::unordered_map<std::array<VertexId, 3>, std::size_t, TripleHash> input_index;
+  std::unordered_map<std::array<VertexId, 3>, std::size_t, detail::TripleHash> input_index;
   input_index.reserve(count);
   for (std::size_t i = 0; i < count; ++i) {
     std::array<VertexId, 3> v = triangles[i];
