@@ -1,6 +1,6 @@
-// bench/bench_brh.cpp — time of the bundle removal heuristic (BRH, src/algorithms/brh.cpp; Boyacı,
+// bench/bench_brh.cpp — time of the bundle removal heuristic (BRH, src/algorithms/refine/brh.cpp; Boyacı,
 // Erten, Üngör, "Triangulations Loosing Bundles and Weight") against Delaunay refinement (DR,
-// src/algorithms/refine.cpp) at the same angle bound A, on an input where DR makes about 1M
+// src/algorithms/refine/refine.cpp) at the same angle bound A, on an input where DR makes about 1M
 // triangles. The target: BRH at most 3× DR's time.
 //
 // Input: the unit square holding N uniform random points (default N = 320000: DR at 20° makes about
@@ -20,11 +20,11 @@
 #include <vector>
 
 #include "bench_common.hpp"
-#include "mwst/brh.hpp"
-#include "mwst/delaunay.hpp"
-#include "mwst/io.hpp"
-#include "mwst/pipeline.hpp"
-#include "mwst/refine.hpp"
+#include "mwst/algorithms/brh.hpp"
+#include "mwst/mesh/delaunay.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/algorithms/pipeline.hpp"
+#include "mwst/algorithms/refine.hpp"
 
 namespace {
 

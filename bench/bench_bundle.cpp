@@ -1,4 +1,4 @@
-// bench/bench_bundle.cpp — time of the exact bundle number (src/algorithms/bundle.cpp; Boyacı,
+// bench/bench_bundle.cpp — time of the exact bundle number (src/algorithms/bundle/bundle.cpp; Boyacı,
 // Erten, Üngör, "Triangulations Loosing Bundles and Weight", k-bundles) on large meshes. The issue's
 // target: the bundle number of a 1M-triangle refined mesh in under 10 s.
 //
@@ -18,11 +18,11 @@
 #include <string>
 #include <vector>
 
-#include "mwst/bundle.hpp"
-#include "mwst/delaunay.hpp"
-#include "mwst/io.hpp"
-#include "mwst/metrics.hpp"
-#include "mwst/refine.hpp"
+#include "mwst/algorithms/bundle.hpp"
+#include "mwst/mesh/delaunay.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/algorithms/metrics.hpp"
+#include "mwst/algorithms/refine.hpp"
 
 namespace {
 

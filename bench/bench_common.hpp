@@ -35,7 +35,7 @@
 #include <string>
 #include <vector>
 
-#include "mwst/geometry.hpp"
+#include "mwst/geometry/geometry.hpp"
 
 namespace mwst::bench {
 

@@ -29,8 +29,8 @@
 #include <vector>
 
 #include "bench_common.hpp"
-#include "mwst/delaunay.hpp"
-#include "mwst/io.hpp"
+#include "mwst/mesh/delaunay.hpp"
+#include "mwst/io/triangle_files.hpp"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// bench/bench_predicates.cpp — the exact predicates of mwst/geometry.hpp (filter + exact stage,
+// bench/bench_predicates.cpp — the exact predicates of mwst/geometry/geometry.hpp (filter + exact stage,
 // src/geometry/predicates.cpp) against CGAL 5.5's Exact_predicates_inexact_constructions_kernel
 // (interval filter + exact fallback), side by side on the same inputs (Google Benchmark).
 //
@@ -22,7 +22,7 @@
 #include <random>
 #include <vector>
 
-#include "mwst/geometry.hpp"
+#include "mwst/geometry/geometry.hpp"
 
 namespace {
 

@@ -35,10 +35,10 @@
 #include <vector>
 
 #include "bench_common.hpp"
-#include "mwst/delaunay.hpp"
-#include "mwst/io.hpp"
-#include "mwst/metrics.hpp"
-#include "mwst/quadtree.hpp"
+#include "mwst/mesh/delaunay.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/algorithms/metrics.hpp"
+#include "mwst/algorithms/quadtree.hpp"
 
 #include <CGAL/Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>

@@ -30,10 +30,10 @@
 #include <vector>
 
 #include "bench_common.hpp"
-#include "mwst/delaunay.hpp"
-#include "mwst/io.hpp"
-#include "mwst/metrics.hpp"
-#include "mwst/refine.hpp"
+#include "mwst/mesh/delaunay.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/algorithms/metrics.hpp"
+#include "mwst/algorithms/refine.hpp"
 
 namespace {
 

@@ -1,7 +1,7 @@
 // bench/mwt_gap.cpp — how far is a locally minimal mesh from optimal for its own vertex set? For
 // each input, the paper's EFH (greedy weight-reducing flips after a method; Boyacı, Erten, Üngör,
 // "Triangulations Loosing Bundles and Weight") is compared with the exact minimum weight
-// triangulation of the same vertices and segments (exact_mwt, include/mwst/mwt.hpp: diamond test,
+// triangulation of the same vertices and segments (exact_mwt, include/mwst/algorithms/mwt.hpp: diamond test,
 // LMT-skeleton, polygon DP). This touches the paper's open problem 3, the MWT of a well-spaced
 // point set: DR output (minimum angle 20°) is well spaced.
 //
@@ -26,11 +26,11 @@
 #include <string>
 #include <vector>
 
-#include "mwst/generate.hpp"
-#include "mwst/io.hpp"
-#include "mwst/metrics.hpp"
-#include "mwst/mwt.hpp"
-#include "mwst/pipeline.hpp"
+#include "mwst/io/generate.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/algorithms/metrics.hpp"
+#include "mwst/algorithms/mwt.hpp"
+#include "mwst/algorithms/pipeline.hpp"
 
 namespace {
 

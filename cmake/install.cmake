@@ -6,7 +6,7 @@ include(CMakePackageConfigHelpers)
 
 set(MWST_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/mwst)
 
-install(TARGETS mwst mwst_cli EXPORT mwstTargets
+install(TARGETS mwst mwst_draw mwst_cli EXPORT mwstTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})

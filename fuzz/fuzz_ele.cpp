@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "mwst/error.hpp"
-#include "mwst/io.hpp"
+#include "mwst/io/triangle_files.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;

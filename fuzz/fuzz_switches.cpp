@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "mwst/triangle_switches.hpp"
+#include "mwst/io/triangle_switches.hpp"
 
 namespace {
 

@@ -1,12 +1,12 @@
 // fuzz/fuzz_triangulate.cpp — libFuzzer harness for the whole mesher (mwst::triangulate of
-// mwst/pipeline.hpp): bytes are decoded into a small planar straight-line graph (points, segments,
+// mwst/algorithms/pipeline.hpp): bytes are decoded into a small planar straight-line graph (points, segments,
 // hole seeds) and options, every method — DT, DR, BRH, QTR, OPT, each optionally followed by the
 // weight-reducing flips (EFH) of Boyacı, Erten, Üngör, "Triangulations Loosing Bundles and
 // Weight" — is run with a small Steiner budget, and the result must pass validate()
-// (mwst/mesh.hpp, our own structure), then round-trip through the files `mwst triangulate` writes:
+// (mwst/mesh/mesh.hpp, our own structure), then round-trip through the files `mwst triangulate` writes:
 // written with io::write_mesh to a scratch directory, read back with io::read_mesh, it must be the
 // same mesh bit for bit (tests/round_trip.hpp) and pass the independent checker
-// check_triangulation() (mwst/check.hpp) on what was read back, as `mwst check` would run it.
+// check_triangulation() (mwst/mesh/check.hpp) on what was read back, as `mwst check` would run it.
 // An InputError from the mesher is an acceptable answer; any other exception, a crash, a sanitizer
 // report, a file mwst cannot read back, a difference or a checker violation is a bug (abort).
 //
@@ -35,13 +35,13 @@
 #include <utility>
 #include <vector>
 
-#include "mwst/bundle.hpp"
-#include "mwst/check.hpp"
+#include "mwst/algorithms/bundle.hpp"
+#include "mwst/mesh/check.hpp"
 #include "mwst/error.hpp"
-#include "mwst/io.hpp"
-#include "mwst/mesh.hpp"
-#include "mwst/pipeline.hpp"
-#include "mwst/pslg.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/mesh/mesh.hpp"
+#include "mwst/algorithms/pipeline.hpp"
+#include "mwst/mesh/pslg.hpp"
 #include "../tests/round_trip.hpp"
 
 namespace {

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "mwst/error.hpp"
-#include "mwst/pslg.hpp"
+#include "mwst/mesh/pslg.hpp"
 
 namespace mwst_fuzz {
 

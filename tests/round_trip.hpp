@@ -19,8 +19,8 @@
 #include <utility>
 #include <vector>
 
-#include "mwst/io.hpp"
-#include "mwst/mesh.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/mesh/mesh.hpp"
 
 namespace mwst::test {
 

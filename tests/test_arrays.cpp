@@ -1,10 +1,10 @@
-// tests/test_arrays.cpp — the flat arrays of mwst/arrays.hpp against the Mesh they come from: every
+// tests/test_arrays.cpp — the flat arrays of mwst/algorithms/arrays.hpp against the Mesh they come from: every
 // domain triangle listed once and counter-clockwise (exact orient2d), neighbours symmetric and
 // sharing the edge they are across, -1 only on the domain's boundary, subsegments are mesh edges
 // with the mesh's markers, input points at their input indices, vertex kinds as the mesh's
-// topology says, and the whole passing the independent checker (mwst/check.hpp). Then regional
+// topology says, and the whole passing the independent checker (mwst/mesh/check.hpp). Then regional
 // attributes spread as Triangle spreads them.
-#include "mwst/arrays.hpp"
+#include "mwst/algorithms/arrays.hpp"
 
 #include <gtest/gtest.h>
 
@@ -17,10 +17,10 @@
 #include <utility>
 #include <vector>
 
-#include "mwst/check.hpp"
-#include "mwst/geometry.hpp"
-#include "mwst/io.hpp"
-#include "mwst/pipeline.hpp"
+#include "mwst/mesh/check.hpp"
+#include "mwst/geometry/geometry.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/algorithms/pipeline.hpp"
 
 namespace {
 

@@ -8,12 +8,12 @@
 #include <filesystem>
 #include <random>
 
-#include "mwst/brh.hpp"
-#include "mwst/bundle.hpp"
-#include "mwst/delaunay.hpp"
-#include "mwst/io.hpp"
-#include "mwst/metrics.hpp"
-#include "mwst/pipeline.hpp"
+#include "mwst/algorithms/brh.hpp"
+#include "mwst/algorithms/bundle.hpp"
+#include "mwst/mesh/delaunay.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/algorithms/metrics.hpp"
+#include "mwst/algorithms/pipeline.hpp"
 #include "test_helpers.hpp"
 
 namespace mwst {

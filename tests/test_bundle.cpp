@@ -1,4 +1,4 @@
-// tests/test_bundle.cpp — the exact bundle number (mwst/bundle.hpp, src/algorithms/bundle.cpp),
+// tests/test_bundle.cpp — the exact bundle number (mwst/algorithms/bundle.hpp, src/algorithms/bundle/bundle.cpp),
 // after Boyacı, Erten, Üngör, "Triangulations Loosing Bundles and Weight" (k-bundles) and
 // docs/algorithms/bundle-number.md.
 //
@@ -41,14 +41,14 @@
 
 #include <nlohmann/json.hpp>
 
-#include "mwst/brh.hpp"
-#include "mwst/bundle.hpp"
-#include "mwst/delaunay.hpp"
+#include "mwst/algorithms/brh.hpp"
+#include "mwst/algorithms/bundle.hpp"
+#include "mwst/mesh/delaunay.hpp"
 #include "mwst/error.hpp"
-#include "mwst/io.hpp"
-#include "mwst/mesh.hpp"
-#include "mwst/metrics.hpp"
-#include "mwst/refine.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/mesh/mesh.hpp"
+#include "mwst/algorithms/metrics.hpp"
+#include "mwst/algorithms/refine.hpp"
 #include "test_helpers.hpp"
 
 namespace mwst {

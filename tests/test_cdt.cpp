@@ -28,10 +28,10 @@
 #include <string>
 #include <vector>
 
-#include "mwst/delaunay.hpp"
+#include "mwst/mesh/delaunay.hpp"
 #include "mwst/error.hpp"
-#include "mwst/io.hpp"
-#include "mwst/mesh.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/mesh/mesh.hpp"
 #include "test_helpers.hpp"
 
 namespace mwst {

@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "mwst/check.hpp"
-#include "mwst/delaunay.hpp"
+#include "mwst/mesh/check.hpp"
+#include "mwst/mesh/delaunay.hpp"
 #include "mwst/error.hpp"
-#include "mwst/io.hpp"
+#include "mwst/io/triangle_files.hpp"
 #include "test_helpers.hpp"
 
 namespace mwst {

@@ -31,9 +31,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "mwst/geometry.hpp"
-#include "mwst/io.hpp"
-#include "mwst/pipeline.hpp"
+#include "mwst/geometry/geometry.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/algorithms/pipeline.hpp"
 #include "cli_sandbox.hpp"
 
 namespace {

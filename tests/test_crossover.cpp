@@ -12,14 +12,14 @@
 #include <set>
 #include <string>
 
-#include "mwst/check.hpp"
-#include "mwst/delaunay.hpp"
-#include "mwst/flip.hpp"
-#include "mwst/io.hpp"
-#include "mwst/metrics.hpp"
-#include "mwst/optimize.hpp"
-#include "mwst/pipeline.hpp"
-#include "mwst/refine.hpp"
+#include "mwst/mesh/check.hpp"
+#include "mwst/mesh/delaunay.hpp"
+#include "mwst/algorithms/flip.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/algorithms/metrics.hpp"
+#include "mwst/algorithms/optimize.hpp"
+#include "mwst/algorithms/pipeline.hpp"
+#include "mwst/algorithms/refine.hpp"
 
 #include "test_helpers.hpp"
 

@@ -23,9 +23,9 @@
 #include <string>
 #include <vector>
 
-#include "mwst/delaunay.hpp"
+#include "mwst/mesh/delaunay.hpp"
 #include "mwst/error.hpp"
-#include "mwst/mesh.hpp"
+#include "mwst/mesh/mesh.hpp"
 #include "test_helpers.hpp"
 
 namespace mwst {

@@ -1,4 +1,4 @@
-// tests/test_draw.cpp — the picture renderer (mwst/draw.hpp, src/io/draw.cpp) and `mwst draw`:
+// tests/test_draw.cpp — the picture renderer (mwst/io/draw.hpp, src/io/draw.cpp) and `mwst draw`:
 //   - picture_of(Mesh) marks exactly the Steiner points measure() counts and draws bold exactly the
 //     boundary and segment edges; picture_of(MeshFiles, Pslg) of the same mesh written and read back
 //     agrees with it (same triangles, same Steiner points, every input segment bold);
@@ -21,12 +21,12 @@
 #include <utility>
 #include <vector>
 
-#include "mwst/delaunay.hpp"
-#include "mwst/draw.hpp"
+#include "mwst/mesh/delaunay.hpp"
+#include "mwst/io/draw.hpp"
 #include "mwst/error.hpp"
-#include "mwst/io.hpp"
-#include "mwst/metrics.hpp"
-#include "mwst/pipeline.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/algorithms/metrics.hpp"
+#include "mwst/algorithms/pipeline.hpp"
 
 namespace {
 

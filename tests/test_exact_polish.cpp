@@ -11,13 +11,13 @@
 #include <string>
 #include <vector>
 
-#include "mwst/check.hpp"
-#include "mwst/delaunay.hpp"
-#include "mwst/io.hpp"
-#include "mwst/metrics.hpp"
-#include "mwst/mwt.hpp"
-#include "mwst/optimize.hpp"
-#include "mwst/pipeline.hpp"
+#include "mwst/mesh/check.hpp"
+#include "mwst/mesh/delaunay.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/algorithms/metrics.hpp"
+#include "mwst/algorithms/mwt.hpp"
+#include "mwst/algorithms/optimize.hpp"
+#include "mwst/algorithms/pipeline.hpp"
 
 #include "test_helpers.hpp"
 

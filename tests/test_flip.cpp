@@ -6,11 +6,11 @@
 #include <filesystem>
 #include <random>
 
-#include "mwst/delaunay.hpp"
-#include "mwst/flip.hpp"
-#include "mwst/io.hpp"
-#include "mwst/metrics.hpp"
-#include "mwst/refine.hpp"
+#include "mwst/mesh/delaunay.hpp"
+#include "mwst/algorithms/flip.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/algorithms/metrics.hpp"
+#include "mwst/algorithms/refine.hpp"
 #include "test_helpers.hpp"
 
 namespace mwst {

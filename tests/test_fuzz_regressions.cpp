@@ -1,9 +1,9 @@
 // tests/test_fuzz_regressions.cpp — inputs found by fuzz/fuzz_triangulate.cpp (libFuzzer over the
-// whole pipeline of mwst/pipeline.hpp: DT, DR, BRH, QTR and OPT of Boyacı, Erten, Üngör,
+// whole pipeline of mwst/algorithms/pipeline.hpp: DT, DR, BRH, QTR and OPT of Boyacı, Erten, Üngör,
 // "Triangulations Loosing Bundles and Weight", and the weight-reducing flips), each kept as a
 // regression test. Every case runs triangulate() the way the harness does and demands what the
-// harness demands: an InputError, or a mesh that passes validate() (mwst/mesh.hpp) and the
-// independent checker check_triangulation() (mwst/check.hpp) on the triangles and subsegments
+// harness demands: an InputError, or a mesh that passes validate() (mwst/mesh/mesh.hpp) and the
+// independent checker check_triangulation() (mwst/mesh/check.hpp) on the triangles and subsegments
 // write_mesh() would write.
 #include <gtest/gtest.h>
 
@@ -14,13 +14,13 @@
 #include <string>
 #include <vector>
 
-#include "mwst/check.hpp"
-#include "mwst/delaunay.hpp"
+#include "mwst/mesh/check.hpp"
+#include "mwst/mesh/delaunay.hpp"
 #include "mwst/error.hpp"
-#include "mwst/io.hpp"
-#include "mwst/mesh.hpp"
-#include "mwst/pipeline.hpp"
-#include "mwst/pslg.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/mesh/mesh.hpp"
+#include "mwst/algorithms/pipeline.hpp"
+#include "mwst/mesh/pslg.hpp"
 
 #include "test_helpers.hpp"
 

@@ -1,4 +1,4 @@
-// tests/test_generate.cpp — the synthetic inputs of src/io/generate.cpp (mwst/generate.hpp):
+// tests/test_generate.cpp — the synthetic inputs of src/io/generate.cpp (mwst/io/generate.hpp):
 // each distribution's defining property (range, exact symmetry, grid shape, cluster scales, the
 // polygons' shapes), reproducibility from the seed, the .node / .poly text round trips, and that
 // every polygon class is a valid planar straight-line graph: its strict constrained Delaunay
@@ -11,11 +11,11 @@
 #include <set>
 #include <utility>
 
-#include "mwst/delaunay.hpp"
+#include "mwst/mesh/delaunay.hpp"
 #include "mwst/error.hpp"
-#include "mwst/generate.hpp"
-#include "mwst/io.hpp"
-#include "mwst/mesh.hpp"
+#include "mwst/io/generate.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/mesh/mesh.hpp"
 
 namespace {
 

@@ -32,12 +32,12 @@
 #include <utility>
 #include <vector>
 
-#include "mwst/check.hpp"
-#include "mwst/geometry.hpp"
-#include "mwst/mesh.hpp"
-#include "mwst/metrics.hpp"
-#include "mwst/pslg.hpp"
-#include "mwst/refine.hpp"
+#include "mwst/mesh/check.hpp"
+#include "mwst/geometry/geometry.hpp"
+#include "mwst/mesh/mesh.hpp"
+#include "mwst/algorithms/metrics.hpp"
+#include "mwst/mesh/pslg.hpp"
+#include "mwst/algorithms/refine.hpp"
 
 namespace mwst::test {
 

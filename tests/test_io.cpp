@@ -1,4 +1,4 @@
-// tests/test_io.cpp — tests of src/io/triangle_format.cpp and src/io/atomic_file.cpp (mwst/io.hpp):
+// tests/test_io.cpp — tests of src/io/triangle_format.cpp and src/io/atomic_file.cpp (mwst/io/triangle_files.hpp):
 // Triangle's .node/.poly/.ele readers (bases, comments, attributes, markers, regions, every error
 // with its line number), the mesh writer (bit-exact round trip, subsegments once, atomic files),
 // and every data set in MWST_DATA_DIR against the counts in its header comment.
@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "mwst/error.hpp"
-#include "mwst/io.hpp"
+#include "mwst/io/triangle_files.hpp"
 
 namespace {
 

@@ -15,12 +15,12 @@
 #include <string>
 #include <utility>
 
-#include "mwst/delaunay.hpp"
-#include "mwst/io.hpp"
-#include "mwst/flip.hpp"
-#include "mwst/metrics.hpp"
-#include "mwst/pipeline.hpp"
-#include "mwst/refine.hpp"
+#include "mwst/mesh/delaunay.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/algorithms/flip.hpp"
+#include "mwst/algorithms/metrics.hpp"
+#include "mwst/algorithms/pipeline.hpp"
+#include "mwst/algorithms/refine.hpp"
 #include "test_helpers.hpp"
 
 namespace {

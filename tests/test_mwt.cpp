@@ -1,4 +1,4 @@
-// Tests of the exact minimum weight triangulation (mwst/mwt.hpp): against an exhaustive search over
+// Tests of the exact minimum weight triangulation (mwst/algorithms/mwt.hpp): against an exhaustive search over
 // all triangulations of small point sets (with and without segments, convex and concave domains),
 // against the polygon DP for points in convex position, both candidate routes against each other,
 // never heavier than the locally minimal EFH mesh on the same vertices, and every output checked by
@@ -16,14 +16,14 @@
 #include <utility>
 #include <vector>
 
-#include "mwst/check.hpp"
-#include "mwst/delaunay.hpp"
-#include "mwst/flip.hpp"
-#include "mwst/io.hpp"
-#include "mwst/metrics.hpp"
-#include "mwst/mwt.hpp"
-#include "mwst/optimize.hpp"
-#include "mwst/pipeline.hpp"
+#include "mwst/mesh/check.hpp"
+#include "mwst/mesh/delaunay.hpp"
+#include "mwst/algorithms/flip.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/algorithms/metrics.hpp"
+#include "mwst/algorithms/mwt.hpp"
+#include "mwst/algorithms/optimize.hpp"
+#include "mwst/algorithms/pipeline.hpp"
 
 #include "test_helpers.hpp"
 

@@ -1,5 +1,5 @@
 // tests/test_predicates.cpp — exactness tests of the predicates and accuracy tests of the
-// constructions in mwst/geometry.hpp (src/geometry/predicates.cpp, src/geometry/constructions.cpp).
+// constructions in mwst/geometry/geometry.hpp (src/geometry/predicates.cpp, src/geometry/constructions.cpp).
 //
 // Oracle: GMP rationals (mpq_class). Every double is a dyadic rational, so the oracle's sign is the
 // true sign. Inputs are adversarial after Shewchuk, "Adaptive Precision Floating-Point Arithmetic
@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "mwst/geometry.hpp"
+#include "mwst/geometry/geometry.hpp"
 
 namespace mwst {
 namespace {

@@ -1,12 +1,12 @@
 // tests/test_quadtree.cpp — tests of quadtree refinement, mwst::quadtree_refinement
-// (src/algorithms/quadtree.cpp, src/algorithms/quadtree_cells.cpp; Bern, Eppstein, Gilbert,
+// (src/algorithms/quadtree/quadtree.cpp, src/algorithms/quadtree/quadtree_cells.cpp; Bern, Eppstein, Gilbert,
 // "Provably good mesh generation", JCSS 1994, the QTR method of Boyacı, Erten, Üngör).
 //
 // Every output is checked by validate() and independently: every input point is a mesh vertex,
 // every input segment is a chain of subsegments lying on it (within a relative 1e-9: corners moved
 // onto segments and crossing points are rounded), the domain's area equals the area of the
 // constrained Delaunay triangulation's domain, and every counted Steiner point lies in the closed
-// domain (located in the CDT). The properties claimed in include/mwst/quadtree.hpp are tested: the
+// domain (located in the CDT). The properties claimed in include/mwst/algorithms/quadtree.hpp are tested: the
 // case table's angles; the worst warped point-set cell over an enumeration of its configurations;
 // leaf size against the local feature size; the angle bound on the data sets and random inputs;
 // determinism; and the fallback.
@@ -27,12 +27,12 @@
 #include <string>
 #include <vector>
 
-#include "mwst/check.hpp"
-#include "mwst/delaunay.hpp"
+#include "mwst/mesh/check.hpp"
+#include "mwst/mesh/delaunay.hpp"
 #include "mwst/error.hpp"
-#include "mwst/io.hpp"
-#include "mwst/metrics.hpp"
-#include "mwst/quadtree.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/algorithms/metrics.hpp"
+#include "mwst/algorithms/quadtree.hpp"
 #include "test_helpers.hpp"
 
 namespace mwst {

@@ -1,4 +1,4 @@
-// tests/test_refine.cpp — tests of src/algorithms/refine.cpp (mwst/refine.hpp): Delaunay refinement
+// tests/test_refine.cpp — tests of src/algorithms/refine/refine.cpp (mwst/algorithms/refine.hpp): Delaunay refinement
 // with off-centers and circumcenters (Ruppert / Chew / Shewchuk / Üngör).
 //
 // For every data set at 5°, 10°, 20° and 30° with both Steiner rules, and for pathological inputs
@@ -18,10 +18,10 @@
 #include <string>
 #include <vector>
 
-#include "mwst/delaunay.hpp"
-#include "mwst/io.hpp"
-#include "mwst/metrics.hpp"
-#include "mwst/refine.hpp"
+#include "mwst/mesh/delaunay.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/algorithms/metrics.hpp"
+#include "mwst/algorithms/refine.hpp"
 #include "test_helpers.hpp"
 
 namespace {

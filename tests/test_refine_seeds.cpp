@@ -1,5 +1,5 @@
 // tests/test_refine_seeds.cpp — tests of seeded refinement (RefineOptions::seed_triangles,
-// src/algorithms/refine.cpp), the incremental pass bundle removal (src/algorithms/brh.cpp) runs
+// src/algorithms/refine/refine.cpp), the incremental pass bundle removal (src/algorithms/refine/brh.cpp) runs
 // after its first pass.
 //
 // 1. Seeds without a custom bad-triangle test are ignored: the output equals the unseeded one
@@ -17,9 +17,9 @@
 #include <random>
 #include <vector>
 
-#include "mwst/delaunay.hpp"
-#include "mwst/metrics.hpp"
-#include "mwst/refine.hpp"
+#include "mwst/mesh/delaunay.hpp"
+#include "mwst/algorithms/metrics.hpp"
+#include "mwst/algorithms/refine.hpp"
 #include "test_helpers.hpp"
 
 namespace {

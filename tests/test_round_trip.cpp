@@ -2,7 +2,7 @@
 // opt at a small budget, with and without the weight-reducing flips) on data sets and random
 // inputs; the mesh is written with io::write_mesh (PREFIX.node/.ele/.poly), read back with
 // io::read_mesh, and must be the same mesh bit for bit (round_trip.hpp), and the file-level checker
-// behind `mwst check` (check_triangulation, mwst/check.hpp) must accept what was read back. Then
+// behind `mwst check` (check_triangulation, mwst/mesh/check.hpp) must accept what was read back. Then
 // faults planted in written files (one coordinate one ulp off, a dropped triangle, two corners
 // swapped, coordinates printed with 15 digits) show that the comparison and the checker catch them.
 #include <gtest/gtest.h>
@@ -19,11 +19,11 @@
 #include <string>
 #include <vector>
 
-#include "mwst/check.hpp"
+#include "mwst/mesh/check.hpp"
 #include "mwst/error.hpp"
-#include "mwst/io.hpp"
-#include "mwst/mesh.hpp"
-#include "mwst/pipeline.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/mesh/mesh.hpp"
+#include "mwst/algorithms/pipeline.hpp"
 #include "round_trip.hpp"
 #include "test_helpers.hpp"
 

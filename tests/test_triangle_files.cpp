@@ -1,5 +1,5 @@
 // tests/test_triangle_files.cpp — Triangle's output files of `mwst triangle`
-// (io::format_triangle_files, mwst/io.hpp) and the readers of an existing mesh for -r
+// (io::format_triangle_files, mwst/io/triangle_files.hpp) and the readers of an existing mesh for -r
 // (io::parse_ele, io::parse_area, io::read_triangles, io::read_triangle_areas):
 //   - the output .poly keeps holes and regions: re-meshing it gives the same domain (Plate: 5
 //     holes, area checked independently by check_triangulation);
@@ -23,11 +23,11 @@
 #include <utility>
 #include <vector>
 
-#include "mwst/arrays.hpp"
-#include "mwst/check.hpp"
+#include "mwst/algorithms/arrays.hpp"
+#include "mwst/mesh/check.hpp"
 #include "mwst/error.hpp"
-#include "mwst/io.hpp"
-#include "mwst/pipeline.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/algorithms/pipeline.hpp"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// tests/test_triangle_switches.cpp — parse_triangle_switches (mwst/triangle_switches.hpp) against
+// tests/test_triangle_switches.cpp — parse_triangle_switches (mwst/io/triangle_switches.hpp) against
 // the meanings Triangle 1.6 documents for its switches: every supported switch, every no-op, every
 // refusal, numbers after switches, and the method the switches choose.
 #include <gtest/gtest.h>
@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "mwst/triangle_switches.hpp"
+#include "mwst/io/triangle_switches.hpp"
 
 namespace {
 

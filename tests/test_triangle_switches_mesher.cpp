@@ -14,13 +14,13 @@
 #include <string>
 #include <vector>
 
-#include "mwst/arrays.hpp"
-#include "mwst/check.hpp"
-#include "mwst/delaunay.hpp"
+#include "mwst/algorithms/arrays.hpp"
+#include "mwst/mesh/check.hpp"
+#include "mwst/mesh/delaunay.hpp"
 #include "mwst/error.hpp"
-#include "mwst/io.hpp"
-#include "mwst/metrics.hpp"
-#include "mwst/pipeline.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/algorithms/metrics.hpp"
+#include "mwst/algorithms/pipeline.hpp"
 #include "test_helpers.hpp"
 
 namespace {

@@ -13,7 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "mwst/pipeline.hpp"
+#include "mwst/algorithms/pipeline.hpp"
 
 namespace {
 

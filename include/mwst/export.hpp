@@ -20,7 +20,7 @@
 #define MWST_API
 #endif
 
-// The inline predicate filters of mwst/geometry.hpp rely on IEEE double arithmetic as written:
+// The inline predicate filters of mwst/geometry/geometry.hpp rely on IEEE double arithmetic as written:
 // -ffast-math (which reassociates and drops the error terms) would make their signs wrong.
 #if defined(__FAST_MATH__)
 #error "mwst's exact predicates need IEEE arithmetic: do not compile with -ffast-math"

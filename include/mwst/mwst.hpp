@@ -1,33 +1,32 @@
-// mwst/mwst.hpp — the whole public API of mwst in one include. Layers, lowest first (a header only
-// includes headers above it in this list):
-//   geometry  — points, exact predicates (orient2d, incircle), rounded constructions;
-//   pslg, mesh, delaunay — the input graph, the triangle mesh, (constrained) Delaunay triangulation;
-//   refine, brh, bundle, flip, optimize, quadtree — the methods (DR, BRH, the exact bundle number,
-//             EFH, our optimiser, QTR) and metrics / check (weight, angles, independent validation);
-//   pipeline  — one call that runs a method on an input and reports it;
-//   arrays    — the same call handing back flat arrays (vertices, triangles, neighbours, ...);
-//   io, draw, generate — Triangle's file formats, pictures, synthetic point sets.
+// mwst/mwst.hpp — the whole API of the library mwst::mwst in one include. The folders are the
+// layers, lowest first (a header includes only its own and lower layers):
+//   geometry/   — points, exact predicates (orient2d, incircle), rounded constructions;
+//   mesh/       — the input graph (pslg), the triangle mesh, (constrained) Delaunay, the checker;
+//   algorithms/ — the methods (refine: DR, brh: BRH, bundle: the exact bundle number, flip: EFH,
+//                 optimize, mwt, quadtree: QTR), metrics, the pipeline (one call that runs a
+//                 method and reports it) and arrays (the same call handing back flat arrays);
+//   io/         — Triangle's file formats and switches, synthetic point sets.
+// Pictures (mwst/io/draw.hpp) are a library of their own, mwst::draw, which needs cairo.
 // Errors are exceptions (error.hpp); nothing in the library prints or exits.
 #pragma once
 
 #include "mwst/version.hpp"
 #include "mwst/error.hpp"
-#include "mwst/geometry.hpp"
-#include "mwst/pslg.hpp"
-#include "mwst/mesh.hpp"
-#include "mwst/delaunay.hpp"
-#include "mwst/metrics.hpp"
-#include "mwst/check.hpp"
-#include "mwst/refine.hpp"
-#include "mwst/bundle.hpp"
-#include "mwst/brh.hpp"
-#include "mwst/flip.hpp"
-#include "mwst/optimize.hpp"
-#include "mwst/mwt.hpp"
-#include "mwst/quadtree.hpp"
-#include "mwst/pipeline.hpp"
-#include "mwst/arrays.hpp"
-#include "mwst/triangle_switches.hpp"
-#include "mwst/io.hpp"
-#include "mwst/draw.hpp"
-#include "mwst/generate.hpp"
+#include "mwst/geometry/geometry.hpp"
+#include "mwst/mesh/pslg.hpp"
+#include "mwst/mesh/mesh.hpp"
+#include "mwst/mesh/delaunay.hpp"
+#include "mwst/algorithms/metrics.hpp"
+#include "mwst/mesh/check.hpp"
+#include "mwst/algorithms/refine.hpp"
+#include "mwst/algorithms/bundle.hpp"
+#include "mwst/algorithms/brh.hpp"
+#include "mwst/algorithms/flip.hpp"
+#include "mwst/algorithms/optimize.hpp"
+#include "mwst/algorithms/mwt.hpp"
+#include "mwst/algorithms/quadtree.hpp"
+#include "mwst/algorithms/pipeline.hpp"
+#include "mwst/algorithms/arrays.hpp"
+#include "mwst/io/triangle_switches.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/io/generate.hpp"

@@ -30,13 +30,13 @@
 #include <utility>
 #include <vector>
 
-#include "mwst/arrays.hpp"
-#include "mwst/bundle.hpp"
-#include "mwst/check.hpp"
+#include "mwst/algorithms/arrays.hpp"
+#include "mwst/algorithms/bundle.hpp"
+#include "mwst/mesh/check.hpp"
 #include "mwst/error.hpp"
-#include "mwst/io.hpp"
-#include "mwst/pipeline.hpp"
-#include "mwst/triangle_switches.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/algorithms/pipeline.hpp"
+#include "mwst/io/triangle_switches.hpp"
 #include "mwst/version.hpp"
 
 namespace py = pybind11;

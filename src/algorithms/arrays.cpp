@@ -1,7 +1,7 @@
-// to_arrays() and triangulate_arrays() (mwst/arrays.hpp): the domain triangles of a mesh as flat
+// to_arrays() and triangulate_arrays() (mwst/algorithms/arrays.hpp): the domain triangles of a mesh as flat
 // arrays of vertices, triangles, neighbours and subsegments, in time linear in the mesh (plus one
 // point location per region seed).
-#include "mwst/arrays.hpp"
+#include "mwst/algorithms/arrays.hpp"
 
 #include <sstream>
 #include <utility>

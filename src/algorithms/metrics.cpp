@@ -1,6 +1,6 @@
 // Weight (sum of edge lengths, split into boundary and interior as the paper reports it) and the
 // angle range of a mesh's domain triangles.
-#include "mwst/metrics.hpp"
+#include "mwst/algorithms/metrics.hpp"
 
 #include <algorithm>
 #include <array>

@@ -1,4 +1,4 @@
-// triangulate() and to_json() (mwst/pipeline.hpp): runs one of the methods compared in Boyacı,
+// triangulate() and to_json() (mwst/algorithms/pipeline.hpp): runs one of the methods compared in Boyacı,
 // Erten, Üngör, "Triangulations Loosing Bundles and Weight" (DT, QTR, DR, BRH, BRH+EFH) or our own
 // optimiser on an input graph, times each phase and measures the result (weight split into
 // boundary and interior as the paper's Table 1 reports it, angle range).
@@ -6,7 +6,7 @@
 // Adding a method: write its entry point in its own file, then add one case to the switch in
 // triangulate() that runs it between the `Phase` markers and fills the Report (stop_reason,
 // warnings, and anything method-specific in Report::extra).
-#include "mwst/pipeline.hpp"
+#include "mwst/algorithms/pipeline.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -23,18 +23,18 @@
 #include <unordered_map>
 #include <utility>
 
-#include "mwst/arrays.hpp"
-#include "mwst/brh.hpp"
-#include "mwst/bundle.hpp"
-#include "mwst/flip.hpp"
-#include "mwst/optimize.hpp"
-#include "mwst/delaunay.hpp"
+#include "mwst/algorithms/arrays.hpp"
+#include "mwst/algorithms/brh.hpp"
+#include "mwst/algorithms/bundle.hpp"
+#include "mwst/algorithms/flip.hpp"
+#include "mwst/algorithms/optimize.hpp"
+#include "mwst/mesh/delaunay.hpp"
 #include "mwst/error.hpp"
-#include "mwst/metrics.hpp"
-#include "mwst/quadtree.hpp"
-#include "mwst/refine.hpp"
+#include "mwst/algorithms/metrics.hpp"
+#include "mwst/algorithms/quadtree.hpp"
+#include "mwst/algorithms/refine.hpp"
 #include "mwst/version.hpp"
-#include "algorithms/time_budget.hpp"
+#include "support/time_budget.hpp"
 #include "algorithms/triangle_key.hpp"
 
 namespace mwst {
@@ -1030,7 +1030,7 @@ Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* ou
       break;
     case Method::kQtr: {
       announce(options, start, "quadtree", phase_number++, phases);
-      // Quadtree refinement (include/mwst/quadtree.hpp); it cleans the input with the CDT itself.
+      // Quadtree refinement (include/mwst/algorithms/quadtree.hpp); it cleans the input with the CDT itself.
       QuadtreeOptions quadtree_options;
       quadtree_options.convex_hull = options.convex_hull;
       quadtree_options.strict = options.strict;
@@ -1075,7 +1075,7 @@ Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* ou
                                      detail::deadline_after(start, options.time_budget_seconds));
   }
   if (options.bundle) {
-    // The exact bundle number of the result (mwst/bundle.hpp), with a witness disk; within what is
+    // The exact bundle number of the result (mwst/algorithms/bundle.hpp), with a witness disk; within what is
     // left of the time budget (past it the report has no bundle number, and a warning says why).
     announce(options, start, "bundle", phase_number++, phases);
     Phase bundle_phase(report, "bundle");

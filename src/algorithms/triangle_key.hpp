@@ -6,7 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "mwst/mesh.hpp"
+#include "mwst/mesh/mesh.hpp"
 
 namespace mwst::detail {
 

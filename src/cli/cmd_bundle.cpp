@@ -1,4 +1,4 @@
-// `mwst bundle INPUT PREFIX [--json]`: the exact bundle number (mwst/bundle.hpp) of the mesh
+// `mwst bundle INPUT PREFIX [--json]`: the exact bundle number (mwst/algorithms/bundle.hpp) of the mesh
 // PREFIX.node/.ele — the largest k such that some open disk containing no mesh vertex meets the
 // interiors of k triangles (Boyacı, Erten, Üngör, "Triangulations Loosing Bundles and Weight") —
 // with a witness disk and its triangles. Any triangulation is accepted (Delaunay or not, any domain,
@@ -20,9 +20,9 @@
 #include <string>
 
 #include "cli/commands.hpp"
-#include "mwst/bundle.hpp"
+#include "mwst/algorithms/bundle.hpp"
 #include "mwst/error.hpp"
-#include "mwst/io.hpp"
+#include "mwst/io/triangle_files.hpp"
 #include "mwst/version.hpp"
 
 namespace mwst::cli {

@@ -1,6 +1,6 @@
 // `mwst check INPUT PREFIX [--delaunay] [--min-angle DEG]`: reads an input graph and the mesh
 // PREFIX.node/.ele(/.poly) written for it (by mwst or another mesher, e.g. Triangle) and validates
-// the mesh against the input with check_triangulation() (mwst/check.hpp): orientation, manifold,
+// the mesh against the input with check_triangulation() (mwst/mesh/check.hpp): orientation, manifold,
 // domain coverage, segments present, and optionally constrained Delaunay and a minimum angle.
 // Exit 0 if valid; 1 with one "mwst: PREFIX: ..." line per violation on stderr otherwise.
 #include <iostream>
@@ -8,8 +8,8 @@
 #include <string>
 
 #include "cli/commands.hpp"
-#include "mwst/check.hpp"
-#include "mwst/io.hpp"
+#include "mwst/mesh/check.hpp"
+#include "mwst/io/triangle_files.hpp"
 
 namespace mwst::cli {
 

@@ -1,5 +1,5 @@
 // `mwst draw INPUT PREFIX -o FILE.png|.svg|.pdf [--size N] [--title TEXT]`: a picture of the mesh
-// PREFIX.node/.ele made for INPUT, drawn by the renderer of mwst/draw.hpp as the figures of Boyacı,
+// PREFIX.node/.ele made for INPUT, drawn by the renderer of mwst/io/draw.hpp as the figures of Boyacı,
 // Erten, Üngör, "Triangulations Loosing Bundles and Weight" show triangulations: thin edges, input
 // segments and the domain boundary bold, Steiner points (mesh vertices that are not input points)
 // marked. Any triangulation is accepted (mwst's, Triangle's, ...); the format follows the extension.
@@ -7,9 +7,9 @@
 #include <string>
 
 #include "cli/commands.hpp"
-#include "mwst/draw.hpp"
+#include "mwst/io/draw.hpp"
 #include "mwst/error.hpp"
-#include "mwst/io.hpp"
+#include "mwst/io/triangle_files.hpp"
 
 namespace mwst::cli {
 

@@ -9,7 +9,7 @@
 //   figure4  per data set the six meshes side by side (figure4_NAME.png/.pdf)
 //   all      all three, sharing the runs
 //
-// The plan (src/cli/experiment_study.cpp): every data set in --data (default data/) is run with
+// The plan (src/experiments/experiment_study.cpp): every data set in --data (default data/) is run with
 // DT, QTR, DR at every angle bound of the grid below with both Steiner rules, BRH over an (A, K)
 // grid with and without the flips, and our optimiser (--opt-trials trials per start, default as for
 // triangulate); each Table 1 column takes its lightest setting, which is then run again with the
@@ -26,7 +26,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
-#include "cli/experiment.hpp"
+#include "experiments/experiment.hpp"
 #include "mwst/error.hpp"
 
 namespace mwst::cli {

@@ -1,11 +1,11 @@
 // `mwst generate CLASS N [--seed S] -o FILE.node|FILE.poly`: writes a synthetic input
-// (mwst/generate.hpp): a point set as a Triangle .node file (or a .poly without segments), a
+// (mwst/io/generate.hpp): a point set as a Triangle .node file (or a .poly without segments), a
 // polygon class as a .poly file; the same arguments give the same bytes.
 #include <memory>
 #include <string>
 
 #include "cli/commands.hpp"
-#include "mwst/generate.hpp"
+#include "mwst/io/generate.hpp"
 
 namespace mwst::cli {
 

@@ -1,5 +1,5 @@
 // `mwst triangle [-SWITCHES]... INPUT` — Triangle's command line: the same switches
-// (mwst/triangle_switches.hpp), input files and output names, so that a script calling `triangle`
+// (mwst/io/triangle_switches.hpp), input files and output names, so that a script calling `triangle`
 // runs after a change of program name.
 //
 // INPUT is a name with or without its extension: "box" or "box.node" reads box.node; "box.poly" or
@@ -20,11 +20,11 @@
 #include <vector>
 
 #include "cli/commands.hpp"
-#include "mwst/arrays.hpp"
+#include "mwst/algorithms/arrays.hpp"
 #include "mwst/error.hpp"
-#include "mwst/io.hpp"
-#include "mwst/pipeline.hpp"
-#include "mwst/triangle_switches.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/algorithms/pipeline.hpp"
+#include "mwst/io/triangle_switches.hpp"
 
 namespace mwst::cli {
 

@@ -2,7 +2,7 @@
 //  [--steiner offcenter|circumcenter] [--bundle-k K] [--flip] [--max-area A] [--max-steiner N]
 //  [--convex-hull] [--strict] [--bundle] [--time-limit SECONDS] [--exact-polish] [--opt-trials N] [--json FILE]
 //  [--draw FILE] [--max-memory BYTES] [--threads N] [--quiet]`
-// Reads a Triangle .node/.poly, runs triangulate() (mwst/pipeline.hpp: the methods of Boyacı,
+// Reads a Triangle .node/.poly, runs triangulate() (mwst/algorithms/pipeline.hpp: the methods of Boyacı,
 // Erten, Üngör, "Triangulations Loosing Bundles and Weight", and ours) and writes PREFIX.node,
 // PREFIX.ele, PREFIX.poly and the JSON report, all only after the computation succeeded. A run
 // longer than 2 s shows a progress line on stderr when stderr is a terminal (not with --quiet).
@@ -13,10 +13,10 @@
 #include <vector>
 
 #include "cli/commands.hpp"
-#include "mwst/io.hpp"
-#include "mwst/draw.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/io/draw.hpp"
 #include "mwst/error.hpp"
-#include "mwst/pipeline.hpp"
+#include "mwst/algorithms/pipeline.hpp"
 
 namespace mwst::cli {
 

@@ -28,8 +28,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "mwst/mesh.hpp"
-#include "mwst/pipeline.hpp"
+#include "mwst/mesh/mesh.hpp"
+#include "mwst/algorithms/pipeline.hpp"
 
 namespace mwst::cli {
 
@@ -155,7 +155,7 @@ double default_memory_budget();
 void set_memory_budget(double bytes);
 double memory_budget();
 
-// The progress line (format_progress of mwst/pipeline.hpp) of a run longer than
+// The progress line (format_progress of mwst/algorithms/pipeline.hpp) of a run longer than
 // kProgressAfterSeconds, on stderr, redrawn in place every 0.2 s by a thread of its own, and only
 // when stderr is a terminal and `enabled` (not --quiet). callback() is what
 // TriangulateOptions::progress takes (empty when there is no line); finish() clears the line.

@@ -14,7 +14,7 @@
 #include <system_error>
 
 #include "cli/commands.hpp"
-#include "mwst/io.hpp"
+#include "mwst/io/triangle_files.hpp"
 
 namespace mwst::cli {
 

@@ -20,7 +20,7 @@
 #include "cli/commands.hpp"
 #include "mwst/error.hpp"
 #include "mwst/version.hpp"
-#include "mwst/pipeline.hpp"
+#include "mwst/algorithms/pipeline.hpp"
 
 namespace {
 

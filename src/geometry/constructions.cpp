@@ -1,4 +1,4 @@
-// src/geometry/constructions.cpp — rounded geometric constructions of mwst/geometry.hpp.
+// src/geometry/constructions.cpp — rounded geometric constructions of mwst/geometry/geometry.hpp.
 //
 // Implements distance, squared_distance, midpoint, circumcenter, off_center, segment_intersection
 // and signed_area. Results are rounded to double ("exact predicates, inexact constructions").
@@ -12,7 +12,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "mwst/geometry.hpp"
+#include "mwst/geometry/geometry.hpp"
 
 namespace mwst {
 namespace detail {

@@ -1,4 +1,4 @@
-// src/geometry/predicates.cpp — exact stages of the geometric predicates of mwst/geometry.hpp.
+// src/geometry/predicates.cpp — exact stages of the geometric predicates of mwst/geometry/geometry.hpp.
 //
 // Implements detail::orient2d_exact, detail::incircle_exact, compare_squared_lengths,
 // in_diametral_circle and the internal detail::orient2d_value (an accurate rounding of the
@@ -24,7 +24,7 @@
 #include <cstring>
 
 #include "geometry/expansion.hpp"
-#include "mwst/geometry.hpp"
+#include "mwst/geometry/geometry.hpp"
 
 namespace mwst {
 namespace detail {

@@ -1,4 +1,4 @@
-// src/io/atomic_file.cpp — write_file_atomic (declared in mwst/io.hpp): writes a file under a
+// src/io/atomic_file.cpp — write_file_atomic (declared in mwst/io/triangle_files.hpp): writes a file under a
 // temporary name in the same directory (PATH.tmp.<pid>) and renames it over PATH when complete, so
 // readers never see a partial file and a failure leaves nothing behind.
 #include <fcntl.h>
@@ -12,7 +12,7 @@
 #include <system_error>
 
 #include "mwst/error.hpp"
-#include "mwst/io.hpp"
+#include "mwst/io/triangle_files.hpp"
 
 namespace mwst::io {
 

@@ -1,4 +1,4 @@
-// src/io/draw.cpp — pictures of triangulations with cairo (mwst/draw.hpp): the renderer behind
+// src/io/draw.cpp — pictures of triangulations with cairo (mwst/io/draw.hpp): the renderer behind
 // `mwst draw`, `mwst triangulate --draw` and the Figure 4 panels of `mwst experiment` (the side by
 // side pictures of DT, QTR, DR, BRH, BRH+EFH of Boyacı, Erten, Üngör, "Triangulations Loosing
 // Bundles and Weight", plus our optimiser).
@@ -10,7 +10,7 @@
 // cairo's rasteriser slows down sharply on one path of very many pieces. PNG is
 // rendered into an image surface and encoded by cairo; SVG and PDF go through cairo's stream
 // surfaces. Everything is rendered into memory and written at once, so a failure leaves no file.
-#include "mwst/draw.hpp"
+#include "mwst/io/draw.hpp"
 
 #include <cairo-pdf.h>
 #include <cairo-svg.h>

@@ -1,9 +1,9 @@
-// Synthetic inputs (mwst/generate.hpp): the distributions of the synthetic data sets of
+// Synthetic inputs (mwst/io/generate.hpp): the distributions of the synthetic data sets of
 // Boyacı, Erten, Üngör, "Triangulations Loosing Bundles and Weight" (uniform, Kuzmin, ellipse),
 // degenerate and multi-scale point sets (integer grid, circle, spiral, clusters) and polygons that
 // stress meshers (circular holes, a narrow fan, a thin strip, a fractal coastline), generated
 // bit-for-bit reproducibly.
-#include "mwst/generate.hpp"
+#include "mwst/io/generate.hpp"
 
 #include <algorithm>
 #include <charconv>

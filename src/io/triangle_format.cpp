@@ -1,4 +1,4 @@
-// src/io/triangle_format.cpp — Triangle's file formats (declared in mwst/io.hpp): the readers of
+// src/io/triangle_format.cpp — Triangle's file formats (declared in mwst/io/triangle_files.hpp): the readers of
 // .node, .poly and .ele (read_node, read_poly, read_input, parse_node, parse_poly, read_mesh) and
 // the mesh writer (write_mesh). write_file_atomic lives in atomic_file.cpp.
 //
@@ -43,7 +43,8 @@
 #include <vector>
 
 #include "mwst/error.hpp"
-#include "mwst/io.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mesh/keys.hpp"
 
 namespace mwst::io {
 namespace {
@@ -1152,10 +1153,6 @@ void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index, co
 namespace mwst::io {
 namespace {
 
-inline std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
-  return a < b ? (std::uint64_t{a} << 32) | b : (std::uint64_t{b} << 32) | a;
-}
-
 // The edges of the triangulation in Triangle's order: triangle by triangle, the edge opposite
 // corner k = 0, 1, 2 (from corner k+1 to corner k+2), where the neighbour across it is none or a
 // later triangle. Each edge with its triangle, the corner opposite, and its subsegment (or -1).
@@ -1184,7 +1181,7 @@ Carried carry_markers(const MeshArrays& mesh, bool list_edges) {
   std::unordered_map<std::uint64_t, std::uint32_t> segment_of;
   segment_of.reserve(2 * mesh.segment_count());
   for (std::size_t s = 0; s < mesh.segment_count(); ++s) {
-    segment_of.emplace(edge_key(mesh.segments[2 * s], mesh.segments[2 * s + 1]), static_cast<std::uint32_t>(s));
+    segment_of.emplace(undirected_key(mesh.segments[2 * s], mesh.segments[2 * s + 1]), static_cast<std::uint32_t>(s));
   }
   std::vector<bool> segment_on_boundary(mesh.segment_count(), false);
   std::vector<bool> vertex_on_boundary(nv, false);
@@ -1196,7 +1193,7 @@ Carried carry_markers(const MeshArrays& mesh, bool list_edges) {
       const std::uint32_t a = mesh.triangles[3 * t + (k + 1) % 3], b = mesh.triangles[3 * t + (k + 2) % 3];
       std::int64_t segment = -1;
       if (!segment_of.empty()) {
-        const auto found = segment_of.find(edge_key(a, b));
+        const auto found = segment_of.find(undirected_key(a, b));
         if (found != segment_of.end()) segment = found->second;
       }
       if (across < 0) {

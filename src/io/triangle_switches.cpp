@@ -1,6 +1,6 @@
-// src/io/triangle_switches.cpp — parse_triangle_switches (mwst/triangle_switches.hpp): Triangle's
+// src/io/triangle_switches.cpp — parse_triangle_switches (mwst/io/triangle_switches.hpp): Triangle's
 // switch string read one character at a time, numbers taken right after their switch.
-#include "mwst/triangle_switches.hpp"
+#include "mwst/io/triangle_switches.hpp"
 
 #include <charconv>
 #include <cstddef>

@@ -5,7 +5,7 @@
 // are never output, measured or refined.
 #include <string>
 
-#include "mwst/delaunay.hpp"
+#include "mwst/mesh/delaunay.hpp"
 
 namespace mwst {
 

@@ -1,4 +1,4 @@
-// check_triangulation() (mwst/check.hpp): validates plain triangles read back from files against
+// check_triangulation() (mwst/mesh/check.hpp): validates plain triangles read back from files against
 // the input graph they claim to triangulate — the independent check behind `mwst check`, in the
 // spirit of Triangle's checkmesh/checkdelaunay, but trusting nothing of the mesh's own structure.
 //
@@ -9,7 +9,8 @@
 // (geometry.hpp); the domain comes from our constrained Delaunay triangulation of the input, whose
 // boundary edges and segments must reappear in the mesh as chains of edges, possibly subdivided
 // by (rounded) Steiner points; the mesh boundary must be exactly those chains, and the areas agree.
-#include "mwst/check.hpp"
+#include "mwst/mesh/check.hpp"
+#include "mesh/keys.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -21,8 +22,8 @@
 #include <unordered_set>
 #include <utility>
 
-#include "mwst/delaunay.hpp"
-#include "mwst/mesh.hpp"
+#include "mwst/mesh/delaunay.hpp"
+#include "mwst/mesh/mesh.hpp"
 
 namespace mwst {
 
@@ -32,30 +33,6 @@ double orient2d_value(const Point& a, const Point& b, const Point& c);
 }  // namespace detail
 
 namespace {
-
-inline std::uint64_t edge_key(std::uint32_t u, std::uint32_t v) {
-  return (static_cast<std::uint64_t>(u) << 32) | v;
-}
-inline std::uint64_t undirected_key(std::uint32_t u, std::uint32_t v) {
-  return u < v ? edge_key(u, v) : edge_key(v, u);
-}
-
-// Exact coordinates as a hash key (+0.0 and -0.0 are the same point).
-struct PointKey {
-  std::uint64_t x, y;
-  explicit PointKey(const Point& p)
-      : x(std::bit_cast<std::uint64_t>(p.x + 0.0)), y(std::bit_cast<std::uint64_t>(p.y + 0.0)) {}
-  friend bool operator==(const PointKey&, const PointKey&) = default;
-};
-struct PointKeyHash {
-  std::size_t operator()(const PointKey& k) const {
-    std::uint64_t h = k.x * 0x9E3779B97F4A7C15ull ^ (k.y + 0x632BE59BD9B4E019ull + (k.x << 6) + (k.x >> 2));
-    h ^= h >> 31;
-    h *= 0xBF58476D1CE4E5B9ull;
-    h ^= h >> 29;
-    return static_cast<std::size_t>(h);
-  }
-};
 
 std::string number(double v) {
   char buf[32];

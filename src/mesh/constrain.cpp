@@ -22,20 +22,14 @@
 #include <limits>
 #include <unordered_map>
 
-#include "mwst/delaunay.hpp"
+#include "mwst/mesh/delaunay.hpp"
+#include "mesh/keys.hpp"
 #include "mwst/error.hpp"
 #include "geometry/expansion.hpp"
 
 namespace mwst {
 
 namespace {
-
-inline std::uint64_t edge_key(VertexId u, VertexId v) {
-  return (static_cast<std::uint64_t>(u) << 32) | v;
-}
-inline std::uint64_t undirected_key(VertexId u, VertexId v) {
-  return u < v ? edge_key(u, v) : edge_key(v, u);
-}
 
 // Finds an edge with org a whose triangle the direction a→b enters, rotating around a.
 // Returns the handle h = a→v1 with apex v2 such that b is strictly left of a→v1 and strictly

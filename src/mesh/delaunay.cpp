@@ -19,7 +19,7 @@
 #include <thread>
 #include <utility>
 
-#include "mwst/delaunay.hpp"
+#include "mwst/mesh/delaunay.hpp"
 #include "mwst/error.hpp"
 
 namespace mwst {

@@ -1,7 +1,7 @@
 // Mesh: local operations (flip, 1→3 and 2→4 splits), point location by a stochastic visibility
 // walk, vertex insertion with Lawson flips (Lawson 1977; the generalised circumcircle of ghost
 // triangles follows CGAL's infinite-vertex convention), and segment flag bookkeeping.
-#include "mwst/mesh.hpp"
+#include "mwst/mesh/mesh.hpp"
 
 #include "mwst/error.hpp"
 

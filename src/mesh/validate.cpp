@@ -7,7 +7,7 @@
 #include <string>
 #include <unordered_set>
 
-#include "mwst/mesh.hpp"
+#include "mwst/mesh/mesh.hpp"
 
 namespace mwst {
 

@@ -22,8 +22,8 @@
 #include <string>
 #include <vector>
 
-#include "mwst/delaunay.hpp"
-#include "mwst/io.hpp"
+#include "mwst/mesh/delaunay.hpp"
+#include "mwst/io/triangle_files.hpp"
 #include "test_helpers.hpp"
 
 namespace mwst {

@@ -3,9 +3,9 @@
 #include <cstdio>
 #include <string>
 
-#include <mwst/bundle.hpp>
+#include <mwst/algorithms/bundle.hpp>
 #include <mwst/error.hpp>
-#include <mwst/io.hpp>
+#include <mwst/io/triangle_files.hpp>
 
 int main(int argc, char** argv) {
   if (argc != 2) {

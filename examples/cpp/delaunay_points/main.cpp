@@ -1,8 +1,8 @@
 // The Delaunay triangulation of a point array, handed back as flat index arrays.
 #include <cstdio>
 
-#include <mwst/arrays.hpp>
-#include <mwst/geometry.hpp>
+#include <mwst/algorithms/arrays.hpp>
+#include <mwst/geometry/geometry.hpp>
 
 int main() {
   mwst::Pslg input;  // points only: the Delaunay triangulation of their convex hull

@@ -4,8 +4,8 @@
 #include <exception>
 
 #include <mwst/error.hpp>
-#include <mwst/io.hpp>
-#include <mwst/pipeline.hpp>
+#include <mwst/io/triangle_files.hpp>
+#include <mwst/algorithms/pipeline.hpp>
 
 int main(int argc, char** argv) {
   if (argc != 2) {

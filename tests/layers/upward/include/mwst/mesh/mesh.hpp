@@ -1,0 +1,2 @@
+// The mesh header that tests/layers/upward/src/geometry/predicates.cpp includes.
+#pragma once
