@@ -34,6 +34,7 @@
 #include "mwst/algorithms/quadtree.hpp"
 #include "mwst/algorithms/refine.hpp"
 #include "mwst/version.hpp"
+#include "support/parallel.hpp"
 #include "support/time_budget.hpp"
 #include "algorithms/triangle_key.hpp"
 
@@ -487,25 +488,9 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
     const std::size_t count = pieces.pslgs.size();
     std::vector<Mesh> results(count);
     std::vector<Report> reports(count);
-    std::vector<std::exception_ptr> errors(count);
-    std::atomic<std::size_t> next{0};
-    const auto work = [&] {
-      for (std::size_t i = next++; i < count; i = next++) {
-        try {
-          results[i] = optimize_phase(pieces.pslgs[i], options, start, reports[i]);
-        } catch (...) {
-          errors[i] = std::current_exception();
-        }
-      }
-    };
-    const unsigned threads = options.threads != 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
-    std::vector<std::thread> workers(std::min<std::size_t>(count, threads) - 1);
-    for (std::thread& w : workers) w = std::thread(work);
-    work();
-    for (std::thread& w : workers) w.join();
-    for (const std::exception_ptr& e : errors) {
-      if (e) std::rethrow_exception(e);  // the first piece's error, whichever thread ran it
-    }
+    // The first piece's error is rethrown, whichever thread ran it.
+    support::parallel_for(count, support::worker_count(options.threads),
+                          [&](std::size_t i) { results[i] = optimize_phase(pieces.pslgs[i], options, start, reports[i]); });
     Mesh merged;
     if (merge_pieces(pslg, cdt, pieces, results, merged)) {
       phase.finish();

@@ -92,10 +92,6 @@ class Progress {
 std::vector<RunResult> run_all(const std::vector<DataSet>& data_sets, const std::vector<RunSpec>& specs,
                                std::size_t workers, Progress& progress, const std::string& phase);
 
-// Calls task(0), ..., task(count - 1) on `workers` threads (the calls must be independent and must
-// not throw).
-void parallel_for(std::size_t count, std::size_t workers, const std::function<void(std::size_t)>& task);
-
 // ---- the study: what the sweep found ---------------------------------------------------------
 
 // The sweep grids (see cmd_experiment.cpp for why these values).

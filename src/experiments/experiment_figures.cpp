@@ -24,6 +24,7 @@
 #include <sstream>
 
 #include "experiments/experiment.hpp"
+#include "support/parallel.hpp"
 
 namespace mwst::cli::experiment {
 
@@ -226,7 +227,7 @@ std::vector<OutputFile> figure4_files(const Study& s, std::size_t workers, Progr
   const std::size_t n = s.data_sets.size();
   std::vector<OutputFile> files(2 * n);
   progress.line("figure 4: drawing " + std::to_string(n) + " data sets");
-  parallel_for(2 * n, workers, [&](std::size_t job) {
+  support::parallel_for(2 * n, workers, [&](std::size_t job) {
     const std::size_t d = job / 2;
     const bool pdf = job % 2 == 1;
     const DataSet& ds = s.data_sets[d];

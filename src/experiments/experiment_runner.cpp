@@ -21,6 +21,7 @@
 #include <thread>
 
 #include "experiments/experiment.hpp"
+#include "support/parallel.hpp"
 #include "mwst/error.hpp"
 #include "mwst/io/triangle_files.hpp"
 #include "mwst/mesh/mesh.hpp"
@@ -154,18 +155,6 @@ void Progress::done() {
 
 // ---- the pool ----------------------------------------------------------------------------------
 
-void parallel_for(std::size_t count, std::size_t workers, const std::function<void(std::size_t)>& task) {
-  workers = std::max<std::size_t>(1, std::min(workers, count));
-  std::atomic<std::size_t> next{0};
-  const auto work = [&] {
-    for (std::size_t i = next.fetch_add(1); i < count; i = next.fetch_add(1)) task(i);
-  };
-  std::vector<std::thread> threads;
-  threads.reserve(workers - 1);
-  for (std::size_t w = 1; w < workers; ++w) threads.emplace_back(work);
-  work();
-  for (std::thread& t : threads) t.join();
-}
 
 namespace {
 
@@ -225,7 +214,7 @@ std::vector<RunResult> run_all(const std::vector<DataSet>& data_sets, const std:
 
   progress.line(phase + ": " + std::to_string(specs.size()) + " runs on " +
                 std::to_string(std::max<std::size_t>(1, std::min(workers, specs.size()))) + " threads");
-  parallel_for(specs.size(), workers, [&](std::size_t k) {
+  support::parallel_for(specs.size(), workers, [&](std::size_t k) {
     const std::size_t i = order[k];
     const RunSpec& spec = specs[i];
     const DataSet& data_set = data_sets[spec.data_set];
