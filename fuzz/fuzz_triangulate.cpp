@@ -42,7 +42,7 @@
 #include "mwst/mesh/mesh.hpp"
 #include "mwst/algorithms/pipeline.hpp"
 #include "mwst/mesh/pslg.hpp"
-#include "../tests/round_trip.hpp"
+#include "../tests/support/round_trip.hpp"
 
 namespace {
 

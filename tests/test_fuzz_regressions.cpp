@@ -22,7 +22,7 @@
 #include "mwst/algorithms/pipeline.hpp"
 #include "mwst/mesh/pslg.hpp"
 
-#include "test_helpers.hpp"
+#include "support/exact_checker.hpp"
 
 namespace {
 

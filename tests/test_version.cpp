@@ -1,6 +1,7 @@
 // tests/test_version.cpp — the version of mwst/version.hpp: it is the CMake project's version
 // (MWST_PROJECT_VERSION, passed by tests/CMakeLists.txt), its parts make its string, and it
 // reaches the user: `mwst --version`, the JSON report of triangulate() and of `mwst bundle --json`.
+#include "mwst/io/report.hpp"
 #include "mwst/version.hpp"
 
 #include <gtest/gtest.h>

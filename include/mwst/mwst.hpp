@@ -30,3 +30,4 @@
 #include "mwst/io/triangle_switches.hpp"
 #include "mwst/io/triangle_files.hpp"
 #include "mwst/io/generate.hpp"
+#include "mwst/io/report.hpp"

@@ -30,6 +30,7 @@
 #include <utility>
 #include <vector>
 
+#include "mwst/io/report.hpp"
 #include "mwst/algorithms/arrays.hpp"
 #include "mwst/algorithms/bundle.hpp"
 #include "mwst/mesh/check.hpp"

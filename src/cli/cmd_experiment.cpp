@@ -33,7 +33,7 @@ namespace mwst::cli {
 
 namespace {
 
-using namespace experiment;
+using namespace mwst::experiments;
 
 struct ExperimentArgs {
   std::string target;
@@ -62,7 +62,7 @@ int run_experiment(const ExperimentArgs& a) {
   const std::size_t workers =
       a.jobs != 0 ? a.jobs : std::max<std::size_t>(1, static_cast<std::size_t>(std::thread::hardware_concurrency()));
 
-  Progress progress;
+  experiments::Progress progress;
   Study study;
   study.grids = default_grids();
   study.opt_trials = a.opt_trials;

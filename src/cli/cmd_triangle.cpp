@@ -152,6 +152,43 @@ void print_statistics(const TriangleInput& in, const MeshArrays& mesh, const Tri
   std::cout << '\n';
 }
 
+// The files Triangle would write for these switches, numbered as Triangle numbers them.
+io::TriangleOutput output_files_of(const TriangleSwitches& switches, const TriangulateOptions& options,
+                                   const TriangleInput& in) {
+  io::TriangleOutput what;
+  what.node = !switches.no_node_output;
+  what.ele = !switches.no_ele_output;
+  what.poly = (switches.poly || options.convex_hull) && !switches.no_poly_output;
+  what.edges = switches.edges;
+  what.neighbours = switches.neighbours;
+  what.voronoi = switches.voronoi;
+  what.boundary_markers = !switches.no_boundary_markers;
+  what.triangle_attributes = switches.region_attributes;
+  what.jettison = switches.jettison;
+  // Triangle numbers its output as the input's first vertex is numbered; -z where nothing decides.
+  what.first_index = in.pslg.points.empty() ? (switches.zero_based ? 0 : 1) : in.pslg.first_index;
+  return what;
+}
+
+// What Triangle prints after a run: the files opened, the warnings, each phase's time, the files
+// written (and those not written because they would replace an input), and the statistics.
+void print_run(const TriangleInput& in, const MeshArrays& mesh, const TriangleSwitches& switches,
+               const std::vector<std::string>& written, const std::vector<std::string>& not_written) {
+  for (const std::string& path : in.paths) std::cout << "Opening " << path << ".\n";
+  for (const std::string& w : mesh.report.warnings) warn(w);
+  if (!switches.ignored.empty() && switches.verbosity > 0) {
+    warn("switches " + switches.ignored + " choose Triangle's own algorithms; mwst ignores them");
+  }
+  for (const auto& [phase, seconds] : mesh.report.seconds) {
+    std::cout << phase << " milliseconds:  " << milliseconds(seconds) << '\n';
+  }
+  std::cout << '\n';
+  for (const std::string& path : written) std::cout << "Writing " << path << ".\n";
+  for (const std::string& ext : not_written) std::cout << "NOT writing a " << ext << " file.\n";
+  std::cout << "\nTotal running time milliseconds:  " << milliseconds(mesh.report.total_seconds()) << '\n';
+  print_statistics(in, mesh, switches);
+}
+
 int run_triangle(const std::vector<std::string>& arguments) {
   std::vector<std::string> switch_arguments, inputs;
   for (const std::string& argument : arguments) {
@@ -186,18 +223,7 @@ int run_triangle(const std::vector<std::string>& arguments) {
   const bool quiet = switches.quiet;
 
   const TriangleInput in = read_triangle_input(stem, switches);
-  io::TriangleOutput what;
-  what.node = !switches.no_node_output;
-  what.ele = !switches.no_ele_output;
-  what.poly = (switches.poly || options.convex_hull) && !switches.no_poly_output;
-  what.edges = switches.edges;
-  what.neighbours = switches.neighbours;
-  what.voronoi = switches.voronoi;
-  what.boundary_markers = !switches.no_boundary_markers;
-  what.triangle_attributes = switches.region_attributes;
-  what.jettison = switches.jettison;
-  // Triangle numbers its output as the input's first vertex is numbered; -z where nothing decides.
-  what.first_index = in.pslg.points.empty() ? (switches.zero_based ? 0 : 1) : in.pslg.first_index;
+  const io::TriangleOutput what = output_files_of(switches, options, in);
 
   // Every output name, before any work: one that would replace an input is refused (with -I:
   // left out, and said so).
@@ -241,21 +267,7 @@ int run_triangle(const std::vector<std::string>& arguments) {
   }
   out.commit();
   // Only now, so that a failed run prints exactly one line.
-  if (!quiet) {
-    for (const std::string& path : in.paths) std::cout << "Opening " << path << ".\n";
-    for (const std::string& w : mesh.report.warnings) warn(w);
-    if (!switches.ignored.empty() && switches.verbosity > 0) {
-      warn("switches " + switches.ignored + " choose Triangle's own algorithms; mwst ignores them");
-    }
-    for (const auto& [phase, seconds] : mesh.report.seconds) {
-      std::cout << phase << " milliseconds:  " << milliseconds(seconds) << '\n';
-    }
-    std::cout << '\n';
-    for (const std::string& path : out.written()) std::cout << "Writing " << path << ".\n";
-    for (const std::string& ext : not_written) std::cout << "NOT writing a " << ext << " file.\n";
-    std::cout << "\nTotal running time milliseconds:  " << milliseconds(mesh.report.total_seconds()) << '\n';
-    print_statistics(in, mesh, switches);
-  }
+  if (!quiet) print_run(in, mesh, switches, out.written(), not_written);
   return kExitOk;
 }
 

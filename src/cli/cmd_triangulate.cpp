@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "cli/commands.hpp"
+#include "mwst/io/report.hpp"
 #include "mwst/io/triangle_files.hpp"
 #include "mwst/io/draw.hpp"
 #include "mwst/error.hpp"

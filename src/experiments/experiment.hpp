@@ -20,7 +20,7 @@
 #include "mwst/algorithms/pipeline.hpp"
 #include "mwst/mesh/pslg.hpp"
 
-namespace mwst::cli::experiment {
+namespace mwst::experiments {
 
 // ---- data sets ---------------------------------------------------------------------------------
 
@@ -158,4 +158,4 @@ std::string run_gnuplot(const std::string& out_dir, const std::string& script);
 std::string fixed(double value, int digits);
 std::string angle_text(double degrees);  // "12" or "12.5"
 
-}  // namespace mwst::cli::experiment
+}  // namespace mwst::experiments

@@ -26,7 +26,7 @@
 #include "experiments/experiment.hpp"
 #include "support/parallel.hpp"
 
-namespace mwst::cli::experiment {
+namespace mwst::experiments {
 
 namespace {
 
@@ -77,14 +77,9 @@ std::string panel(const std::string& block, const std::string& title) {
   return p.str();
 }
 
-}  // namespace
-
-std::vector<OutputFile> figure3_files(const Study& s) {
+// figure3.csv: one row per DR run of the sweep (data set, angle bound, Steiner rule).
+std::string figure3_csv(const Study& s) {
   const std::size_t n = s.data_sets.size();
-  std::vector<Curve> curves;
-  for (std::size_t d = 0; d < n; ++d) curves.push_back(curve_of(s, d));
-
-  // ---- figure3.csv ----
   std::ostringstream csv;
   csv << "name,angle,rule,weight,steiner,min_angle,stop_reason\n";
   for (std::size_t d = 0; d < n; ++d) {
@@ -107,15 +102,21 @@ std::vector<OutputFile> figure3_files(const Study& s) {
     }
   }
 
-  // ---- figure3.gp ----
-  std::ostringstream gp;
+  return csv.str();
+}
+
+// figure3.gp, its head and data: one inlined block of (angle, circumcenters, off-centers) per data
+// set; `blocks` gets their names.
+void write_gnuplot_data(const Study& s, std::ostringstream& gp, std::vector<std::string>& blocks) {
+  const std::size_t n = s.data_sets.size();
+  std::vector<Curve> curves;
+  for (std::size_t d = 0; d < n; ++d) curves.push_back(curve_of(s, d));
   gp << "# figure3.gp: written by `mwst experiment figure3` (Figure 3 of Boyaci, Erten, Ungor,\n"
      << "# \"Triangulations Loosing Bundles and Weight\"): the interior weight of Delaunay refinement\n"
      << "# (DT = 100) against the angle bound, circumcenters against off-centers.\n"
      << "# Self-contained (the data are inlined below); run it in its own directory: gnuplot figure3.gp\n"
      << "# Writes figure3.png/.pdf (Ellipse and Florida), figure3_NAME.png/.pdf and figure3_all.png/.pdf.\n"
      << "set encoding utf8\nset datafile missing \"?\"\n\n";
-  std::vector<std::string> blocks;
   for (std::size_t d = 0; d < n; ++d) {
     const std::string block = "$data" + std::to_string(d);
     blocks.push_back(block);
@@ -126,6 +127,12 @@ std::vector<OutputFile> figure3_files(const Study& s) {
     }
     gp << "EOD\n\n";
   }
+}
+
+// figure3.gp, its plots: the paper's pair (Ellipse and Florida), each data set alone, and all of
+// them, each as PNG and PDF.
+void write_gnuplot_plots(const Study& s, std::ostringstream& gp, const std::vector<std::string>& blocks) {
+  const std::size_t n = s.data_sets.size();
   const double max_angle = s.grids.figure3_angles.empty() ? 20.0 : s.grids.figure3_angles.back();
   gp << "set style line 1 lc rgb \"#1f63b4\" lw 2 pt 7 ps 0.7\n"
      << "set style line 2 lc rgb \"#d62728\" lw 2 pt 5 ps 0.7\n"
@@ -178,7 +185,16 @@ std::vector<OutputFile> figure3_files(const Study& s) {
       gp << "set output\n\n";
     }
   }
-  return {{"figure3.csv", csv.str()}, {"figure3.gp", gp.str()}};
+}
+
+}  // namespace
+
+std::vector<OutputFile> figure3_files(const Study& s) {
+  std::ostringstream gp;
+  std::vector<std::string> blocks;
+  write_gnuplot_data(s, gp, blocks);
+  write_gnuplot_plots(s, gp, blocks);
+  return {{"figure3.csv", figure3_csv(s)}, {"figure3.gp", gp.str()}};
 }
 
 std::string run_gnuplot(const std::string& out_dir, const std::string& script) {
@@ -256,8 +272,8 @@ std::vector<OutputFile> figure4_files(const Study& s, std::size_t workers, Progr
         }
         const std::optional<double> v = normalised(s, d, r);
         title += ": " + (v ? fixed(*v, 1) : std::string("NA")) + ", " + std::to_string(r.report.steiner) + " Steiner";
-        if (r.report.extra.contains("bundle_number")) {
-          title += ", bundle " + std::to_string(r.report.extra["bundle_number"].get<long long>());
+        if (r.report.bundle) {
+          title += ", bundle " + std::to_string(r.report.bundle->bundle_number);
         }
       } else {
         std::string reason = "not run";
@@ -296,4 +312,4 @@ std::vector<OutputFile> figure4_files(const Study& s, std::size_t workers, Progr
   return ok;
 }
 
-}  // namespace mwst::cli::experiment
+}  // namespace mwst::experiments

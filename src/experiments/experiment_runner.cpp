@@ -26,7 +26,7 @@
 #include "mwst/io/triangle_files.hpp"
 #include "mwst/mesh/mesh.hpp"
 
-namespace mwst::cli::experiment {
+namespace mwst::experiments {
 
 namespace {
 
@@ -240,4 +240,4 @@ std::vector<RunResult> run_all(const std::vector<DataSet>& data_sets, const std:
   return results;
 }
 
-}  // namespace mwst::cli::experiment
+}  // namespace mwst::experiments

@@ -9,7 +9,7 @@
 
 #include "experiments/experiment.hpp"
 
-namespace mwst::cli::experiment {
+namespace mwst::experiments {
 
 namespace {
 
@@ -192,4 +192,4 @@ void check_finals(Study& study) {
   }
 }
 
-}  // namespace mwst::cli::experiment
+}  // namespace mwst::experiments

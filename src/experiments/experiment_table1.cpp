@@ -10,7 +10,7 @@
 
 #include "experiments/experiment.hpp"
 
-namespace mwst::cli::experiment {
+namespace mwst::experiments {
 
 namespace {
 
@@ -103,8 +103,8 @@ std::optional<double> column_value(const Study& s, std::size_t d, Column c) {
 }
 
 std::optional<long long> bundle_of(const RunResult* r) {
-  if (!r || !r->report.extra.contains("bundle_number")) return std::nullopt;
-  return r->report.extra["bundle_number"].get<long long>();
+  if (!r || !r->report.bundle) return std::nullopt;
+  return static_cast<long long>(r->report.bundle->bundle_number);
 }
 
 std::string why_na(const Study& s, std::size_t d, Column c) {
@@ -145,12 +145,10 @@ std::string grid_text(const std::vector<double>& v) {
   return s;
 }
 
-}  // namespace
-
-std::vector<OutputFile> table1_files(const Study& s) {
+// table1.csv: one row per data set, every column's weight, Steiner points and bundle number, and
+// the settings chosen.
+std::string table1_csv(const Study& s) {
   const std::size_t n = s.data_sets.size();
-
-  // ---- table1.csv ----
   std::ostringstream csv;
   csv << "name,points,segments,boundary";
   for (const Column c : kColumns) csv << ',' << column_name(c);
@@ -185,14 +183,12 @@ std::vector<OutputFile> table1_files(const Study& s) {
     csv << (dt ? fixed(dt->report.weight_boundary, 9) : "NA") << '\n';
   }
 
-  // ---- table1.md ----
-  std::ostringstream md;
-  md << "# Table 1: weights without boundary, DT = 100\n\n"
-     << "Written by `mwst experiment` from " << n << " data sets. Weight = sum of edge lengths; the "
-     << "boundary (input segments, or the convex hull of a point set) is left out and the rest "
-     << "normalised so that DT = 100, as in the paper. *boundary* is the boundary weight on the same "
-     << "scale. OPT is our optimiser (not in the paper).\n\n";
+  return csv.str();
+}
 
+// table1.md, "Ours beside the paper": each weight as ours / the paper's.
+void write_ours_beside_paper(const Study& s, std::ostringstream& md) {
+  const std::size_t n = s.data_sets.size();
   md << "## Ours beside the paper (ours / paper)\n\n"
      << "| name | points | segments | boundary |";
   for (const Column c : kColumns) md << ' ' << column_name(c) << " |";
@@ -220,6 +216,11 @@ std::vector<OutputFile> table1_files(const Study& s) {
     md << '\n';
   }
 
+}
+
+// table1.md: Steiner points and exact bundle numbers of every cell.
+void write_steiner_and_bundles(const Study& s, std::ostringstream& md) {
+  const std::size_t n = s.data_sets.size();
   md << "\n## Steiner points and bundle numbers (Steiner points, exact bundle number)\n\n| name |";
   for (const Column c : kColumns) md << ' ' << column_name(c) << " |";
   md << "\n|---|";
@@ -235,6 +236,11 @@ std::vector<OutputFile> table1_files(const Study& s) {
     md << '\n';
   }
 
+}
+
+// table1.md: the settings the sweep chose, and opt's winning start.
+void write_chosen_settings(const Study& s, std::ostringstream& md) {
+  const std::size_t n = s.data_sets.size();
   md << "\n## Settings chosen by the sweep\n\n"
      << "The paper reports each method at its minimum-weight setting but does not say which setting "
      << "that was, so we choose by a sweep: the lightest interior weight among the runs that finished "
@@ -260,16 +266,18 @@ std::vector<OutputFile> table1_files(const Study& s) {
   for (std::size_t d = 0; d < n; ++d) {
     std::string opt_start = "—";
     if (const RunResult* r = final_run(s, d, Column::kOpt)) {
-      const nlohmann::json& e = r->report.extra;
-      if (e.contains("optimize") && e["optimize"].contains("start") && e["optimize"]["start"].is_string()) {
-        opt_start = e["optimize"]["start"].get<std::string>();
-      }
+      if (r->report.optimize && r->report.optimize->pieces == 0) opt_start = r->report.optimize->start;
     }
     md << "| " << md_escape(s.data_sets[d].name) << " | " << settings_text(final_options(s, d, Column::kDr))
        << " | " << settings_text(final_options(s, d, Column::kBrh)) << " | "
        << settings_text(final_options(s, d, Column::kBrhEfh)) << " | " << opt_start << " |\n";
   }
 
+}
+
+// table1.md: why cells are NA, and the study's warnings.
+void write_na_and_warnings(const Study& s, std::ostringstream& md) {
+  const std::size_t n = s.data_sets.size();
   // Why cells are NA.
   std::ostringstream na;
   for (std::size_t d = 0; d < n; ++d) {
@@ -283,7 +291,24 @@ std::vector<OutputFile> table1_files(const Study& s) {
     md << "\n## Warnings\n\n";
     for (const std::string& w : s.warnings) md << "- " << md_escape(w) << '\n';
   }
-  return {{"table1.csv", csv.str()}, {"table1.md", md.str()}};
+}
+
+}  // namespace
+
+std::vector<OutputFile> table1_files(const Study& s) {
+  const std::size_t n = s.data_sets.size();
+  std::ostringstream md;
+  md << "# Table 1: weights without boundary, DT = 100\n\n"
+     << "Written by `mwst experiment` from " << n << " data sets. Weight = sum of edge lengths; the "
+     << "boundary (input segments, or the convex hull of a point set) is left out and the rest "
+     << "normalised so that DT = 100, as in the paper. *boundary* is the boundary weight on the same "
+     << "scale. OPT is our optimiser (not in the paper).\n\n";
+
+  write_ours_beside_paper(s, md);
+  write_steiner_and_bundles(s, md);
+  write_chosen_settings(s, md);
+  write_na_and_warnings(s, md);
+  return {{"table1.csv", table1_csv(s)}, {"table1.md", md.str()}};
 }
 
 OutputFile runs_file(const Study& s) {
@@ -320,4 +345,4 @@ OutputFile runs_file(const Study& s) {
   return {"runs.csv", csv.str()};
 }
 
-}  // namespace mwst::cli::experiment
+}  // namespace mwst::experiments

@@ -7,7 +7,7 @@
 // same set of triangles, compared as sorted vertex-index triples. For degenerate inputs (grids,
 // cocircular points) any choice among cocircular diagonals is correct: there we require the same
 // number of triangles and that every triangle of ours that CGAL lacks has an edge whose flip is a
-// cocircular tie (decided exactly with GMP, tests/test_helpers.hpp).
+// cocircular tie (decided exactly with GMP, tests/support/exact_checker.hpp).
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -24,7 +24,8 @@
 
 #include "mwst/mesh/delaunay.hpp"
 #include "mwst/io/triangle_files.hpp"
-#include "test_helpers.hpp"
+#include "support/exact_checker.hpp"
+#include "support/generators.hpp"
 
 namespace mwst {
 namespace {

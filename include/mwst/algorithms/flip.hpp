@@ -22,7 +22,7 @@ MWST_API bool is_straight_corner(const Mesh& mesh, VertexId v, bool side1_is_seg
 
 // True if edge h (between two domain triangles, not a subsegment) has a strictly convex
 // quadrilateral whose other diagonal is strictly shorter (exact comparison of squared lengths).
-// With max_area > 0 (an area bound, --max-area), also neither new triangle may be larger than
+// With max_area > 0 (an area bound), also neither new triangle may be larger than
 // max_area (triangle_area): a flip keeps its quadrilateral but not the areas of its two
 // halves, so without this EFH would undo what the refinement's area bound made.
 MWST_API bool is_weight_reducing_flip(const Mesh& mesh, Handle h, double max_area = -1.0);

@@ -22,7 +22,7 @@ struct Metrics {
   double min_angle_deg = 0.0;  // over in-domain triangles
   double max_angle_deg = 0.0;
   double area = 0.0;           // total area of in-domain triangles
-  double max_triangle_area = 0.0;  // the largest in-domain triangle's (what --max-area bounds)
+  double max_triangle_area = 0.0;  // the largest in-domain triangle's (what max_area bounds)
 };
 
 MWST_API Metrics measure(const Mesh& mesh);

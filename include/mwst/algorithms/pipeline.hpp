@@ -19,8 +19,7 @@
 #include <utility>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
+#include "mwst/geometry/geometry.hpp"
 #include "mwst/mesh/mesh.hpp"
 #include "mwst/mesh/pslg.hpp"
 #include "mwst/algorithms/refine.hpp"
@@ -62,7 +61,7 @@ using ProgressCallback = std::function<void(const Progress&)>;
 std::string format_progress(const Progress& progress);
 
 // A resource ran out, or a request cannot fit in it: the memory budget
-// (TriangulateOptions::memory_budget_bytes; an --max-area whose mesh would not fit). The message
+// (TriangulateOptions::memory_budget_bytes; a max_area whose mesh would not fit). The message
 // says what ran out and what to try. The command line exits with its own code (4).
 class ResourceError : public std::runtime_error {
  public:
@@ -96,7 +95,7 @@ struct TriangulateOptions {
   // qtr: the most leaves its quadtree may have before the method falls back
   // (QuadtreeOptions::max_leaves; 0 = automatic). The fuzz harness keeps its meshes small with it.
   std::size_t quadtree_max_leaves = 0;
-  // The memory the run may use, in bytes (0: no budget). An --max-area whose mesh cannot fit (at
+  // The memory the run may use, in bytes (0: no budget). A max_area whose mesh cannot fit (at
   // least domain area / max_area triangles, estimated_bytes of them; refinement makes about twice
   // that) is refused with a ResourceError before any refinement.
   double memory_budget_bytes = 0.0;
@@ -121,19 +120,19 @@ struct TriangulateOptions {
   ProgressCallback progress;
 };
 
-// Why a refinement method (dr, brh, opt) stopped, checked against the final mesh (after --flip and
+// Why a refinement method (dr, brh, opt) stopped, checked against the final mesh (after the flips and
 // opt's moves) and the budgets: see settle_stop_reason().
 enum class StopKind {
   kUnset,                 // dt, qtr: no stop reason
   kBoundReached,          // every triangle meets the angle and area bounds ("bound reached")
   kSmallInputAngles,      // all but `count` triangles next to input angles under 60° do
-  kSteinerBudget,         // --max-steiner ran out first
-  kTimeBudget,            // --time-limit passed first
+  kSteinerBudget,         // max_steiner ran out first
+  kTimeBudget,            // time_budget_seconds passed first
   kLocalMinimum,          // opt: no move lowers the weight, and the area bound holds
   kRoundLimit,            // brh: its pass limit
   kBeyondFeatureSize,     // the termination guard of dr and brh (refine.hpp, kStopBeyondFeatureSize)
-  kBelowBoundAfterFlips,  // --flip: `count` triangles below the bound after the flips
-  kSkinnyInBundles,       // brh --flip: `count` skinny triangles in K-bundles after the flips
+  kBelowBoundAfterFlips,  // flip: `count` triangles below the bound after the flips
+  kSkinnyInBundles,       // brh with flip: `count` skinny triangles in K-bundles after the flips
   kLeftBelowBound,        // `count` triangles miss the bound, none of the reasons above holds
   kProtectedSegments,     // `count` triangles miss the bound beside subsegments that may not be
                           // split (segment_splitting, Triangle's -Y / -YY)
@@ -155,7 +154,7 @@ std::string to_string(const StopReason& reason);
 // The reason an engine (RefineStats::stop_reason, BrhStats::stop_reason) gives in words.
 StopReason parse_stop_reason(std::string_view text);
 // The true stop reason of `method`'s result `mesh` under `options`, given the reason its engine
-// gave (`engine`) and whether --flip ran after it. The bounds are checked on the mesh (check_bounds
+// gave (`engine`) and whether the flips ran after it. The bounds are checked on the mesh (check_bounds
 // of metrics.hpp: angle for dr, area for dr, brh, opt): a mesh that meets them (exemptions: the
 // triangles next to input angles under 60°) is "bound reached" or "N triangles left near small
 // input angles" (dr; brh's K-bundle test stands for its angle bound, checked again after flips
@@ -165,7 +164,7 @@ StopReason parse_stop_reason(std::string_view text);
 // segment_splitting protects subsegments, and otherwise "N triangles left outside the bounds".
 // The area bound includes the mesh's own per-triangle bounds (Mesh::area_bound: regional limits,
 // .area files). Never a reason the mesh contradicts.
-// brh --flip's exact test stops at `deadline` (the time budget's), and the reason is then "time budget".
+// brh with flip: its exact test stops at `deadline` (the time budget's), and the reason is then "time budget".
 StopReason settle_stop_reason(const Mesh& mesh, const TriangulateOptions& options, const StopReason& engine,
                               bool flipped,
                               std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max());
@@ -188,6 +187,74 @@ MWST_API void check_options(const TriangulateOptions& options);
 // strict, bundle, ...) and names not listed: true.
 MWST_API bool method_reads_option(Method method, std::string_view option);
 
+// What the phases of a run did beyond the common measures: the method-specific part of the report.
+// A phase that did not run leaves its member of Report empty; the JSON report (mwst/io/report.hpp)
+// prints each present one as an object under the key in brackets.
+struct StartSummary {  // ["start"] Triangle's -r: the triangulation the run started from
+  std::size_t triangles = 0;
+  std::size_t reoriented = 0;  // triangles given clockwise, turned counter-clockwise
+};
+struct RefineSummary {  // ["refine"] dr (RefineStats)
+  std::size_t steiner_inserted = 0;
+  std::size_t segment_splits = 0;
+  std::size_t left_small_angle = 0;
+  std::optional<std::size_t> left_protected;  // only when segment splitting is restricted (-Y)
+};
+struct ConformSummary {  // ["conform"] dt with conforming Delaunay (-D)
+  std::size_t segment_splits = 0;
+};
+struct BrhSummary {  // ["brh"] (BrhStats)
+  std::size_t bundle_k = 0;
+  std::size_t rounds = 0;
+  std::size_t exact_evaluations = 0;
+  std::size_t steiner_inserted = 0;
+  std::size_t segment_splits = 0;
+  std::size_t skinny_left = 0;
+};
+struct FlipSummary {  // ["flip"] EFH (FlipStats)
+  std::size_t flips = 0;
+  double weight_before = 0.0;
+  double weight_after = 0.0;
+};
+struct QuadtreeSummary {  // ["qtr"] (QuadtreeStats)
+  std::size_t leaves = 0;
+  unsigned depth = 0;
+  std::size_t warped = 0;
+  std::size_t snapped = 0;
+  std::size_t crossing_points = 0;
+  std::size_t centres = 0;
+  bool fallback = false;
+};
+struct OptimizeSummary {  // ["optimize"] opt (OptimizeStats of the winning search)
+  // > 0: the domain was optimised as this many pieces; then only weight_after is set.
+  std::size_t pieces = 0;
+  std::string start;                                   // the start whose search won
+  std::vector<std::pair<std::string, double>> starts;  // every start tried: its weight after search
+  std::size_t rounds = 0;
+  std::size_t relocations = 0;
+  std::size_t removals = 0;
+  std::size_t insertions = 0;
+  std::size_t region_retriangulations = 0;
+  std::size_t region_tries_skipped = 0;
+  std::size_t kick_insertions = 0;
+  std::size_t kick_removals = 0;
+  std::size_t perturbations = 0;
+  std::size_t whole_polygon_mwt = 0;
+  std::size_t flips = 0;
+  std::size_t crossover_pieces = 0;  // pieces the partition crossover took from other starts
+  double crossover_gain = 0.0;
+  double weight_before = 0.0;
+  double weight_after = 0.0;
+  std::optional<std::size_t> exact_polishes;      // only with exact_polish
+  std::optional<std::size_t> exact_polish_tries;  // only with exact_polish
+};
+struct BundleSummary {  // the keys bundle_number, bundle_disk {x, y, r}, bundle_circumdisk_bound
+  std::uint32_t bundle_number = 0;
+  Point disk_center;
+  double disk_radius = 0.0;
+  std::uint32_t circumdisk_bound = 0;
+};
+
 struct MWST_API Report {
   std::string input;   // Pslg::source
   std::string method;  // method_name()
@@ -201,7 +268,7 @@ struct MWST_API Report {
   double weight_interior = 0.0;
   double min_angle = 0.0;        // degrees, over domain triangles
   double max_angle = 0.0;
-  double max_triangle_area = 0.0;  // the largest domain triangle's area (what --max-area bounds)
+  double max_triangle_area = 0.0;  // the largest domain triangle's area (what max_area bounds)
   // Wall-clock seconds of each phase, in the order the phases ran.
   std::vector<std::pair<std::string, double>> seconds;
   StopReason stop;               // refinement methods only (settle_stop_reason)
@@ -209,9 +276,15 @@ struct MWST_API Report {
   std::size_t duplicates = 0;    // duplicate input points merged
   std::size_t crossings = 0;     // crossing points inserted where segments cross
   std::vector<std::string> warnings;  // printed as "mwst: warning: ..." by the command line
-  // Method-specific results (bundle size used, bundle number, flips done, ...). to_json merges its
-  // keys into the top level of the report; they must not collide with the keys above.
-  nlohmann::json extra = nlohmann::json::object();
+  // Method-specific results, present when their phase ran.
+  std::optional<StartSummary> start;
+  std::optional<RefineSummary> refine;
+  std::optional<ConformSummary> conform;
+  std::optional<BrhSummary> brh;
+  std::optional<FlipSummary> flip;
+  std::optional<QuadtreeSummary> qtr;
+  std::optional<OptimizeSummary> optimize;
+  std::optional<BundleSummary> bundle;  // TriangulateOptions::bundle, unless the time budget ran out
 
   double total_seconds() const;
 };
@@ -224,11 +297,5 @@ struct MWST_API Report {
 // ResourceError for a request that cannot fit in options.memory_budget_bytes, std::invalid_argument for unusable options (a bundle size below 3, an angle outside [0, 60), ...),
 // and InternalError for broken invariants.
 MWST_API Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* out = nullptr);
-
-// The JSON report: input, method, parameters, vertices, triangles, steiner, weight_total,
-// weight_boundary, weight_interior, min_angle, max_angle, max_triangle_area, seconds (an object
-// phase → seconds, plus "total"), stop_reason (refinement methods), duplicates, crossings,
-// warnings, and the keys of Report::extra.
-MWST_API nlohmann::json to_json(const Report& report);
 
 }  // namespace mwst

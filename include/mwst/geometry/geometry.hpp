@@ -137,7 +137,7 @@ MWST_API Point exact_crossing(const Point& a, const Point& b, const Point& c, co
 // Signed area of triangle (a, b, c) (rounded; positive when counter-clockwise).
 MWST_API double signed_area(const Point& a, const Point& b, const Point& c);
 
-// The area an area bound (--max-area) is tested and reported with: ½ (b − a) × (c − a) in plain
+// The area an area bound (max_area) is tested and reported with: ½ (b − a) × (c − a) in plain
 // double arithmetic (a few ulps from signed_area's accurate rounding, and cheap), taken from the
 // corner that is least in (x, y) order, so that it does not depend on which corner a caller
 // names first (a move checks a triangle in one rotation, measure() reads it in another).
