@@ -1,40 +1,16 @@
-// The exact minimum weight triangulation (MWT) of a mesh's vertex set with its segments as
-// constraints (mwst/algorithms/mwt.hpp), to measure the gap between the paper's EFH (greedy weight-reducing
-// flips, a locally minimal triangulation) and the optimum on the same vertices — the question of
-// the paper's open problem 3 (the MWT of a well-spaced point set).
-//
-// Pipeline, after Beirouti and Snoeyink, "Implementations of the LMT heuristic for minimum weight
-// triangulation" (SoCG 1998):
-//  1. Candidate edges. Route "diamond": pairs passing the diamond test of Drysdale, McElfresh and
-//     Snoeyink ("On exclusion regions for optimal triangulations", 2001): if both isosceles
-//     triangles with base uv and base angle π/4.6 contain a point, uv is in no MWT of the point
-//     set. We enumerate pairs around each vertex u in growing disks and stop with "dead sectors":
-//     a point p with |up| ≤ r at angle φ lies, for every v with |uv| ≥ 2r whose direction ψ has
-//     0 < φ − ψ < π/4.6, inside the left triangle of uv (its projection on uv is at most |uv|/2,
-//     so the angle at v is below the angle at u); once the angular gaps between such points are
-//     all below π/4.6, every longer edge from u fails on both sides. Route "visibility": every
-//     pair whose open segment lies in the domain, contains no vertex and crosses no segment.
-//     Witness and angle tests run in doubles with a relative safety margin that only ever keeps
-//     an edge; vertex-on-edge and crossing tests are exact (orient2d).
-//  2. The LMT-skeleton (Dickerson and Montague 1996): an MWT is locally minimal, so each of its
-//     edges has, on each side, an empty candidate triangle whose other edges are still alive, such
-//     that the edge is no longer than the other diagonal of the quadrilateral (or that is not
-//     strictly convex; exact comparison of squared lengths). Edges without such a pair die; edges
-//     no living candidate crosses are fixed, and kill every candidate crossing them; repeat. A
-//     first pass of the first rule runs before the crossing lists are built, so that they are
-//     built for the survivors only (memory: the visibility route starts from quadratically many).
-//     Range queries (witnesses, empty triangles, crossing candidates) use a bounding-volume tree
-//     with median splits, so clustered inputs (Kuzmin) cost no more than uniform ones.
-//  3. The faces of the fixed edges are triangulated by the O(d³) polygon DP (polygon_mwt of
-//     optimize.hpp; Gilbert 1979, Klincsek 1980), which is exact for a simple polygon with no
-//     vertex inside. A face that is not simple (dangling edges, a disconnected skeleton) is not
-//     handled: the result is "not solved".
-//  4. Route "diamond" computed an MWT of the point set. If it contains every subsegment and every
-//     domain boundary edge, its triangles inside the domain are an MWT of the domain (exchange
-//     argument in mwt.hpp); otherwise that route fails and the visibility route is tried.
-//  Triangles with a straight corner at a segment's Steiner point (two subsegments as sides, a
-//  sliver along the segment; forbidden to EFH as well) are excluded: the visibility route drops
-//  the edges that would close them; the diamond route gives up if its answer has one.
+// The exact minimum weight triangulation of a mesh's vertex set with its segments as constraints
+// (mwst/algorithms/mwt.hpp), after Beirouti and Snoeyink, "Implementations of the LMT heuristic for
+// minimum weight triangulation" (SoCG 1998); docs/algorithms/mwt.md tells the whole method.
+//  1. Candidate edges: the diamond test of Drysdale, McElfresh and Snoeyink (route "diamond",
+//     enumerated in growing disks with "dead sectors"), or all visible pairs (route "visibility").
+//     Witness and angle tests run in doubles with a margin that only ever keeps an edge; vertex-on-
+//     edge and crossing tests are exact (orient2d).
+//  2. The LMT-skeleton (Dickerson and Montague 1996): edges with no locally minimal empty pair of
+//     candidate triangles die, edges no living candidate crosses are fixed; repeat.
+//  3. The faces of the fixed edges: the polygon dynamic program (polygon_mwt.hpp) when simple,
+//     else "not solved".
+//  4. Route "diamond" answers for the domain only if its triangulation contains every subsegment
+//     and boundary edge; otherwise the visibility route is tried.
 // Lengths are summed in doubles: "exact" means exact up to the rounding of those sums.
 #include "mwst/algorithms/mwt.hpp"
 
@@ -53,7 +29,8 @@
 
 #include "mwst/error.hpp"
 #include "mwst/algorithms/metrics.hpp"
-#include "mwst/algorithms/optimize.hpp"
+#include "algorithms/mwt/polygon_mwt.hpp"
+#include "mesh/keys.hpp"
 
 namespace mwst {
 
@@ -61,8 +38,6 @@ namespace {
 
 using Index = std::uint32_t;
 using Tri = std::array<Index, 3>;
-
-inline std::uint64_t key(Index a, Index b) { return (static_cast<std::uint64_t>(a) << 32) | b; }
 
 // ---- the domain ---------------------------------------------------------------------------------
 
@@ -110,7 +85,7 @@ Domain collect_domain(const Mesh& m) {
       const Index a = local_of(m.org(h)), b = local_of(m.dest(h));
       if (boundary) {
         d.boundary.push_back({a, b});
-        d.outer.emplace(key(m.org(h), m.dest(h)), m.sym(h));
+        d.outer.emplace(edge_key(m.org(h), m.dest(h)), m.sym(h));
       }
       if (boundary || (segment && t < other)) d.constraints.push_back({std::min(a, b), std::max(a, b)});
       if (segment && (boundary || t < other)) d.segments.push_back({m.org(h), m.dest(h), m.marker(h)});
@@ -420,7 +395,7 @@ class Skeleton {
     }
     state_.assign(E_.size(), kAlive);
     for (const auto& f : forced) {
-      auto it = index_.find(key(std::min(f[0], f[1]), std::max(f[0], f[1])));
+      auto it = index_.find(undirected_key(f[0], f[1]));
       if (it == index_.end()) throw InternalError("mwt: a forced edge is not a candidate");
       state_[it->second] = kFixed;
     }
@@ -444,12 +419,12 @@ class Skeleton {
   const std::string& overflow() const { return overflow_; }
   std::size_t size() const { return E_.size(); }
   std::size_t initial_size() const { return initial_edges_; }
-  bool has_edge(Index a, Index b) const { return index_.count(key(std::min(a, b), std::max(a, b))) != 0; }
+  bool has_edge(Index a, Index b) const { return index_.count(undirected_key(a, b)) != 0; }
 
   // Fixes the forced edges, then runs the skeleton loop. False if two fixed edges cross.
   bool run(const std::vector<std::array<Index, 2>>& forced) {
     for (const auto& f : forced) {
-      auto it = index_.find(key(std::min(f[0], f[1]), std::max(f[0], f[1])));
+      auto it = index_.find(undirected_key(f[0], f[1]));
       if (it == index_.end()) throw InternalError("mwt: a forced edge is not a candidate");
       if (!fix(it->second)) return false;
     }
@@ -529,11 +504,11 @@ class Skeleton {
       const Point& c = P_[v0];
       while (k < ring.size() && (P_[ring[k]].y > c.y || (P_[ring[k]].y == c.y && P_[ring[k]].x > c.x))) ++k;
       const Index w = (k == 0 || k == ring.size()) ? ring.back() : ring[k - 1];
-      hull_edge = key(v0, w);
+      hull_edge = edge_key(v0, w);
     }
     std::unordered_map<std::uint64_t, Index> position;  // directed (v, w) → index of w around v
     for (Index v = 0; v < n; ++v) {
-      for (Index i = 0; i < around[v].size(); ++i) position.emplace(key(v, around[v][i]), i);
+      for (Index i = 0; i < around[v].size(); ++i) position.emplace(edge_key(v, around[v][i]), i);
     }
     std::unordered_map<std::uint64_t, char> visited;
     std::vector<Index> walk;
@@ -542,22 +517,22 @@ class Skeleton {
     std::size_t diagonals = 0;
     for (Index v0 = 0; v0 < n; ++v0) {
       for (Index w0 : around[v0]) {
-        if (visited.count(key(v0, w0))) continue;
+        if (visited.count(edge_key(v0, w0))) continue;
         walk.clear();
         Index a = v0, b = w0;
         // The face on the left of a→b: at b, continue with the neighbour just clockwise of a.
-        while (!visited.count(key(a, b))) {
-          visited.emplace(key(a, b), 1);
+        while (!visited.count(edge_key(a, b))) {
+          visited.emplace(edge_key(a, b), 1);
           walk.push_back(a);
           const auto& ring = around[b];
-          const Index i = position.at(key(b, a));
+          const Index i = position.at(edge_key(b, a));
           const Index c = ring[(i + ring.size() - 1) % ring.size()];
           a = b;
           b = c;
         }
         bool outer = false;
         for (std::size_t i = 0; hull_outer && i < walk.size() && !outer; ++i) {
-          outer = key(walk[i], walk[(i + 1) % walk.size()]) == hull_edge;
+          outer = edge_key(walk[i], walk[(i + 1) % walk.size()]) == hull_edge;
         }
         if (outer || outside_face(walk)) continue;
         std::vector<Index> sorted = walk;
@@ -603,7 +578,7 @@ class Skeleton {
 
   void index_edges() {
     index_.clear();
-    for (Index e = 0; e < E_.size(); ++e) index_.emplace(key(E_[e][0], E_[e][1]), e);
+    for (Index e = 0; e < E_.size(); ++e) index_.emplace(edge_key(E_[e][0], E_[e][1]), e);
     adjacency_.assign(P_.size(), {});
     for (Index e = 0; e < E_.size(); ++e) {
       adjacency_[E_[e][0]].push_back({E_[e][1], e});
@@ -806,11 +781,11 @@ Mesh rebuild(const Mesh& input, const Domain& d, const std::vector<Tri>& tris) {
     const TriangleId t = slots[i];
     m.flags[t] = static_cast<std::uint8_t>(m.flags[t] & ~std::uint8_t{7});
     for (unsigned k = 0; k < 3; ++k) m.triangles[t].v[k] = d.ids[tris[i][k]];
-    for (unsigned e = 0; e < 3; ++e) directed.emplace(key(m.org(make_handle(t, e)), m.dest(make_handle(t, e))), make_handle(t, e));
+    for (unsigned e = 0; e < 3; ++e) directed.emplace(edge_key(m.org(make_handle(t, e)), m.dest(make_handle(t, e))), make_handle(t, e));
   }
   for (const auto& [k, h] : directed) {
     const VertexId a = static_cast<VertexId>(k >> 32), b = static_cast<VertexId>(k & 0xFFFFFFFFu);
-    auto it = directed.find(key(b, a));
+    auto it = directed.find(edge_key(b, a));
     if (it != directed.end()) {
       m.triangles[h >> 2].n[h & 3] = it->second;
       continue;
@@ -821,7 +796,7 @@ Mesh rebuild(const Mesh& input, const Domain& d, const std::vector<Tri>& tris) {
     m.triangles[out->second >> 2].n[out->second & 3] = h;
   }
   for (const auto& s : d.segments) {
-    const auto it = directed.find(key(static_cast<VertexId>(s[0]), static_cast<VertexId>(s[1])));
+    const auto it = directed.find(edge_key(static_cast<VertexId>(s[0]), static_cast<VertexId>(s[1])));
     if (it == directed.end()) throw InternalError("mwt: a subsegment is missing from the optimal triangulation");
     m.set_segment(it->second, static_cast<std::int32_t>(s[2]));
   }
@@ -834,14 +809,14 @@ Mesh rebuild(const Mesh& input, const Domain& d, const std::vector<Tri>& tris) {
 std::vector<Tri> restrict_to_domain(const Domain& d, const std::vector<Tri>& tris) {
   std::unordered_map<std::uint64_t, Index> owner;
   for (Index i = 0; i < tris.size(); ++i) {
-    for (unsigned k = 0; k < 3; ++k) owner.emplace(key(tris[i][k], tris[i][(k + 1) % 3]), i);
+    for (unsigned k = 0; k < 3; ++k) owner.emplace(edge_key(tris[i][k], tris[i][(k + 1) % 3]), i);
   }
   std::unordered_map<std::uint64_t, char> barrier;
-  for (const auto& b : d.boundary) barrier.emplace(key(b[0], b[1]), 1), barrier.emplace(key(b[1], b[0]), 1);
+  for (const auto& b : d.boundary) barrier.emplace(edge_key(b[0], b[1]), 1), barrier.emplace(edge_key(b[1], b[0]), 1);
   std::vector<char> inside(tris.size(), 0);
   std::vector<Index> stack;
   for (const auto& b : d.boundary) {
-    auto it = owner.find(key(b[0], b[1]));
+    auto it = owner.find(edge_key(b[0], b[1]));
     if (it == owner.end()) return {};
     if (!inside[it->second]) inside[it->second] = 1, stack.push_back(it->second);
   }
@@ -850,8 +825,8 @@ std::vector<Tri> restrict_to_domain(const Domain& d, const std::vector<Tri>& tri
     stack.pop_back();
     for (unsigned k = 0; k < 3; ++k) {
       const Index a = tris[t][k], b = tris[t][(k + 1) % 3];
-      if (barrier.count(key(a, b))) continue;
-      auto it = owner.find(key(b, a));
+      if (barrier.count(edge_key(a, b))) continue;
+      auto it = owner.find(edge_key(b, a));
       if (it != owner.end() && !inside[it->second]) inside[it->second] = 1, stack.push_back(it->second);
     }
   }
@@ -912,10 +887,10 @@ MwtResult exact_mwt(const Mesh& mesh, const MwtOptions& options) {
       } else {
         std::unordered_map<std::uint64_t, char> edges;
         for (const Tri& t : core.triangles) {
-          for (unsigned k = 0; k < 3; ++k) edges.emplace(key(std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])), 1);
+          for (unsigned k = 0; k < 3; ++k) edges.emplace(undirected_key(t[k], t[(k + 1) % 3]), 1);
         }
         bool contains_constraints = true;
-        for (const auto& c : d.constraints) contains_constraints = contains_constraints && edges.count(key(c[0], c[1]));
+        for (const auto& c : d.constraints) contains_constraints = contains_constraints && edges.count(edge_key(c[0], c[1]));
         if (!contains_constraints) {
           result.reason = "the point set's MWT misses a segment or boundary edge (diamond route)";
         } else {
@@ -947,11 +922,11 @@ MwtResult exact_mwt(const Mesh& mesh, const MwtOptions& options) {
       result.reason = earlier + "two fixed edges cross (visibility route)";
     } else {
       std::unordered_map<std::uint64_t, char> reversed_boundary;
-      for (const auto& b : d.boundary) reversed_boundary.emplace(key(b[1], b[0]), 1);
+      for (const auto& b : d.boundary) reversed_boundary.emplace(edge_key(b[1], b[0]), 1);
       CoreResult core = skeleton.triangulate_faces(
           [&](const std::vector<Index>& walk) {
             for (std::size_t i = 0; i < walk.size(); ++i) {
-              if (reversed_boundary.count(key(walk[i], walk[(i + 1) % walk.size()]))) return true;
+              if (reversed_boundary.count(edge_key(walk[i], walk[(i + 1) % walk.size()]))) return true;
             }
             return false;
           },

@@ -1,4 +1,4 @@
-// Partition crossover of two triangulations of one domain (used by the optimiser, optimize.hpp).
+// Partition crossover of two triangulations of one domain (crossover.hpp; method opt's last step).
 //
 // Two light Steiner triangulations A and B of the same input usually agree on most edges (the fans
 // along a coastline, the input segments) and differ in separate places, each the choice of a local
@@ -11,8 +11,9 @@
 // Whitley, Hains and Howe (GPX, 2009) for the travelling salesman problem, here for triangulations;
 // a piece is taken from B only if its boundary in B is the same chain of edges (a segment split by
 // different Steiner points in A and B leaves its piece to A).
+#include "algorithms/optimize/crossover.hpp"
+
 #include <algorithm>
-#include <bit>
 #include <cstdint>
 #include <unordered_map>
 #include <unordered_set>
@@ -21,24 +22,11 @@
 
 #include "mwst/error.hpp"
 #include "mwst/geometry/geometry.hpp"
-#include "mwst/algorithms/optimize.hpp"
+#include "mesh/keys.hpp"
 
 namespace mwst {
 
 namespace {
-
-inline std::uint64_t edge_key(VertexId a, VertexId b) { return (static_cast<std::uint64_t>(a) << 32) | b; }
-inline std::uint64_t undirected_key(VertexId a, VertexId b) { return edge_key(std::min(a, b), std::max(a, b)); }
-
-struct PointKey {
-  std::uint64_t x, y;
-  bool operator==(const PointKey&) const = default;
-};
-struct PointKeyHash {
-  std::size_t operator()(const PointKey& k) const { return k.x * 0x9E3779B97F4A7C15ull ^ (k.y + (k.x >> 29)); }
-};
-// Exact coordinates as a key (−0 and +0 are one point).
-PointKey point_key(const Point& p) { return {std::bit_cast<std::uint64_t>(p.x + 0.0), std::bit_cast<std::uint64_t>(p.y + 0.0)}; }
 
 // The pieces of a mesh: its in-domain triangles joined across the edges not in `shared` (undirected
 // keys in the ids id_of(v) gives the mesh's vertices; kNone: a vertex the other mesh lacks). Each
@@ -131,12 +119,12 @@ CrossoverStats partition_crossover(Mesh& a, const Mesh& b) {
   }
   std::unordered_map<PointKey, VertexId, PointKeyHash> a_at;
   for (VertexId v = 0; v < a.points.size(); ++v) {
-    if (a_used[v]) a_at.emplace(point_key(a.points[v]), v);
+    if (a_used[v]) a_at.emplace(PointKey(a.points[v]), v);
   }
   std::vector<VertexId> b_to_a(b.points.size(), kNone);
   for (VertexId v = 0; v < b.points.size(); ++v) {
     if (!b_used[v]) continue;
-    const auto it = a_at.find(point_key(b.points[v]));
+    const auto it = a_at.find(PointKey(b.points[v]));
     if (it != a_at.end()) b_to_a[v] = it->second;
   }
   // Shared edges (A's ids), and B's directed edges by A's ids.
