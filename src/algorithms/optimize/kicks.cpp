@@ -289,6 +289,25 @@ std::size_t Optimizer::kick_segment_insertions() {
   return accepted;
 }
 
+// The end of a kick removal, once v's star (region_) was re-triangulated without v in a trial that
+// changed the weight by `delta`: flips from the new triangles, then the trial kept (v removed) if
+// the weight dropped below `weight` by kick_min_relative_gain, else undone.
+bool Optimizer::finish_kick_removal(VertexId v, double delta, double weight) {
+  for (const TriangleId t : region_.triangles) {
+    if (m_.is_dead(t)) continue;
+    for (unsigned e = 0; e < 3; ++e) flip_stack_.push_back(make_handle(t, e));
+  }
+  delta += local_flips();
+  if (delta < -opt_.kick_min_relative_gain * weight) {
+    keep_trial();
+    m_.vertex_kind[v] = VertexKind::kRemoved;
+    ++stats_.kick_removals;
+    return true;
+  }
+  undo_trial();
+  return false;
+}
+
 // kick_segment_removals' re-triangulation of the star of v (region_) without v: the two sides of
 // the merged segment, neighbours ends[0] .. ends[1] and ends[1] .. ends[0] (cyclically), each by
 // its MWT. Appends the triangles to `tris` (cleared first) with their flags, adds the in-domain
@@ -389,19 +408,7 @@ std::size_t Optimizer::kick_segment_removals() {
       continue;
     }
     m_.set_segment(ab, marker);
-    for (const TriangleId t : region_.triangles) {
-      if (m_.is_dead(t)) continue;
-      for (unsigned e = 0; e < 3; ++e) flip_stack_.push_back(make_handle(t, e));
-    }
-    delta += local_flips();
-    if (delta < -opt_.kick_min_relative_gain * weight) {
-      keep_trial();
-      m_.vertex_kind[v] = VertexKind::kRemoved;
-      ++stats_.kick_removals;
-      ++accepted;
-    } else {
-      undo_trial();
-    }
+    if (finish_kick_removal(v, delta, weight)) ++accepted;
   }
   rebuild_vertex_handles();
   return accepted;
@@ -443,19 +450,7 @@ std::size_t Optimizer::kick_removals() {
     }
     region_.outside_flag = 0;
     replace_region(m_, region_, tris);
-    for (const TriangleId t : region_.triangles) {
-      if (m_.is_dead(t)) continue;
-      for (unsigned e = 0; e < 3; ++e) flip_stack_.push_back(make_handle(t, e));
-    }
-    delta += local_flips();
-    if (delta < -opt_.kick_min_relative_gain * weight) {
-      keep_trial();
-      m_.vertex_kind[v] = VertexKind::kRemoved;
-      ++stats_.kick_removals;
-      ++accepted;
-    } else {
-      undo_trial();
-    }
+    if (finish_kick_removal(v, delta, weight)) ++accepted;
   }
   return accepted;
 }

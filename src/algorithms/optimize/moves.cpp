@@ -41,6 +41,25 @@ double golden_section_minimum(F f) {
 
 }  // namespace
 
+// Moves v to the first of q, (v + q) / 2, (v + (v + q) / 2) / 2, ... (each snapped to the
+// supported range; at most 40) that `accept` takes, counting a relocation; false if none is.
+template <class Accept>
+bool Optimizer::move_towards(VertexId v, Point q, Accept accept) {
+  const Point p = m_.points[v];
+  for (int halving = 0; halving < 40; ++halving) {
+    q = {snap_to_range(q.x), snap_to_range(q.y)};
+    if (accept(q)) {
+      m_.save_vertex(v);
+      m_.points[v] = q;
+      ++stats_.relocations;
+      return true;
+    }
+    q = {0.5 * (p.x + q.x), 0.5 * (p.y + q.y)};
+    if (q == p) break;
+  }
+  return false;
+}
+
 // A handle with org v, found by walking from `near`.
 Handle Optimizer::handle_near(VertexId v, Handle near) const {
   const Location loc = m_.locate(m_.points[v], near);
@@ -220,21 +239,11 @@ bool Optimizer::try_relocate(VertexId v) {
   for (const VertexId u : region_.boundary) polygon_.push_back(m_.points[u]);
   const Point p = m_.points[v];
   const double before = spoke_sum(p, polygon_);
-  Point q = geometric_median(p, polygon_);
-  for (int halving = 0; halving < 40; ++halving) {
-    q = {snap_to_range(q.x), snap_to_range(q.y)};
+  return move_towards(v, geometric_median(p, polygon_), [&](const Point& q) {
     // (The cheap test first: in_kernel's margins cost a hypot per edge.)
-    if (in_supported_range(q) && spoke_sum(q, polygon_) < before && in_kernel(q, polygon_) &&
-        separated(q, region_.outer) && star_within_area(q, polygon_)) {
-      m_.save_vertex(v);
-      m_.points[v] = q;
-      ++stats_.relocations;
-      return true;
-    }
-    q = {0.5 * (p.x + q.x), 0.5 * (p.y + q.y)};
-    if (q == p) break;
-  }
-  return false;
+    return in_supported_range(q) && spoke_sum(q, polygon_) < before && in_kernel(q, polygon_) &&
+           separated(q, region_.outer) && star_within_area(q, polygon_);
+  });
 }
 
 // A Steiner vertex on a segment slides along the line through its two segment neighbours, to
@@ -285,19 +294,8 @@ bool Optimizer::try_slide(VertexId v) {
   const Point p = m_.points[v];
   const double before = weight_at(p);
   auto at = [&](double t) { return Point{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)}; };
-  Point q = at(golden_section_minimum([&](double t) { return weight_at(at(t)); }));
-  for (int halving = 0; halving < 40; ++halving) {
-    q = {snap_to_range(q.x), snap_to_range(q.y)};
-    if (valid_at(q) && weight_at(q) < before && separated(q, slide_beyond_)) {
-      m_.save_vertex(v);
-      m_.points[v] = q;
-      ++stats_.relocations;
-      return true;
-    }
-    q = {0.5 * (p.x + q.x), 0.5 * (p.y + q.y)};
-    if (q == p) break;
-  }
-  return false;
+  return move_towards(v, at(golden_section_minimum([&](double t) { return weight_at(at(t)); })),
+                      [&](const Point& q) { return valid_at(q) && weight_at(q) < before && separated(q, slide_beyond_); });
 }
 
 // try_slide's walk around the vertex v that h leaves: fills slide_spokes_ (the neighbours whose spokes count

@@ -68,6 +68,8 @@ class Optimizer {
   bool try_relocate(VertexId v);  // a free Steiner vertex to its neighbours' geometric median
   bool try_slide(VertexId v);     // a Steiner vertex on a segment along the segment
   bool slide_star(Handle h, VertexId ends[2], VertexId hull[4]);  // try_slide's star
+  template <class Accept>
+  bool move_towards(VertexId v, Point q, Accept accept);  // the first accepted point towards q
   Handle handle_near(VertexId v, Handle near) const;
   void push_star(Handle h);
   double polish_vertex(VertexId v, Handle near);  // flips and geometric medians around a new vertex
@@ -88,6 +90,7 @@ class Optimizer {
   bool merge_segment_sides(VertexId v, const std::size_t ends[2], std::vector<std::array<VertexId, 3>>& tris,
                            std::vector<std::uint8_t>& flags, double& delta);  // its two sides' MWTs
   std::size_t kick_removals();            // a free Steiner point removed, then flips
+  bool finish_kick_removal(VertexId v, double delta, double weight);  // flips; keep or undo
 
   // ---- regions re-triangulated whole (region_search.cpp) --------------------------------------
   void try_insertions();  // each triangle's neighbourhood: its MWT or a star from a new point
