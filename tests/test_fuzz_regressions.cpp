@@ -86,7 +86,7 @@ TEST(FuzzRegressions, QtrConvexHullFlipKeepsSegmentsStraight) {
 
 // Found by fuzz_triangulate (ASan) on its seed Kuzmin2K.poly (first 256 vertices; opt, --flip,
 // --strict, --min-angle 5, --max-area 7, --max-steiner 23): heap-use-after-free in
-// Optimizer::kick_insert (optimize.cpp), which kept references to three vertices of m_.points
+// Optimizer::kick_insert (src/algorithms/optimize/kicks.cpp), which kept references to three vertices of m_.points
 // across add_vertex(), whose push_back may reallocate the vector. Fixed by copying the points. In
 // a Release build the stale read usually goes unnoticed: this case matters in the sanitizer build.
 TEST(FuzzRegressions, OptKickInsertionSurvivesVertexReallocation) {
@@ -109,7 +109,7 @@ TEST(FuzzRegressions, OptKickInsertionSurvivesVertexReallocation) {
 // retriangulation (minimum weight triangulation of a region or a star) cut an "ear" at a Steiner
 // point on a hull segment between its two subsegments: a sliver along the segment, so
 // check_triangulation reported "subsegment ... lies on no input segment". Same shape as the EFH bug
-// above; fixed in optimize.cpp (spans_straight_angle refuses such a triangulation).
+// above; fixed in src/algorithms/optimize/region.hpp (spans_straight_angle refuses such a triangulation).
 TEST(FuzzRegressions, OptConvexHullKeepsSegmentsStraight) {
   const Pslg florida = first_vertices("Florida.poly", 64);
   TriangulateOptions options;
@@ -179,7 +179,7 @@ TEST(FuzzRegressions, CheckerTellsApartTheSidesOfAWedgeThinnerThanItsTolerance) 
 // (2^37, 2^37) cross at rounded points, and where their pieces merge a crossing point is left
 // with two collinear subsegments, like any Steiner point on a segment. OPT's segment kicks removed
 // it ("crossing point (137440002044.38794, 137440002045.13794) is not a vertex of the mesh"); every
-// other method keeps the crossing points. Fixed in optimize.cpp / pipeline.cpp: the crossing
+// other method keeps the crossing points. Fixed in src/algorithms/optimize/ and pipeline.cpp: the crossing
 // points the CDT adds are fixed vertices of the search (OptimizeOptions::fixed_vertices).
 TEST(FuzzRegressions, OptKeepsCrossingPointsOnAStraightChain) {
   Pslg pslg;
@@ -272,9 +272,9 @@ TEST(FuzzRegressions, CheckerOrdersAClusterOfPointsOnALongEdge) {
 // a cluster of small ones, so the convex hull is a needle. validate() rejected OPT's mesh:
 // "convex hull is not convex at vertex 53". A Steiner vertex on a hull edge slid along the line
 // through its segment neighbours, which are rounded points off the true hull line, and the hull
-// turned reflex there. Fixed in optimize.cpp: a slide on the hull keeps the hull convex at the
-// vertex and at its two hull neighbours. (The degenerate segments are the harness's; they are
-// ignored.)
+// turned reflex there. Fixed in src/algorithms/optimize/moves.cpp (try_slide): a slide on the
+// hull keeps the hull convex at the vertex and at its two hull neighbours. (The degenerate
+// segments are the harness's; they are ignored.)
 TEST(FuzzRegressions, OptKeepsTheConvexHullOfANeedleConvex) {
   Pslg pslg;
   pslg.is_poly = true;

@@ -2,24 +2,12 @@
 // segments as constraints, for measuring how far a locally minimal mesh (EFH, flip.hpp) is from
 // optimal on the same vertices (the paper's open problem 3 asks for the MWT of well-spaced sets).
 //
-// Method (src/algorithms/mwt/mwt.cpp): candidate edges, the LMT-skeleton to fix most of them, and
-// dynamic programming (polygon_mwt, optimize.hpp) over the simple polygons left.
-//   Route "diamond": the candidates are the vertex pairs passing the diamond test of Drysdale,
-//     McElfresh and Snoeyink (an edge of a point set's MWT has an empty isosceles triangle with
-//     base angle π/4.6 on one side), i.e. we compute the MWT of the vertex set as a point set
-//     (convex hull, no constraints). If it contains every subsegment and every domain boundary
-//     edge, its triangles inside the domain are a constrained MWT of the domain: any lighter
-//     triangulation of the domain, completed by the same triangles outside, would be a lighter
-//     triangulation of the point set.
-//   Route "visibility" (the fallback, small inputs): the candidates are all vertex pairs whose
-//     open segment lies in the domain and crosses no segment; segments and boundary edges are
-//     forced. Complete by construction, but quadratic in size.
-// Triangles with a straight corner at a segment's Steiner point (a sliver along the segment, which
-// EFH may not make either: flip.hpp, is_straight_corner) are excluded from the optimum.
-// The answer is exact up to the summation of lengths in doubles (weights are compared as double
-// sums; every sign — orientation, crossing, length comparison of two edges — is exact). When the
-// skeleton leaves a region that is not a simple polygon (a disconnected skeleton), or a route's
-// premise fails, the result says "not solved" and why; it never reports a heuristic as optimal.
+// Method (docs/algorithms/mwt.md): candidate edges (the diamond test of Drysdale, McElfresh and
+// Snoeyink on the vertex set, or all visible pairs in the domain), the LMT-skeleton to fix most of
+// them, and the polygon dynamic program over the faces left. Triangles with a straight corner at a
+// segment's Steiner point (flip.hpp, is_straight_corner) are excluded. The answer is exact up to
+// the summation of lengths in doubles; when a route's premise fails the result says "not solved"
+// and why, and never reports a heuristic as optimal.
 #pragma once
 
 #include <cstddef>

@@ -8,7 +8,6 @@
 #include <limits>
 
 #include "mwst/mesh/mesh.hpp"
-#include "mwst/mesh/pslg.hpp"
 
 namespace mwst {
 
@@ -78,14 +77,6 @@ struct OptimizeOptions {
   // valid and no heavier than given, but where it stopped depends on the machine's speed: only
   // the size budgets above give the same result on every run.
   double time_budget_seconds = -1.0;
-  // Testing: with false, every region the local search looks at is tried afresh, even one whose
-  // triangles, corners and neighbours are exactly as when it last failed (the search remembers
-  // those by fingerprint and skips them; OptimizeStats::region_tries_skipped). The result is the
-  // same either way; only the time differs.
-  bool remember_failed_regions = true;
-  // Testing: with true, a kick that is not kept is undone by restoring a copy of the mesh made
-  // before it, instead of by the mesh's trial journal (Mesh::begin_trial). Same result, slower.
-  bool undo_trials_by_copy = false;
 };
 
 struct OptimizeStats {
@@ -125,78 +116,5 @@ struct OptimizeStats {
 // exact_polish_start a second search runs from the MWT of the starting mesh, and the lighter of
 // the two results is kept. Either way the result is never heavier than without the polish.
 MWST_API OptimizeStats optimize(Mesh& mesh, const OptimizeOptions& options = {});
-
-// OptimizeOptions::min_separation's test: may a Steiner vertex be placed at q, inside the polygon
-// of mesh triangles whose edges the handles `beyond` see from the triangles outside them (q's
-// star to be, or the triangles q splits)? True if q is at least `separation` from every vertex of
-// the mesh and from every segment and domain boundary edge other than the polygon's chords. The
-// search runs outward from the polygon's edges across the ones nearer than `separation` to q
-// (every nearer vertex lies beyond such edges), so it is local; past 256 triangles it says no.
-MWST_API bool point_is_separated(const Mesh& mesh, const Point& q, const std::vector<Handle>& beyond, double separation);
-
-// Distance from p to the closed segment ab, in floating point (the separation it is compared with
-// is far above its rounding).
-MWST_API double point_segment_distance(const Point& p, const Point& a, const Point& b);
-
-// OptimizeOptions::min_separation's default for a search of `mesh`: kSeparationFraction × its
-// shortest domain edge (0 for an empty domain).
-MWST_API double default_min_separation(const Mesh& mesh);
-
-// One exact polish step on its own: compacts `mesh` and, within the exact_polish_* size limits of
-// `options`, replaces its triangulation by the exact MWT of its vertices with its segments
-// (exact_mwt, mwt.hpp) if that is solved and lighter by more than min_relative_gain. Returns true
-// if it did; vertices, segments and markers are unchanged either way.
-MWST_API bool exact_polish_mesh(Mesh& mesh, const OptimizeOptions& options);
-
-// Independent pieces (issue 32, opt at scale): the search's budgets (trials per start, the starts
-// tried) are per mesh, so an input of many disjoint parts got a thinner search per part than each
-// part alone. split_domain cuts the input by the connected components of its carved CDT `cdt`'s
-// domain (triangles joined across any shared edge, segments included) into one input per piece,
-// with the input's points in their order (input_ids[p][i]: the input id of piece p's point i), its
-// segments and the hole seeds in its bounding box. False (and no pieces) unless there are two or
-// more and the input is plain: no crossing or duplicate points, every point on the domain, no two
-// pieces touching at a point. merge_pieces puts the pieces' meshes (from method opt run on each
-// alone) back together as one mesh of the input: the input points keep their ids, the pieces'
-// Steiner points follow in piece order, every piece's triangles are kept as they are, the rest is
-// triangulated and carved as before. It checks that the pieces add up to the domain (triangles,
-// area, weight) and is valid, and returns false otherwise.
-struct DomainPieces {
-  std::vector<Pslg> pslgs;
-  std::vector<std::vector<VertexId>> input_ids;
-};
-MWST_API bool split_domain(const Pslg& input, const Mesh& cdt, DomainPieces& out);
-MWST_API bool merge_pieces(const Pslg& input, const Mesh& cdt, const DomainPieces& pieces,
-                           const std::vector<Mesh>& results, Mesh& out);
-
-// Partition crossover (crossover.cpp): cuts the domain along the edges two triangulations of the
-// same input share, and replaces each piece of `a` by `b`'s triangles there when those are lighter
-// and meet the rest along the same edges. `a` is never made heavier; it is compacted.
-struct CrossoverStats {
-  std::size_t pieces = 0;      // pieces of the domain between shared edges
-  std::size_t taken = 0;       // pieces taken from b
-  std::size_t mismatched = 0;  // pieces whose boundary differs in b (a segment split differently)
-  double gain = 0.0;           // weight removed from a
-};
-MWST_API CrossoverStats partition_crossover(Mesh& a, const Mesh& b);
-
-// Seeded starting meshes for the search (seed_points.cpp): Steiner points inserted (constrained
-// Delaunay insertion, insert_vertex) into a carved CDT at
-//  - kJunctionCircumcenters: the circumcenter of every in-domain triangle with no edge on the
-//    domain boundary, where the approximate medial axis (the CDT's dual) branches;
-//  - kCentroids: the centroid of every in-domain triangle.
-// Seeds off the domain or on an edge are skipped. Returns the number inserted. The mesh stays a
-// valid constrained Delaunay triangulation; the optimiser then keeps what pays.
-enum class SeedPoints { kJunctionCircumcenters, kCentroids };
-MWST_API std::size_t seed_steiner_points(Mesh& mesh, SeedPoints which);
-// Minimum weight triangulation of a simple polygon (vertices counter-clockwise) by dynamic
-// programming over its valid diagonals, O(d³) (Gilbert 1979; Klincsek 1980). Returns the total
-// length of the diagonals used, or +inf if the polygon cannot be triangulated (not simple), and
-// appends its triangles (indices into the polygon) to `triangles`.
-MWST_API double polygon_mwt(const std::vector<Point>& polygon,
-                   std::vector<std::array<std::uint32_t, 3>>* triangles);
-
-// True if the closed polygon (counter-clockwise) is simple and strictly convex: every corner turns
-// left and the fan from the first vertex turns left throughout (exact orientation tests).
-MWST_API bool is_strictly_convex(const std::vector<Point>& polygon);
 
 }  // namespace mwst

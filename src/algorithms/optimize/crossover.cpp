@@ -1,4 +1,4 @@
-// Partition crossover of two triangulations of one domain (used by the optimiser, optimize.hpp).
+// Partition crossover of two triangulations of one domain (crossover.hpp; method opt's last step).
 //
 // Two light Steiner triangulations A and B of the same input usually agree on most edges (the fans
 // along a coastline, the input segments) and differ in separate places, each the choice of a local
@@ -11,8 +11,9 @@
 // Whitley, Hains and Howe (GPX, 2009) for the travelling salesman problem, here for triangulations;
 // a piece is taken from B only if its boundary in B is the same chain of edges (a segment split by
 // different Steiner points in A and B leaves its piece to A).
+#include "algorithms/optimize/crossover.hpp"
+
 #include <algorithm>
-#include <bit>
 #include <cstdint>
 #include <unordered_map>
 #include <unordered_set>
@@ -21,24 +22,11 @@
 
 #include "mwst/error.hpp"
 #include "mwst/geometry/geometry.hpp"
-#include "mwst/algorithms/optimize.hpp"
+#include "mesh/keys.hpp"
 
 namespace mwst {
 
 namespace {
-
-inline std::uint64_t edge_key(VertexId a, VertexId b) { return (static_cast<std::uint64_t>(a) << 32) | b; }
-inline std::uint64_t undirected_key(VertexId a, VertexId b) { return edge_key(std::min(a, b), std::max(a, b)); }
-
-struct PointKey {
-  std::uint64_t x, y;
-  bool operator==(const PointKey&) const = default;
-};
-struct PointKeyHash {
-  std::size_t operator()(const PointKey& k) const { return k.x * 0x9E3779B97F4A7C15ull ^ (k.y + (k.x >> 29)); }
-};
-// Exact coordinates as a key (−0 and +0 are one point).
-PointKey point_key(const Point& p) { return {std::bit_cast<std::uint64_t>(p.x + 0.0), std::bit_cast<std::uint64_t>(p.y + 0.0)}; }
 
 // The pieces of a mesh: its in-domain triangles joined across the edges not in `shared` (undirected
 // keys in the ids id_of(v) gives the mesh's vertices; kNone: a vertex the other mesh lacks). Each
@@ -116,12 +104,9 @@ bool boundary_of(const Mesh& m, const Pieces& pieces, std::uint32_t p, IdOf id_o
   return true;
 }
 
-}  // namespace
-
-CrossoverStats partition_crossover(Mesh& a, const Mesh& b) {
-  CrossoverStats stats;
-  if (a.input_vertex_count != b.input_vertex_count) throw InternalError("crossover: different inputs");
-  // A's vertices by their exact coordinates; B's vertices as A's ids (kNone: not a vertex of A).
+// B's vertices as A's ids, matched by exact coordinates among the vertices of the two domains
+// (kNone: not a vertex of A).
+std::vector<VertexId> match_vertices(const Mesh& a, const Mesh& b) {
   std::vector<char> a_used(a.points.size(), 0), b_used(b.points.size(), 0);
   for (TriangleId t = 0; t < a.triangles.size(); ++t) {
     if (a.in_domain(t)) for (VertexId v : a.triangles[t].v) a_used[v] = 1;
@@ -131,16 +116,21 @@ CrossoverStats partition_crossover(Mesh& a, const Mesh& b) {
   }
   std::unordered_map<PointKey, VertexId, PointKeyHash> a_at;
   for (VertexId v = 0; v < a.points.size(); ++v) {
-    if (a_used[v]) a_at.emplace(point_key(a.points[v]), v);
+    if (a_used[v]) a_at.emplace(PointKey(a.points[v]), v);
   }
   std::vector<VertexId> b_to_a(b.points.size(), kNone);
   for (VertexId v = 0; v < b.points.size(); ++v) {
     if (!b_used[v]) continue;
-    const auto it = a_at.find(point_key(b.points[v]));
+    const auto it = a_at.find(PointKey(b.points[v]));
     if (it != a_at.end()) b_to_a[v] = it->second;
   }
-  // Shared edges (A's ids), and B's directed edges by A's ids.
-  std::unordered_set<std::uint64_t> a_edges, shared;
+  return b_to_a;
+}
+
+// The domain edges A and B share (undirected, A's ids), and B's directed domain edges by A's ids.
+void shared_edges(const Mesh& a, const Mesh& b, const std::vector<VertexId>& b_to_a,
+                  std::unordered_set<std::uint64_t>& shared, std::unordered_map<std::uint64_t, Handle>& b_directed) {
+  std::unordered_set<std::uint64_t> a_edges;
   for (TriangleId t = 0; t < a.triangles.size(); ++t) {
     if (!a.in_domain(t)) continue;
     for (unsigned e = 0; e < 3; ++e) {
@@ -148,7 +138,6 @@ CrossoverStats partition_crossover(Mesh& a, const Mesh& b) {
       a_edges.insert(undirected_key(a.org(h), a.dest(h)));
     }
   }
-  std::unordered_map<std::uint64_t, Handle> b_directed;
   for (TriangleId t = 0; t < b.triangles.size(); ++t) {
     if (!b.in_domain(t)) continue;
     for (unsigned e = 0; e < 3; ++e) {
@@ -159,6 +148,105 @@ CrossoverStats partition_crossover(Mesh& a, const Mesh& b) {
       if (a_edges.count(undirected_key(u, v))) shared.insert(undirected_key(u, v));
     }
   }
+}
+
+// Splicing B's pieces into A: A's triangles of a taken piece give way to B's; B's vertices that A
+// lacks are added.
+class Splicer {
+ public:
+  Splicer(Mesh& a, const Mesh& b, const std::vector<VertexId>& b_to_a, const Pieces& a_pieces, const Pieces& b_pieces)
+      : a_(a), b_(b), b_to_a_(b_to_a), a_pieces_(a_pieces), b_pieces_(b_pieces), b_new_(b.points.size(), kNone),
+        a_kind_(a.vertex_kind), piece_of_(a_pieces.of) {}
+
+  // Replaces A's piece p by B's piece q.
+  void splice(std::uint32_t p, std::uint32_t q) {
+    Mesh& a = a_;
+    const Mesh& b = b_;
+    std::unordered_map<std::uint64_t, Handle> outer;  // boundary edge → the handle outside it
+    std::unordered_map<std::uint64_t, std::int32_t> segment;  // boundary subsegments → marker
+    for (const TriangleId* tp = a_pieces_.begin(p); tp != a_pieces_.end(p); ++tp) {
+      const TriangleId t = *tp;
+      for (unsigned e = 0; e < 3; ++e) {
+        const Handle h = make_handle(t, e);
+        if (piece_of_[a.sym(h) >> 2] == p) continue;
+        outer.emplace(edge_key(a.org(h), a.dest(h)), a.sym(h));
+        if (a.is_segment(h)) segment.emplace(edge_key(a.org(h), a.dest(h)), a.marker(h));
+      }
+    }
+    // A's Steiner points of the piece go, unless B's triangles use them again (child_id).
+    for (const TriangleId* tp = a_pieces_.begin(p); tp != a_pieces_.end(p); ++tp) {
+      const TriangleId t = *tp;
+      for (VertexId v : a.triangles[t].v) {
+        if (v >= a.input_vertex_count) a.vertex_kind[v] = VertexKind::kRemoved;
+      }
+    }
+    for (const TriangleId* t = a_pieces_.begin(p); t != a_pieces_.end(p); ++t) a.kill_triangle(*t);
+    std::unordered_map<std::uint64_t, Handle> open;
+    for (const TriangleId* sp = b_pieces_.begin(q); sp != b_pieces_.end(q); ++sp) {
+      const TriangleId s = *sp;
+      const TriangleId t = a.new_triangle();
+      if (t >= piece_of_.size()) piece_of_.resize(t + 1, kNone);
+      piece_of_[t] = kNone;
+      for (unsigned k = 0; k < 3; ++k) a.triangles[t].v[k] = child_id(b.triangles[s].v[k]);
+      for (unsigned e = 0; e < 3; ++e) {
+        const Handle h = make_handle(t, e);
+        const std::uint64_t k = edge_key(a.org(h), a.dest(h));
+        const auto o = outer.find(k);
+        if (o != outer.end()) {
+          a.triangles[t].n[e] = o->second;
+          a.triangles[o->second >> 2].n[o->second & 3] = h;
+          const auto sg = segment.find(k);
+          if (sg != segment.end()) a.set_segment(h, sg->second);
+          continue;
+        }
+        const auto twin = open.find(edge_key(a.dest(h), a.org(h)));
+        if (twin == open.end()) {
+          open.emplace(k, h);
+          continue;
+        }
+        a.triangles[t].n[e] = twin->second;
+        a.triangles[twin->second >> 2].n[twin->second & 3] = h;
+        const Handle bh = make_handle(s, e);
+        if (b.is_segment(bh)) a.set_segment(h, b.marker(bh));
+        open.erase(twin);
+      }
+    }
+    if (!open.empty()) throw InternalError("crossover: a spliced piece does not close");
+  }
+
+ private:
+  // A's id of B's vertex v: its match (restoring its kind: on the piece's boundary, or a point
+  // both parents have), or a vertex added to A once.
+  VertexId child_id(VertexId v) {
+    if (b_to_a_[v] != kNone) {
+      const VertexId u = b_to_a_[v];
+      a_.vertex_kind[u] = a_kind_[u];
+      return u;
+    }
+    if (b_new_[v] == kNone) b_new_[v] = a_.add_vertex(b_.points[v], b_.vertex_kind[v], b_.vertex_marker[v]);
+    return b_new_[v];
+  }
+
+  Mesh& a_;
+  const Mesh& b_;
+  const std::vector<VertexId>& b_to_a_;
+  const Pieces& a_pieces_;
+  const Pieces& b_pieces_;
+  std::vector<VertexId> b_new_;
+  const std::vector<VertexKind> a_kind_;
+  // The piece of a slot of A; the slots the splices fill (reused or new) belong to no piece left.
+  std::vector<std::uint32_t> piece_of_;
+};
+
+}  // namespace
+
+CrossoverStats partition_crossover(Mesh& a, const Mesh& b) {
+  CrossoverStats stats;
+  if (a.input_vertex_count != b.input_vertex_count) throw InternalError("crossover: different inputs");
+  const std::vector<VertexId> b_to_a = match_vertices(a, b);
+  std::unordered_set<std::uint64_t> shared;
+  std::unordered_map<std::uint64_t, Handle> b_directed;
+  shared_edges(a, b, b_to_a, shared, b_directed);
   const auto a_id = [](VertexId v) { return v; };
   const auto b_id = [&b_to_a](VertexId v) { return b_to_a[v]; };
   // The sums of perimeters compare interior weights: a piece is compared only when its boundary is
@@ -190,71 +278,9 @@ CrossoverStats partition_crossover(Mesh& a, const Mesh& b) {
       stats.gain += 0.5 * (a_pieces.perimeter[p] - b_pieces.perimeter[q]);
     }
   }
-  // Splice: A's triangles of a taken piece give way to B's; B's vertices that A lacks are added.
-  std::vector<VertexId> b_new(b.points.size(), kNone);
-  const std::vector<VertexKind> a_kind = a.vertex_kind;
-  // The piece of a slot of A; the slots the splices fill (reused or new) belong to no piece left.
-  std::vector<std::uint32_t> piece_of = a_pieces.of;
+  Splicer splicer(a, b, b_to_a, a_pieces, b_pieces);
   for (const auto& [p, q] : take) {
-    std::unordered_map<std::uint64_t, Handle> outer;  // boundary edge → the handle outside it
-    std::unordered_map<std::uint64_t, std::int32_t> segment;  // boundary subsegments → marker
-    for (const TriangleId* tp = a_pieces.begin(p); tp != a_pieces.end(p); ++tp) {
-      const TriangleId t = *tp;
-      for (unsigned e = 0; e < 3; ++e) {
-        const Handle h = make_handle(t, e);
-        if (piece_of[a.sym(h) >> 2] == p) continue;
-        outer.emplace(edge_key(a.org(h), a.dest(h)), a.sym(h));
-        if (a.is_segment(h)) segment.emplace(edge_key(a.org(h), a.dest(h)), a.marker(h));
-      }
-    }
-    // A's Steiner points of the piece go, unless B's triangles use them again (child_id).
-    for (const TriangleId* tp = a_pieces.begin(p); tp != a_pieces.end(p); ++tp) {
-      const TriangleId t = *tp;
-      for (VertexId v : a.triangles[t].v) {
-        if (v >= a.input_vertex_count) a.vertex_kind[v] = VertexKind::kRemoved;
-      }
-    }
-    for (const TriangleId* t = a_pieces.begin(p); t != a_pieces.end(p); ++t) a.kill_triangle(*t);
-    auto child_id = [&](VertexId v) {
-      if (b_to_a[v] != kNone) {
-        const VertexId u = b_to_a[v];
-        a.vertex_kind[u] = a_kind[u];  // on the piece's boundary, or a point both parents have
-        return u;
-      }
-      if (b_new[v] == kNone) b_new[v] = a.add_vertex(b.points[v], b.vertex_kind[v], b.vertex_marker[v]);
-      return b_new[v];
-    };
-    std::unordered_map<std::uint64_t, Handle> open;
-    for (const TriangleId* sp = b_pieces.begin(q); sp != b_pieces.end(q); ++sp) {
-      const TriangleId s = *sp;
-      const TriangleId t = a.new_triangle();
-      if (t >= piece_of.size()) piece_of.resize(t + 1, kNone);
-      piece_of[t] = kNone;
-      for (unsigned k = 0; k < 3; ++k) a.triangles[t].v[k] = child_id(b.triangles[s].v[k]);
-      for (unsigned e = 0; e < 3; ++e) {
-        const Handle h = make_handle(t, e);
-        const std::uint64_t k = edge_key(a.org(h), a.dest(h));
-        const auto o = outer.find(k);
-        if (o != outer.end()) {
-          a.triangles[t].n[e] = o->second;
-          a.triangles[o->second >> 2].n[o->second & 3] = h;
-          const auto sg = segment.find(k);
-          if (sg != segment.end()) a.set_segment(h, sg->second);
-          continue;
-        }
-        const auto twin = open.find(edge_key(a.dest(h), a.org(h)));
-        if (twin == open.end()) {
-          open.emplace(k, h);
-          continue;
-        }
-        a.triangles[t].n[e] = twin->second;
-        a.triangles[twin->second >> 2].n[twin->second & 3] = h;
-        const Handle bh = make_handle(s, e);
-        if (b.is_segment(bh)) a.set_segment(h, b.marker(bh));
-        open.erase(twin);
-      }
-    }
-    if (!open.empty()) throw InternalError("crossover: a spliced piece does not close");
+    splicer.splice(p, q);
     ++stats.taken;
   }
   compact(a);

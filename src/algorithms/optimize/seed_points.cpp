@@ -1,4 +1,4 @@
-// Seeded starting meshes for the optimiser (optimize.hpp): Steiner points put where a light
+// Seeded starting meshes for the optimiser (seed_points.hpp): Steiner points put where a light
 // Steiner triangulation of a polygon tends to have them, before the local search moves, keeps or
 // removes each.
 //
@@ -11,11 +11,13 @@
 // triangle none of whose edges is on the domain boundary sits where the axis branches. The
 // centroids of all triangles are a denser, unbiased seed. The search after it decides; these are
 // only diverse starting points, which the partition crossover (crossover.cpp) then combines.
+#include "algorithms/optimize/seed_points.hpp"
+
 #include <cmath>
 #include <vector>
 
+#include "algorithms/optimize/separation.hpp"
 #include "mwst/geometry/geometry.hpp"
-#include "mwst/algorithms/optimize.hpp"
 
 namespace mwst {
 

@@ -38,6 +38,11 @@
 #include "support/parallel.hpp"
 #include "support/time_budget.hpp"
 #include "algorithms/triangle_key.hpp"
+#include "algorithms/optimize/crossover.hpp"
+#include "algorithms/optimize/domain_pieces.hpp"
+#include "algorithms/optimize/exact_polish.hpp"
+#include "algorithms/optimize/seed_points.hpp"
+#include "algorithms/optimize/separation.hpp"
 
 namespace mwst {
 
@@ -230,7 +235,7 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
   Mesh best = constrained_delaunay_phase(pslg, options, report);
   check_memory_for_area_bound(best, options);
   const Mesh cdt = best;
-  // Independent pieces of the domain (optimize.hpp, split_domain): each searched alone, as if it
+  // Independent pieces of the domain (optimize/domain_pieces.hpp): each searched alone, as if it
   // were the whole input (its own starts and budgets), on all cores, and put back together.
   // (Not with --max-steiner, a budget for the whole mesh.)
   const bool whole_budget = options.max_steiner != std::numeric_limits<std::size_t>::max();

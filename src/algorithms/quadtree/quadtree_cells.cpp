@@ -18,6 +18,7 @@
 #include <limits>
 
 #include "mwst/algorithms/quadtree.hpp"
+#include "geometry/segments.hpp"
 
 namespace mwst::detail {
 
@@ -44,23 +45,6 @@ inline double min_angle_sine(const Point& a, const Point& b, const Point& c, dou
 
 double min_angle_sine(const Point& a, const Point& b, const Point& c) {
   return min_angle_sine(a, b, c, squared_length(a, b), squared_length(b, c), squared_length(c, a));
-}
-
-// Closed segments pq and rs share a point (exact).
-bool segments_touch(const Point& p, const Point& q, const Point& r, const Point& s) {
-  const int o1 = orient2d(p, q, r), o2 = orient2d(p, q, s);
-  const int o3 = orient2d(r, s, p), o4 = orient2d(r, s, q);
-  if (o1 * o2 < 0 && o3 * o4 < 0) return true;
-  // Collinear touching: a point of one lies on the other (bounding-box test is exact then).
-  auto on = [](const Point& a, const Point& b, const Point& x) {
-    return std::min(a.x, b.x) <= x.x && x.x <= std::max(a.x, b.x) && std::min(a.y, b.y) <= x.y &&
-           x.y <= std::max(a.y, b.y);
-  };
-  if (o1 == 0 && on(p, q, r)) return true;
-  if (o2 == 0 && on(p, q, s)) return true;
-  if (o3 == 0 && on(r, s, p)) return true;
-  if (o4 == 0 && on(r, s, q)) return true;
-  return false;
 }
 
 // The general program below (any k from 4 to kMaxPolygon). Kept out of line: its tables take
@@ -156,14 +140,6 @@ bool max_min_general(const std::vector<Point>& q, std::vector<std::array<std::ui
   auto at = [k](std::size_t i, std::size_t j) { return i * k + j; };
   auto prev = [k](std::size_t i) { return i == 0 ? k - 1 : i - 1; };
   auto next = [k](std::size_t i) { return i + 1 == k ? 0 : i + 1; };
-  // The diagonal from vertex i towards point x leaves i inside the polygon's interior angle
-  // (O'Rourke, "Computational Geometry in C", InCone).
-  auto in_cone = [&](std::size_t i, const Point& x) {
-    const Point& a = q[prev(i)];
-    const Point& b = q[next(i)];
-    if (orient2d(a, q[i], b) >= 0) return orient2d(q[i], x, a) > 0 && orient2d(x, q[i], b) > 0;
-    return !(orient2d(q[i], x, b) >= 0 && orient2d(x, q[i], a) >= 0);
-  };
   // A weakly convex polygon (no reflex vertex, winding once: every triangle of the fan from q[0]
   // is not clockwise) has every chord inside it; a chord running along a straight side leaves a
   // collinear sub-polygon, which the program below rejects (no strictly counter-clockwise
@@ -185,16 +161,8 @@ bool max_min_general(const std::vector<Point>& q, std::vector<std::array<std::ui
         ok[at(i, j)] = true;
         continue;
       }
-      if (!in_cone(i, q[j]) || !in_cone(j, q[i])) continue;
-      bool clear = true;
-      for (std::size_t m = 0; m < k && clear; ++m) {
-        const std::size_t n = next(m);
-        if (m == i || m == j || n == i || n == j) continue;
-        if (segments_touch(q[i], q[j], q[m], q[n])) clear = false;
-      }
-      // A vertex on the open diagonal whose both edges are incident to i or j (k = 4 squares with a
-      // collinear corner) is caught by the cone tests; this catches the rest.
-      ok[at(i, j)] = clear;
+      // (A chord through a corner between i and j: is_polygon_diagonal, geometry/segments.hpp.)
+      ok[at(i, j)] = is_polygon_diagonal(q, k, i, j);
     }
   }
   // Squared lengths of all chords (entry i·k + j, i < j), each computed once.

@@ -24,6 +24,7 @@
 #include "mwst/algorithms/mwt.hpp"
 #include "mwst/algorithms/optimize.hpp"
 #include "mwst/algorithms/pipeline.hpp"
+#include "algorithms/mwt/polygon_mwt.hpp"
 
 #include "support/exact_checker.hpp"
 

@@ -1,4 +1,4 @@
-// Tests of the partition crossover (optimize.hpp, crossover.cpp): the child of two triangulations of
+// Tests of the partition crossover (src/algorithms/optimize/crossover.hpp): the child of two triangulations of
 // one domain is valid and conforming (independent checker), made only of the parents' triangles,
 // never heavier than the first parent, as heavy as it says, and, where every piece could be
 // compared, no heavier than the second parent either.
@@ -21,6 +21,7 @@
 #include "mwst/algorithms/optimize.hpp"
 #include "mwst/algorithms/pipeline.hpp"
 #include "mwst/algorithms/refine.hpp"
+#include "algorithms/optimize/crossover.hpp"
 
 #include "support/exact_checker.hpp"
 #include "support/generators.hpp"

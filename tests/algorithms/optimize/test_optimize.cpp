@@ -18,6 +18,8 @@
 #include "mwst/algorithms/optimize.hpp"
 #include "mwst/algorithms/pipeline.hpp"
 #include "mwst/algorithms/refine.hpp"
+#include "algorithms/mwt/polygon_mwt.hpp"
+#include "algorithms/optimize/testing.hpp"
 
 #include "support/exact_checker.hpp"
 
@@ -438,22 +440,23 @@ void for_each_start_and_budget(const OptimizeOptions& base, std::size_t room, Bo
   }
 }
 
-// The search from `start` with options `o`, and again with `change` applied to them (an A/B of two
+// The search from `start` with options `o`, and again with `change` applied to its test switches (an A/B of two
 // ways to the same result).
 struct TwoRuns {
   Mesh first, second;
   OptimizeStats first_stats, second_stats;
 };
 template <class Change>
-TwoRuns optimize_both_ways(const Mesh& start, OptimizeOptions o, Change&& change) {
+TwoRuns optimize_both_ways(const Mesh& start, const OptimizeOptions& o, Change&& change) {
   TwoRuns r{start, start, {}, {}};
-  r.first_stats = optimize(r.first, o);
-  change(o);
-  r.second_stats = optimize(r.second, o);
+  OptimizeTestSwitches test;
+  r.first_stats = optimize(r.first, o, test);
+  change(test);
+  r.second_stats = optimize(r.second, o, test);
   return r;
 }
 
-// The search remembers the regions that failed (OptimizeOptions::remember_failed_regions) and
+// The search remembers the regions that failed (OptimizeTestSwitches::remember_failed_regions) and
 // skips them while their triangles, corners and neighbours are unchanged: the meshes are the
 // same, move for move, as when every region is tried afresh, including with a Steiner budget
 // that starts full (a failure for want of room is not remembered: a removal may make room) and
@@ -463,7 +466,7 @@ TEST(Optimize, RememberingFailedRegionsChangesNoResult) {
   OptimizeOptions base;
   base.perturbation_trials = 30;
   for_each_start_and_budget(base, 0, [](const char* name, const Mesh& start, const OptimizeOptions& o) {
-    const TwoRuns r = optimize_both_ways(start, o, [](OptimizeOptions& p) { p.remember_failed_regions = false; });
+    const TwoRuns r = optimize_both_ways(start, o, [](OptimizeTestSwitches& p) { p.remember_failed_regions = false; });
     const OptimizeStats& with_memory = r.first_stats;
     const OptimizeStats& without = r.second_stats;
     EXPECT_GT(with_memory.region_tries_skipped, 0u);
@@ -486,7 +489,7 @@ TEST(Optimize, KicksUndoneByTheJournalAsByACopy) {
   base.kick_neighbour_sweeps = 2;
   base.perturbation_trials = 10;
   for_each_start_and_budget(base, 2, [](const char* name, const Mesh& start, const OptimizeOptions& o) {
-    const TwoRuns r = optimize_both_ways(start, o, [](OptimizeOptions& p) { p.undo_trials_by_copy = true; });
+    const TwoRuns r = optimize_both_ways(start, o, [](OptimizeTestSwitches& p) { p.undo_trials_by_copy = true; });
     const Mesh& journal = r.first;
     const Mesh& copied = r.second;
     const OptimizeStats& by_journal = r.first_stats;

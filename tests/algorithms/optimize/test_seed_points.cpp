@@ -1,4 +1,4 @@
-// Tests of the optimiser's seeded starts (optimize.hpp, seed_points.cpp): Steiner points at the
+// Tests of the optimiser's seeded starts (src/algorithms/optimize/seed_points.hpp): Steiner points at the
 // circumcenters of the CDT's junction triangles (no edge on the domain boundary) or at every
 // triangle's centroid. The seeded mesh is a valid, conforming constrained Delaunay triangulation
 // of the same domain (independent checker), keeps the input vertices, and its new vertices are
@@ -19,6 +19,7 @@
 #include "mwst/algorithms/metrics.hpp"
 #include "mwst/algorithms/optimize.hpp"
 #include "mwst/algorithms/pipeline.hpp"
+#include "algorithms/optimize/seed_points.hpp"
 
 #include "support/exact_checker.hpp"
 #include "support/generators.hpp"
