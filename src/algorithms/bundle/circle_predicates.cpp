@@ -149,10 +149,11 @@ namespace bundle {
 
 // ---- edges crossing a circumdisk begin here ------------------------------------------------------
 
-// The degree-8 sign of circle_predicates.hpp, evaluated on integers (GMP).
-bool segment_meets_open_circumdisk_exact(const Point& a, const Point& b, const Point& c, const Point& u,
-                                         const Point& w) {
-  const Point* const points[5] = {&a, &b, &c, &u, &w};
+namespace {
+
+// The smallest exponent E such that every nonzero coordinate of the points is an integer multiple
+// of 2^E (a double is m · 2^(e − 53) with |m| < 2^53 an integer).
+int smallest_exponent(const Point* const (&points)[5]) {
   int min_exponent = std::numeric_limits<int>::max();
   for (const Point* p : points) {
     for (const double v : {p->x, p->y}) {
@@ -162,35 +163,49 @@ bool segment_meets_open_circumdisk_exact(const Point& a, const Point& b, const P
       min_exponent = std::min(min_exponent, e - 53);
     }
   }
-  // v = m · 2^(e − 53) with |m| < 2^53 an integer; as an integer multiple of 2^min_exponent.
-  auto to_integer = [min_exponent](mpz_t out, double v) {
-    if (v == 0.0) {
-      mpz_set_ui(out, 0);
-      return;
-    }
-    int e = 0;
-    const double m = std::ldexp(std::frexp(v, &e), 53);
-    mpz_set_d(out, m);  // exact: m is an integer below 2^53 in magnitude
-    mpz_mul_2exp(out, out, static_cast<mp_bitcnt_t>(e - 53 - min_exponent));
-  };
+  return min_exponent;
+}
+
+// v = m · 2^(e − 53) with |m| < 2^53 an integer, as an integer multiple of 2^min_exponent.
+void to_integer(mpz_t out, double v, int min_exponent) {
+  if (v == 0.0) {
+    mpz_set_ui(out, 0);
+    return;
+  }
+  int e = 0;
+  const double m = std::ldexp(std::frexp(v, &e), 53);
+  mpz_set_d(out, m);  // exact: m is an integer below 2^53 in magnitude
+  mpz_mul_2exp(out, out, static_cast<mp_bitcnt_t>(e - 53 - min_exponent));
+}
+
+// The integers of segment_meets_open_circumdisk_exact (a few hundred bits): one set per thread,
+// allocated once.
+struct Registers {
+  mpz_t ux, uy, ax, ay, bx, by, cx, cy, ex, ey, t1, t2, term, lift_a, lift_b, lift_c, gu, gw, orient, coef,
+      slope, disc;
+  Registers() {
+    for (mpz_t* z : all()) mpz_init2(*z, 512);
+  }
+  ~Registers() {
+    for (mpz_t* z : all()) mpz_clear(*z);
+  }
+  Registers(const Registers&) = delete;
+  Registers& operator=(const Registers&) = delete;
+  std::array<mpz_t*, 22> all() {
+    return {&ux, &uy, &ax, &ay, &bx, &by, &cx, &cy, &ex, &ey, &t1, &t2, &term, &lift_a, &lift_b, &lift_c,
+            &gu, &gw, &orient, &coef, &slope, &disc};
+  }
+};
+
+}  // namespace
+
+// The degree-8 sign of circle_predicates.hpp, evaluated on integers (GMP).
+bool segment_meets_open_circumdisk_exact(const Point& a, const Point& b, const Point& c, const Point& u,
+                                         const Point& w) {
+  const Point* const points[5] = {&a, &b, &c, &u, &w};
+  const int min_exponent = smallest_exponent(points);
+  auto integer_of = [min_exponent](mpz_t out, double v) { to_integer(out, v, min_exponent); };
   // Coordinates relative to u: A, B, Cc (circle), E = w − u.
-  // Integers of a few hundred bits; one set per thread, allocated once.
-  struct Registers {
-    mpz_t ux, uy, ax, ay, bx, by, cx, cy, ex, ey, t1, t2, term, lift_a, lift_b, lift_c, gu, gw, orient, coef,
-        slope, disc;
-    Registers() {
-      for (mpz_t* z : all()) mpz_init2(*z, 512);
-    }
-    ~Registers() {
-      for (mpz_t* z : all()) mpz_clear(*z);
-    }
-    Registers(const Registers&) = delete;
-    Registers& operator=(const Registers&) = delete;
-    std::array<mpz_t*, 22> all() {
-      return {&ux, &uy, &ax, &ay, &bx, &by, &cx, &cy, &ex, &ey, &t1, &t2, &term, &lift_a, &lift_b, &lift_c,
-              &gu, &gw, &orient, &coef, &slope, &disc};
-    }
-  };
   thread_local Registers r;
   // Named references (not a structured binding: lambdas below use them).
   auto& ux = r.ux; auto& uy = r.uy; auto& ax = r.ax; auto& ay = r.ay; auto& bx = r.bx; auto& by = r.by;
@@ -198,16 +213,16 @@ bool segment_meets_open_circumdisk_exact(const Point& a, const Point& b, const P
   auto& t2 = r.t2; auto& term = r.term; auto& lift_a = r.lift_a; auto& lift_b = r.lift_b;
   auto& lift_c = r.lift_c; auto& gu = r.gu; auto& gw = r.gw; auto& orient = r.orient;
   auto& coef = r.coef; auto& slope = r.slope; auto& disc = r.disc;
-  to_integer(ux, u.x);
-  to_integer(uy, u.y);
+  integer_of(ux, u.x);
+  integer_of(uy, u.y);
   // p −= d, in place.
   auto translate = [](mpz_t px, mpz_t py, const mpz_t dx, const mpz_t dy) {
     mpz_sub(px, px, dx);
     mpz_sub(py, py, dy);
   };
   auto relative = [&](mpz_t out_x, mpz_t out_y, const Point& p) {
-    to_integer(out_x, p.x);
-    to_integer(out_y, p.y);
+    integer_of(out_x, p.x);
+    integer_of(out_y, p.y);
     translate(out_x, out_y, ux, uy);
   };
   relative(ax, ay, a);
