@@ -415,7 +415,7 @@ inline bool Worker::disk_meets(TriangleId dtt, TriangleId t) {
 // The number of triangles of `list` meeting the open circumdisk of Delaunay triangle `dtt`
 // (see meets_circumdisk); appends them to `met` if it is not null.
 inline std::uint32_t Worker::circumdisk_count(TriangleId dtt, const TriangleId* list, std::size_t size,
-                               std::vector<TriangleId>* met) {
+                                               std::vector<TriangleId>* met) {
   const auto& v = sh_.dt.triangles[dtt].v;
   start_disk();
   std::uint32_t count = 0;
