@@ -5,7 +5,7 @@
 // Compress, with zero elimination). Written from the paper's theorems.
 //
 // The exact stages of the predicates (predicates.cpp) and the exact tie-breaking of the bundle
-// number (algorithms/bundle.cpp) share it. Exact for the coordinate range of geometry.hpp (no
+// number (src/algorithms/bundle/) share it. Exact for the coordinate range of geometry.hpp (no
 // underflow or overflow up to degree 4; the argument is in predicates.cpp). Internal to the
 // library (not installed). Everything including it must be compiled with -ffp-contract=off.
 #pragma once

@@ -1,39 +1,16 @@
-// mwst/algorithms/bundle.hpp — the exact bundle number of a triangulation.
+// mwst/algorithms/bundle.hpp — the exact bundle number of a triangulation (Boyacı, Erten, Üngör,
+// "Triangulations Loosing Bundles and Weight").
 //
-// Boyacı, Erten, Üngör, "Triangulations Loosing Bundles and Weight": k triangles form a k-bundle if
-// their interiors all meet one open disk that contains no vertex of the triangulation. The bundle
-// number of a triangulation T is the largest such k. It is defined for any triangulation (Delaunay
-// or not) of any domain, convex or not, with holes.
-//
-// Which disks. Every vertex-empty open disk lies in one that has two vertices p, q on its boundary
-// (grow it until it touches a vertex, then grow it away from that vertex until it touches another);
-// pq is then an edge of DT(V), the Delaunay triangulation of ALL vertices V (never the constrained
-// one: disks pass through holes and concavities). The vertex-empty disks through p and q form the
-// pencil D_s: centre m + s·h (m the midpoint of pq, h = (q−p)⊥/2), s in [s_lo, s_hi], the ends
-// being the circumdisks of the two Delaunay triangles on pq (a hull side is unbounded). So the
-// maximum is over the pencils of the Delaunay edges; circumdisks alone give only a lower bound
-// (docs/algorithms/bundle-number.md has a 7-point example where they give 5 and the answer is 6).
-//
-// Vertices. V is the set of vertices of the counted triangles (for a Mesh: the vertices of its
-// in-domain triangles; a point used only by carved-away triangles, or not used at all, is not a
-// vertex of the triangulation and may lie inside the disk). The disk may extend anywhere else:
-// outside the convex hull, through holes and concavities.
-//
-// Exactness. Every combinatorial decision is exact (orient2d, and exact expansion arithmetic for
-// the order of thresholds that are rational in the coordinates: pencil circles through a vertex,
-// i.e. s_lo and s_hi, and pencil circles tangent at p or q to a triangle edge incident to p or q —
-// the ties that grids and collinear edges produce). One kind of threshold is irrational: the pencil
-// circle tangent to a triangle edge at an interior point of the edge (a root of a quadratic). It is
-// computed in floating point and ordered against the other thresholds by its rounded value, so an
-// exact tie between such a tangency and another threshold (a circle through p and q tangent to an
-// edge and at the same time through a vertex or tangent to another edge — a coincidence that lattice
-// symmetry does not produce, since lattice tangencies occur at vertices, which are decided exactly)
-// may be decided either way. The witness disk is rounded to double.
-//
-// Cost: DT(V), then one flood per Delaunay triangle over the triangles of T meeting its circumdisk,
-// then per Delaunay edge a sort of the thresholds of those triangles: O(n log n) in practice, on
-// several threads: about 6 s of CPU for a 1.1M-triangle Delaunay-refined mesh, 2.3 s for the
-// Delaunay triangulation of 500k random points (bench/bench_bundle.cpp).
+// k triangles form a k-bundle if their interiors all meet one open disk that contains no vertex of
+// the triangulation; the bundle number of a triangulation T (Delaunay or not, of any domain, with
+// holes) is the largest such k. V is the set of vertices of the counted triangles (for a Mesh: of
+// its in-domain triangles); the disk may extend anywhere else, through holes and concavities. The
+// maximum is taken over the pencils of disks through the edges of DT(V), the Delaunay
+// triangulation of all of V; circumdisks alone give only a lower bound. Every combinatorial
+// decision is exact, except that a pencil circle tangent to an edge's interior (an irrational
+// threshold) is ordered against the others by its rounded value; the witness disk is rounded to
+// double. Cost: O(n log n) in practice, on several threads. docs/algorithms/bundle-number.md
+// describes the method, its exactness and its cost.
 #pragma once
 
 #include <array>
@@ -194,23 +171,12 @@ struct MWST_API KBundleTimeout : std::runtime_error {
 
 // `deadline`: bundle removal's time budget. On meshes of thousands of slivers (inputs whose
 // segments cross thousands of times), every disk meets most of the mesh and nearly every test is
-// near-degenerate: one call on 5000 triangles takes about 15 s; past the deadline it throws
-// KBundleTimeout instead of answering.
+// near-degenerate, and one call can take many seconds; past the deadline it throws KBundleTimeout
+// instead of answering.
 MWST_API std::vector<std::uint8_t> in_k_bundle(const Mesh& mesh, std::uint32_t k, const std::vector<TriangleId>& queries,
                                       KBundleStats* stats = nullptr, unsigned threads = 0,
                                       KBundleCache* cache = nullptr,
                                       std::chrono::steady_clock::time_point deadline =
                                           std::chrono::steady_clock::time_point::max());
-
-namespace detail {
-// The pencil sweep's exact predicate (exposed for the tests): does the segment from u towards w,
-// at u, enter the open disk bounded by the circle through p, q and u? +1 enters, −1 leaves, 0
-// tangent. `orient_pqu` = orient2d(p, q, u) ≠ 0. With p' = p − u, q' = q − u, e = w − u, the
-// centre of that circle is u + c' with c' · 2 cross(p', q') = |p'|² (q'⊥) − |q'|² (p'⊥), so the sign
-// of e · c' is the sign of (|p'|² cross(e, q') − |q'|² cross(e, p')) · orient(p, q, u): the incircle
-// determinant without its |e|² term (its derivative at u). Filtered (first stage: incircle's
-// bound; second: the four factors rounded with rigorous bounds), then exact.
-MWST_API int enters_circle(const Point& p, const Point& q, const Point& u, const Point& w, int orient_pqu);
-}  // namespace detail
 
 }  // namespace mwst

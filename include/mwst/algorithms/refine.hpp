@@ -4,6 +4,7 @@
 // Üngör's off-centers, concentric-shell segment splitting and the Miller–Pav–Walkington rule for
 // small input angles. The engine is general: a bucketed queue of bad triangles, a pluggable "is
 // this triangle bad" test and a pluggable Steiner-point rule (the defaults are direct code paths).
+// docs/algorithms/refine.md describes the method and the measurements behind its choices.
 #pragma once
 
 #include <cstddef>
@@ -30,7 +31,7 @@ enum class SegmentSplitting {
 // Which vertices encroach a subsegment: those in its diametral circle (Ruppert), or only those in
 // its diametral lens, the intersection of the two disks through both endpoints whose arcs meet the
 // subsegment at the angle bound (Chew; Triangle's default). Lenses are smaller, so fewer segment
-// splits happen and the mesh is lighter; see src/algorithms/refine/refine.cpp for the measurements.
+// splits happen and the mesh is lighter (docs/algorithms/refine.md).
 enum class Encroachment { kDiametralLens, kDiametralCircle };
 
 // The order in which bad triangles are split. Shortest edge first (Triangle's order; buckets of
@@ -39,10 +40,9 @@ enum class RefineOrder { kShortestEdgeFirst, kWorstQualityFirst };
 
 // Off-center distance factor: the off-center is placed at kOffCenterFactor · (|pq|/2)·cot(α/2)
 // from the midpoint of the shortest edge pq. 1.0 makes the new triangle on pq meet the bound
-// exactly, so rounding leaves it just below and it is split again (at 30° that triples the Steiner
-// points); Triangle 1.6 uses 0.95. Measured over the 13 data sets (bench/README.md), 0.90 gives
-// the lowest weight at 10°, 20° and 30° (0.2–0.9 points below 0.95) for 1–3% more Steiner points;
-// weight is what mwst minimises, so 0.90.
+// exactly, so rounding leaves it just below and it is split again; Triangle 1.6 uses 0.95. 0.90
+// gives lighter meshes for slightly more Steiner points, and weight is what mwst minimises
+// (docs/algorithms/refine.md has the measurements).
 inline constexpr double kOffCenterFactor = 0.90;
 
 // Decides whether a triangle is "bad" (to be split). The default (empty) is the angle test:
@@ -95,7 +95,7 @@ struct RefineOptions {
 
 // The stop reason of the termination guard (DR's and BRH's): refinement made an edge far shorter
 // than the input's smallest feature allows when it terminates (angle bounds above about 34°; see
-// refine.cpp).
+// docs/algorithms/refine.md).
 inline constexpr const char* kStopBeyondFeatureSize = "no progress: size beyond the local-feature-size bound";
 
 // The end of the stop reason "N triangles left beside subsegments that may not be split": bad
@@ -103,7 +103,7 @@ inline constexpr const char* kStopBeyondFeatureSize = "no progress: size beyond 
 inline constexpr const char* kStopProtectedSuffix = " triangles left beside subsegments that may not be split";
 
 // The termination guard's edge length for a carved mesh not yet refined: kFeatureGuardFraction
-// (1/1024, refine.cpp) of its smallest feature, the shortest edge of a domain triangle or distance
+// (1/1024, src/algorithms/refine/termination_guard.cpp) of its smallest feature, the shortest edge of a domain triangle or distance
 // from a corner to a subsegment or hull edge of its triangle not ending at it, and with an area
 // bound (max_area > 0) at most √max_area. 0 if the mesh has no positive feature.
 MWST_API double feature_guard_length(const Mesh& mesh, double max_area);

@@ -49,6 +49,7 @@
 #include "mwst/mesh/mesh.hpp"
 #include "mwst/algorithms/metrics.hpp"
 #include "mwst/algorithms/refine.hpp"
+#include "algorithms/bundle/circle_predicates.hpp"
 #include "support/mesh_queries.hpp"
 
 namespace mwst {

@@ -146,7 +146,7 @@ Refined refine_and_check(const Pslg& g, const RefineOptions& options, const Cons
   }
   EXPECT_EQ(free_points, r.stats.steiner_inserted);
   // The termination guard never stops a refinement at a bound where refinement terminates in
-  // practice (33°, Triangle's documentation; measured in refine.cpp).
+  // practice (33°, Triangle's documentation; measured: docs/algorithms/refine.md).
   if (options.min_angle_deg <= 33.0) {
     EXPECT_NE(r.stats.stop_reason, kStopBeyondFeatureSize);
   }

@@ -1,0 +1,568 @@
+// src/algorithms/bundle/k_bundle.cpp — in_k_bundle: is each query triangle in a k-bundle?
+// (mwst/algorithms/bundle.hpp). The steps, in order:
+//   local_region                     the mesh region and the vertices W around few queries
+//   KBundleAttempt::run              one attempt, over DT(V) or over DT(W):
+//     first_stage                    per query, S(t) walked until a circumdisk meeting ≥ k decides
+//     merge_parts, mark_needed       S(t) of the queries left, and the DT triangles to flood
+//     reach_boxes                    (with a cache) how far a disk meeting each query reaches
+//     lists_show_empty_disks         (over DT(W)) every DT(W) triangle used is one of DT(V)
+//     pencils_to_sweep, sweep_pencils, keep_sweeps   the second stage: exact pencil sweeps
+//   in_k_bundle                      local attempts first (12, then 32 rings), then DT(V)
+#include "mwst/algorithms/bundle.hpp"
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <memory>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "algorithms/bundle/circle_predicates.hpp"
+#include "algorithms/bundle/lists.hpp"
+#include "algorithms/bundle/shared.hpp"
+#include "algorithms/bundle/worker.hpp"
+
+namespace mwst {
+
+namespace {
+
+using bundle::CachedSweep;
+using bundle::DenseIds;
+using bundle::kInf;
+using bundle::Shared;
+using bundle::SweepKey;
+using bundle::Worker;
+
+// in_k_bundle with DT(V) (subset null), or with the Delaunay triangulation of a subset W of the
+// vertices around the queries. A triangle of DT(W) whose open circumdisk holds no vertex of V is a
+// triangle of DT(V) (a Delaunay triangulation of V; with cocircular vertices any one serves: the
+// empty disks are the same). The local attempt checks that of every DT(W) triangle it uses — the
+// fan around the flood's starting corner, S(t) and the neighbours across its edges — and that none
+// of those lies on the hull of DT(W) except along hull edges of the mesh; then the floods over
+// DT(W) are the floods over DT(V) and the answer is exact. Otherwise it gives up (kGaveUp). The
+// local attempt sees only a region of the mesh (Shared::build_region); a flood that would leave it
+// makes it give up too (kEscaped: a larger region may do).
+enum class Attempt : std::uint8_t { kAnswered, kGaveUp, kEscaped };
+
+// ---- one attempt begins here ----------------------------------------------------------------------
+
+// S(t): the Delaunay triangles whose open circumdisk meets query t. Every pencil disk meeting t
+// lies in the union of the circumdisks of the two Delaunay triangles on its edge, so one of them
+// is in S(t). S(t) is connected across Delaunay edges (for a point x the triangles whose
+// circumdisks hold x form the connected Bowyer–Watson cavity of x, and the cavities of nearby
+// points share triangles), and it holds a triangle around each corner of t (the one overlapping
+// t's corner): a flood with the permissive test from the triangles around one corner finds it.
+//
+// Stage 1, per query, stopping at the first answer: each Delaunay triangle d of S(t) the flood
+// reaches is asked whether its circumdisk (vertex-empty) meets at least k triangles — counted
+// by a flood over the mesh that stops at k (Worker::count_meeting), once per d for all queries
+// — and if so whether it meets t (exactly). So a query in a large circumdisk costs O(k), not
+// what the disk meets (points on a circle: every circumdisk is the whole circle and meets every
+// triangle). Only the queries left undecided keep their S(t), for the pencils of stage 2: S(t)
+// and its neighbours across edges are flooded in full (the candidate lists of the pencils), and
+// the pencils of the edges of S(t) whose two lists together reach k are swept exactly.
+class KBundleAttempt {
+ public:
+  // `sh` is built (DT(V): Shared::build(false); DT(W): Shared::build_region, `subset` true);
+  // `queries` are slots of sh (kNone for a query outside the domain).
+  KBundleAttempt(Shared& sh, std::uint32_t k, const std::vector<TriangleId>& queries, KBundleStats& st, bool subset,
+                 std::vector<std::uint8_t>& answer, KBundleCache* cache)
+      : sh_(sh), k_(k), queries_(queries), st_(st), subset_(subset), answer_(answer), cache_(cache), dt_(sh.dt),
+        dt_slots_(sh.dt.triangle_slots()) {}
+
+  Attempt run(unsigned threads_requested) {
+    answer_.assign(queries_.size(), 0);
+    st_ = {};
+    index_dt_vertices();
+    const unsigned threads = bundle::worker_threads(threads_requested, 64 * queries_.size());
+    workers_ = bundle::make_workers(sh_, threads, true, false);
+    disk_state_.reset(new std::atomic<std::uint8_t>[dt_slots_]());
+    std::vector<Part> parts(workers_.size());
+    first_stage(parts);
+    if (!merge_parts(parts)) return Attempt::kGaveUp;
+    std::vector<std::uint8_t> needed;  // 1: in some S(t); 2: a partner across an edge
+    if (!mark_needed(needed)) return Attempt::kGaveUp;
+    for (auto& w : workers_) w->escaped = false;  // (stage 1's floods that left a region were cut short)
+    std::vector<std::array<double, 4>> boxes;
+    bundle::build_lists(sh_, workers_, &needed, cache_ ? &boxes : nullptr);
+    if (cache_) reach_boxes(boxes);
+    if (subset_ && !lists_show_empty_disks(needed)) return Attempt::kGaveUp;
+    // A flood that left the region (checked after the test above: a list cut short that already
+    // shows a vertex inside its disk gives up for good).
+    for (const auto& w : workers_) {
+      if (w->escaped) return Attempt::kEscaped;
+    }
+    std::vector<Handle> pencils = pencils_to_sweep();
+    st_.pencils_swept = pencils.size();
+    if (!pencils.empty()) sweep_pencils(std::move(pencils));
+    for (const auto& w : workers_) st_.flood_visits += w->flood_visits;
+    return Attempt::kAnswered;
+  }
+
+ private:
+  // One worker's share of stage 1.
+  struct Part {
+    std::vector<TriangleId> s_list, fan;
+    std::vector<std::uint32_t> dt_stamp;
+    std::size_t decided = 0, disks_counted = 0;
+    bool gave_up = false;
+  };
+
+  bool in_domain(TriangleId t) const { return t < sh_.slots.size() && sh_.in_domain(t); }
+
+  // A Delaunay edge leaving every vertex of V (DT ids are the renumbered ids below `used`).
+  void index_dt_vertices() {
+    dt_vertex_edge_.assign(sh_.used, kNone);
+    for (TriangleId t = 0; t < dt_slots_; ++t) {
+      if (dt_.is_dead(t) || dt_.is_ghost(t)) continue;
+      for (unsigned e = 0; e < 3; ++e) {
+        const VertexId o = dt_.org(make_handle(t, e));
+        if (dt_vertex_edge_[o] == kNone) dt_vertex_edge_[o] = make_handle(t, e);
+      }
+    }
+  }
+
+  // ---- stage 1 ----
+
+  // Does the circumdisk of Delaunay triangle d meet at least k triangles (and, over DT(W), hold no
+  // vertex of V)? Decided once per d for all queries: disk_state_ is 0 not yet counted; 1 fewer
+  // than k; 2 at least k; 3 at least k, but not shown vertex-empty in V (stage 2 then gives up).
+  bool large_disk(Worker& w, Part& part, TriangleId d) {
+    std::uint8_t state = disk_state_[d].load(std::memory_order_relaxed);
+    if (state != 0) return state == 2;
+    ++part.disks_counted;
+    state = w.count_meeting(d, k_) >= k_ ? 2 : 1;
+    if (state == 2 && subset_ && !empty_in_v(w, d)) state = 3;
+    disk_state_[d].store(state, std::memory_order_relaxed);
+    return state == 2;
+  }
+
+  // DT(W) is Delaunay for W only: the disk of d must hold no other vertex of V, which would be a
+  // corner of an in-domain triangle meeting it (a full flood, which must stay in the region).
+  bool empty_in_v(Worker& w, TriangleId d) {
+    std::vector<TriangleId> list;
+    const bool escaped_before = w.escaped;
+    w.escaped = false;
+    w.flood(d, list);
+    const auto& dv = dt_.triangles[d].v;
+    bool empty = !w.escaped;
+    for (std::size_t i = 0; i < list.size() && empty; ++i) {
+      for (const VertexId v : sh_.slots[list[i]].v) {
+        if (v >= sh_.used && incircle(sh_.pts[dv[0]], sh_.pts[dv[1]], sh_.pts[dv[2]], sh_.pts[v]) > 0) empty = false;
+      }
+    }
+    w.escaped = escaped_before;
+    return empty;
+  }
+
+  void first_stage(std::vector<Part>& parts) {
+    bundle::for_ranges(workers_, queries_.size(), [&](Worker& w, std::size_t begin, std::size_t end, std::size_t k_part) {
+      Part& part = parts[k_part];
+      part.dt_stamp.assign(dt_slots_, 0);
+      std::vector<TriangleId> stack;
+      for (std::size_t qi = begin; qi < end; ++qi) {
+        if (!in_domain(queries_[qi])) continue;
+        sh_.check_deadline();
+        if (!first_stage_query(w, part, qi, static_cast<std::uint32_t>(qi - begin + 1), stack)) return;
+      }
+    });
+  }
+
+  // The seed corner of a query's flood: with a subset, one whose fan in DT(W) has no ghost (a
+  // corner on the hull of V has ghosts around it in any Delaunay triangulation; another corner
+  // serves as well); 3 if there is none.
+  unsigned seed_corner(const std::array<VertexId, 3>& tv) const {
+    if (!subset_) return 0;
+    unsigned corner = 3;
+    for (unsigned c = 0; c < 3 && corner == 3; ++c) {
+      if (tv[c] >= sh_.used) break;  // a corner outside W
+      const Handle first_edge = dt_vertex_edge_[tv[c]];
+      Handle g = first_edge;
+      bool ghost = false;
+      do {
+        ghost = ghost || dt_.is_ghost(triangle_of(g));
+        g = dt_.onext(g);
+      } while (g != first_edge);
+      if (!ghost) corner = c;
+    }
+    return corner;
+  }
+
+  // Stage 1 for query qi: walks S(t) from the fan around the seed corner, one fan triangle at a
+  // time, each followed by the flood it starts (a vertex of DT(V) may have thousands of
+  // neighbours, e.g. on a circle: a query decided near its first fan triangle does not walk the
+  // whole fan). False if the attempt gives up (no seed corner).
+  bool first_stage_query(Worker& w, Part& part, std::size_t qi, std::uint32_t stamp, std::vector<TriangleId>& stack) {
+    const TriangleId t = queries_[qi];
+    const auto& tv = sh_.slots[t].v;
+    const Point* const corners[3] = {&sh_.pts[tv[0]], &sh_.pts[tv[1]], &sh_.pts[tv[2]]};
+    const std::size_t first = part.s_list.size(), first_fan = part.fan.size();
+    stack.clear();
+    auto consider = [&](TriangleId d) {
+      if (part.dt_stamp[d] == stamp || dt_.is_ghost(d)) return;
+      part.dt_stamp[d] = stamp;
+      const auto& dv = dt_.triangles[d].v;
+      if (!bundle::circumdisk_may_meet(sh_.pts[dv[0]], sh_.pts[dv[1]], sh_.pts[dv[2]], corners)) return;
+      stack.push_back(d);
+      part.s_list.push_back(d);
+    };
+    const unsigned corner = seed_corner(tv);
+    if (corner == 3) {
+      part.gave_up = true;
+      return false;
+    }
+    const Handle start = dt_vertex_edge_[tv[corner]];
+    Handle h = start;
+    bool decided = false;
+    do {
+      if (subset_) part.fan.push_back(triangle_of(h));
+      consider(triangle_of(h));
+      while (!stack.empty()) {
+        const TriangleId d = stack.back();
+        stack.pop_back();
+        decided = large_disk(w, part, d) && w.disk_meets(d, t);
+        if (decided) break;
+        for (unsigned e = 0; e < 3; ++e) consider(triangle_of(dt_.sym(make_handle(d, e))));
+      }
+      h = dt_.onext(h);
+    } while (h != start && !decided);
+    if (decided) {
+      answer_[qi] = 1;
+      ++part.decided;
+      part.s_list.resize(first);
+      part.fan.resize(first_fan);
+    } else {
+      s_count_[qi] = static_cast<std::uint32_t>(part.s_list.size() - first);
+    }
+    return true;
+  }
+
+  // The workers' S(t) lists in query order (s_begin_, s_list_, fan_); false if one gave up.
+  bool merge_parts(std::vector<Part>& parts) {
+    s_begin_.assign(queries_.size() + 1, 0);
+    for (Part& part : parts) {
+      if (part.gave_up) return false;
+      st_.decided_by_circumdisks += part.decided;
+      st_.disks_counted += part.disks_counted;
+      s_list_.insert(s_list_.end(), part.s_list.begin(), part.s_list.end());
+      fan_.insert(fan_.end(), part.fan.begin(), part.fan.end());
+      part = Part{};
+    }
+    for (std::size_t qi = 0; qi < queries_.size(); ++qi) s_begin_[qi + 1] = s_begin_[qi] + s_count_[qi];
+    return true;
+  }
+
+  // ---- stage 2 ----
+
+  // The Delaunay triangles to flood in full: S(t) of the queries left (1) and their neighbours
+  // across edges and the fans walked (2). Over DT(W), false (give up) if S(t) reaches a hull edge
+  // of DT(W) that is not one of the mesh.
+  bool mark_needed(std::vector<std::uint8_t>& needed) {
+    needed.assign(dt_slots_, 0);
+    for (const TriangleId d : s_list_) {
+      needed[d] = 1;
+      for (unsigned e = 0; e < 3; ++e) {
+        const Handle h = make_handle(d, e);
+        const TriangleId n = triangle_of(dt_.sym(h));
+        if (!dt_.is_ghost(n) && needed[n] == 0) needed[n] = 2;
+        if (subset_ && dt_.is_ghost(n) && !mesh_hull_edge(dt_.org(h), dt_.dest(h))) return false;
+      }
+    }
+    for (const TriangleId d : fan_) {
+      if (needed[d] == 0) needed[d] = 2;
+    }
+    for (TriangleId d = 0; d < dt_slots_; ++d) {
+      if (needed[d] != 0) ++st_.flooded;
+    }
+    return true;
+  }
+
+  // Is a → b a hull edge of the mesh? (A hull edge of DT(W) is one of DT(V) if it is one of the
+  // mesh, whose hull holds V.)
+  bool mesh_hull_edge(VertexId a, VertexId b) const {
+    const Handle first = sh_.vertex_edge[a];
+    Handle g = first;
+    for (std::size_t turn = 0; turn < sh_.slots.size(); ++turn) {
+      if (sh_.dest(g) == b) return sh_.is_ghost(triangle_of(sh_.sym(g))) && !sh_.is_ghost(triangle_of(g));
+      g = sh_.onext(g);
+      if (g == first) break;
+    }
+    return false;
+  }
+
+  // Per query, the box of every mesh triangle meeting a circumdisk of S(t) or of a neighbour of
+  // S(t): every vertex-empty disk meeting t lies in two such circumdisks (or, on the hull side of
+  // a pencil, meets the mesh only inside one), so every triangle it meets is in the box. A query
+  // answered 1 gets its own box (bundle removal keeps the boxes of queries answered 0 only).
+  void reach_boxes(const std::vector<std::array<double, 4>>& boxes) {
+    cache_->reach.assign(queries_.size(), {kInf, kInf, -kInf, -kInf});
+    for (std::size_t qi = 0; qi < queries_.size(); ++qi) {
+      if (!answer_[qi]) continue;
+      auto& r = cache_->reach[qi];
+      for (const VertexId v : sh_.slots[queries_[qi]].v) {
+        const Point& p = sh_.pts[v];
+        r = {std::min(r[0], p.x), std::min(r[1], p.y), std::max(r[2], p.x), std::max(r[3], p.y)};
+      }
+    }
+    auto widen = [&](std::array<double, 4>& r, TriangleId d) {
+      const auto& b = boxes[d];
+      r = {std::min(r[0], b[0]), std::min(r[1], b[1]), std::max(r[2], b[2]), std::max(r[3], b[3])};
+    };
+    for (std::size_t qi = 0; qi < queries_.size(); ++qi) {
+      auto& r = cache_->reach[qi];
+      for (std::uint32_t i = s_begin_[qi]; i < s_begin_[qi + 1]; ++i) {
+        const TriangleId d = s_list_[i];
+        widen(r, d);
+        for (unsigned e = 0; e < 3; ++e) {
+          const TriangleId n = triangle_of(dt_.sym(make_handle(d, e)));
+          if (!dt_.is_ghost(n)) widen(r, n);
+        }
+      }
+    }
+  }
+
+  // Over DT(W): each DT(W) triangle used must have a vertex-empty circumdisk: a vertex of V
+  // strictly inside would be a corner of an in-domain triangle meeting the disk, hence of its
+  // candidate list. Only vertices outside W need the test (ids from sh.used on): DT(W) is
+  // Delaunay, exactly, so no vertex of W lies strictly inside one of its circumdisks. Each is
+  // tested once per disk (it is a corner of several candidates; on meshes of slivers the disks are
+  // nearly flat and most of these tests need the exact stage).
+  bool lists_show_empty_disks(const std::vector<std::uint8_t>& needed) const {
+    std::vector<TriangleId> tested_for(sh_.pts.size(), kNone);
+    for (TriangleId d = 0; d < dt_slots_; ++d) {
+      if (needed[d] == 0) continue;
+      const auto& dv = dt_.triangles[d].v;
+      const Point& a = sh_.pts[dv[0]];
+      const Point& b = sh_.pts[dv[1]];
+      const Point& c = sh_.pts[dv[2]];
+      for (std::uint32_t i = sh_.list_begin[d]; i < sh_.list_begin[d + 1]; ++i) {
+        for (const VertexId v : sh_.slots[sh_.list[i]].v) {
+          if (v < sh_.used || tested_for[v] == d) continue;
+          tested_for[v] = d;
+          if (incircle(a, b, c, sh_.pts[v]) > 0) return false;
+        }
+      }
+    }
+    return true;
+  }
+
+  // The pencils of the edges of S(t) whose two candidate lists together reach k (the only ones
+  // whose disks can meet t and k triangles), each once; counts the queries none can decide.
+  std::vector<Handle> pencils_to_sweep() {
+    auto list_size = [&](TriangleId d) { return dt_.is_ghost(d) ? 0u : sh_.list_begin[d + 1] - sh_.list_begin[d]; };
+    std::vector<Handle> pencils;
+    for (std::size_t qi = 0; qi < queries_.size(); ++qi) {
+      const TriangleId t = queries_[qi];
+      if (!in_domain(t) || answer_[qi]) continue;
+      bool any = false;
+      for (std::uint32_t i = s_begin_[qi]; i < s_begin_[qi + 1]; ++i) {
+        const TriangleId d = s_list_[i];
+        for (unsigned e = 0; e < 3; ++e) {
+          const Handle h = make_handle(d, e);
+          const TriangleId n = triangle_of(dt_.sym(h));
+          if (list_size(d) + list_size(n) < k_) continue;
+          any = true;
+          // Each edge once, directed from its smaller mesh vertex id (so that a KBundleCache key
+          // does not depend on the slots of this call's Delaunay triangulation); a hull edge with
+          // its finite side on the left.
+          const Handle hs = dt_.sym(h);
+          pencils.push_back(dt_.is_ghost(n) || sh_.mesh_id[dt_.org(h)] < sh_.mesh_id[dt_.dest(h)] ? h : hs);
+        }
+      }
+      if (!any) ++st_.decided_by_bound;
+    }
+    std::sort(pencils.begin(), pencils.end());
+    pencils.erase(std::unique(pencils.begin(), pencils.end()), pencils.end());
+    return pencils;
+  }
+
+  // Sweeps the pencils (reusing the cache's sweeps), keeps what the cache should, and answers the
+  // queries left from the per-triangle counts.
+  void sweep_pencils(std::vector<Handle> pencils) {
+    sh_.pencils = std::move(pencils);
+    for (auto& w : workers_) {
+      w->min_candidates = k_;
+      if (cache_) w->reuse = cache_->impl.get();
+    }
+    bundle::for_ranges(workers_, sh_.pencils.size(), [&](Worker& w, std::size_t begin, std::size_t end, std::size_t) {
+      for (std::size_t i = begin; i < end; ++i) {
+        sh_.check_deadline();
+        w.sweep(i);
+      }
+    });
+    if (cache_) keep_sweeps();
+    for (std::size_t qi = 0; qi < queries_.size(); ++qi) {
+      const TriangleId t = queries_[qi];
+      if (!in_domain(t) || answer_[qi]) continue;
+      for (const auto& w : workers_) {
+        if (w->per_triangle()[t] >= k_) answer_[qi] = 1;
+      }
+      if (answer_[qi]) ++st_.decided_by_pencils;
+    }
+  }
+
+  // Keeps in the cache what this call used or made; drops the rest (stale keys of the mesh before).
+  void keep_sweeps() {
+    std::unordered_map<SweepKey, CachedSweep> next;
+    auto& old = cache_->impl->sweeps;
+    for (auto& w : workers_) {
+      st_.pencils_reused += w->pencils_reused;
+      for (const SweepKey key : w->reused_keys) {
+        const auto it = old.find(key);
+        if (it != old.end()) next.insert_or_assign(key, std::move(it->second));
+      }
+      for (auto& [key, sweep] : w->made) next.insert_or_assign(key, std::move(sweep));
+    }
+    old = std::move(next);
+  }
+
+  Shared& sh_;
+  const std::uint32_t k_;
+  const std::vector<TriangleId>& queries_;
+  KBundleStats& st_;
+  const bool subset_;
+  std::vector<std::uint8_t>& answer_;
+  KBundleCache* const cache_;
+  const Mesh& dt_;
+  const std::size_t dt_slots_;
+  std::vector<Handle> dt_vertex_edge_;
+  std::vector<std::unique_ptr<Worker>> workers_;
+  std::unique_ptr<std::atomic<std::uint8_t>[]> disk_state_;  // per Delaunay triangle (large_disk)
+  std::vector<std::uint32_t> s_count_ = std::vector<std::uint32_t>(queries_.size(), 0);  // |S(t)| per query
+  std::vector<std::uint32_t> s_begin_;
+  std::vector<TriangleId> s_list_, fan_;
+};
+
+Attempt in_k_bundle_attempt(Shared& sh, std::uint32_t k, const std::vector<TriangleId>& queries, KBundleStats& st,
+                            unsigned threads_requested, bool subset, std::vector<std::uint8_t>& answer,
+                            KBundleCache* cache) {
+  return KBundleAttempt(sh, k, queries, st, subset, answer, cache).run(threads_requested);
+}
+
+// ---- the region of a local attempt begins here ----------------------------------------------------
+
+// The local attempt: W holds the vertices of the mesh triangles fewer than kSubsetRings steps
+// (across edges, ghosts skipped) from the queries; the region holds the triangles at most
+// `region_rings` steps away, every triangle around a vertex of W, and the ghosts next to them.
+constexpr std::uint32_t kSubsetRings = 12;
+constexpr std::uint32_t kRegionRings[] = {12, 32};
+
+// Fills `region` / `region_ids` and `w` (ascending) for the queries.
+void local_region(const Mesh& mesh, const std::vector<TriangleId>& queries, std::uint32_t region_rings,
+                  std::vector<TriangleId>& region, DenseIds& region_ids, std::vector<VertexId>& w) {
+  region.clear();
+  region_ids = DenseIds(queries.size() * 256);
+  std::vector<std::pair<VertexId, Handle>> corners;  // the corners of W, with an edge leaving each
+  std::vector<TriangleId> frontier, next;
+  for (const TriangleId t : queries) {
+    if (t < mesh.triangle_slots() && !mesh.is_dead(t) && !mesh.is_ghost(t) && region_ids.insert(t).second) {
+      region.push_back(t);
+      frontier.push_back(t);
+    }
+  }
+  for (std::uint32_t ring = 0; ring < region_rings && !frontier.empty(); ++ring) {
+    next.clear();
+    for (const TriangleId t : frontier) {
+      const Triangle& tri = mesh.triangles[t];
+      if (ring < kSubsetRings) {
+        // Corner c is the origin of edge prev3(c).
+        for (unsigned c = 0; c < 3; ++c) corners.emplace_back(tri.v[c], make_handle(t, prev3(c)));
+      }
+      for (unsigned e = 0; e < 3; ++e) {
+        const TriangleId n = triangle_of(tri.n[e]);
+        if (mesh.is_ghost(n) || mesh.is_dead(n) || !region_ids.insert(n).second) continue;
+        region.push_back(n);
+        next.push_back(n);
+      }
+    }
+    frontier.swap(next);
+  }
+  std::sort(corners.begin(), corners.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  w.clear();
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    if (i > 0 && corners[i].first == corners[i - 1].first) continue;
+    w.push_back(corners[i].first);
+    const Handle start = corners[i].second;
+    Handle h = start;
+    do {
+      if (region_ids.insert(triangle_of(h)).second) region.push_back(triangle_of(h));
+      h = mesh.onext(h);
+    } while (h != start);
+  }
+  const std::size_t finite = region.size();
+  for (std::size_t i = 0; i < finite; ++i) {
+    if (mesh.is_ghost(region[i])) continue;
+    for (const Handle nh : mesh.triangles[region[i]].n) {
+      const TriangleId n = triangle_of(nh);
+      if (mesh.is_ghost(n) && region_ids.insert(n).second) region.push_back(n);
+    }
+  }
+}
+
+}  // namespace
+
+// ---- in_k_bundle begins here ----------------------------------------------------------------------
+
+std::vector<std::uint8_t> in_k_bundle(const Mesh& mesh, std::uint32_t k, const std::vector<TriangleId>& queries,
+                                      KBundleStats* stats, unsigned threads, KBundleCache* cache_given,
+                                      std::chrono::steady_clock::time_point deadline) {
+  std::vector<std::uint8_t> answer(queries.size(), 0);
+  // `cache`: sweeps and reach boxes; `cache_given`: also DT(V) (see KBundleCache::reuse_sweeps).
+  KBundleCache* const cache = cache_given && cache_given->reuse_sweeps ? cache_given : nullptr;
+  KBundleStats local_stats;
+  KBundleStats& st = stats ? *stats : local_stats;
+  st = {};
+  if (cache) cache->reach.assign(queries.size(), {kInf, kInf, -kInf, -kInf});  // empty: nothing known
+  if (queries.empty()) return answer;
+  // Few queries in a large mesh: try the Delaunay triangulation of the vertices within a few
+  // rings of mesh triangles around them (verified, see in_k_bundle_attempt) before DT(V), over a
+  // region of the mesh around them (its cost is what the region holds); if a flood leaves the
+  // region, over a larger one.
+  if (queries.size() * 256 < mesh.triangle_slots()) {
+    std::vector<TriangleId> region;
+    DenseIds region_ids;
+    std::vector<VertexId> w;
+    Attempt a = Attempt::kGaveUp;
+    for (const std::uint32_t rings : kRegionRings) {
+      local_region(mesh, queries, rings, region, region_ids, w);
+      Shared sh(mesh, deadline);
+      if (!sh.build_region(region, region_ids, w)) break;
+      std::vector<TriangleId> local_queries(queries.size());
+      for (std::size_t qi = 0; qi < queries.size(); ++qi) local_queries[qi] = region_ids.find(queries[qi]);
+      a = in_k_bundle_attempt(sh, k, local_queries, st, threads, true, answer, cache);
+      if (a == Attempt::kAnswered) {
+        st.local = true;
+        return answer;
+      }
+      if (a == Attempt::kGaveUp) break;
+    }
+    if (a == Attempt::kEscaped) {
+      // Floods reach far (long Delaunay disks, e.g. along the hull of a point set): the same
+      // attempt over the whole mesh, still cheaper than DT(V).
+      Shared sh(mesh, deadline);
+      if (sh.build(false, &w) && in_k_bundle_attempt(sh, k, queries, st, threads, true, answer, cache) == Attempt::kAnswered) {
+        st.local = true;
+        return answer;
+      }
+    }
+  }
+  Shared sh(mesh, deadline);
+  KBundleCache::Impl* const keep = cache_given ? cache_given->impl.get() : nullptr;
+  if (!sh.build(false, nullptr, keep ? &keep->dt : nullptr, keep ? &keep->dt_mesh_id : nullptr)) {
+    st = {};
+    answer.assign(queries.size(), 0);
+    if (cache) cache->reach.assign(queries.size(), {kInf, kInf, -kInf, -kInf});  // nothing known
+    return answer;
+  }
+  in_k_bundle_attempt(sh, k, queries, st, threads, false, answer, cache);
+  st.kept_dt = sh.kept_dt;
+  if (keep) {
+    keep->dt = std::move(sh.dt);
+    keep->dt_mesh_id.assign(sh.mesh_id.begin(), sh.mesh_id.begin() + sh.used);
+  }
+  return answer;
+}
+
+}  // namespace mwst

@@ -1,0 +1,126 @@
+// src/algorithms/bundle/lists.cpp — the bundle number's workers and candidate lists (lists.hpp).
+#include "algorithms/bundle/lists.hpp"
+
+#include <algorithm>
+#include <utility>
+
+#include "mwst/error.hpp"
+
+namespace mwst::bundle {
+
+unsigned worker_threads(unsigned requested, std::size_t work) {
+  if (work < 20000) return 1;  // small inputs: threads cost more than they save
+  return std::min(support::worker_count(requested), 16u);
+}
+
+std::vector<std::unique_ptr<Worker>> make_workers(const Shared& sh, unsigned threads, bool per_triangle,
+                                                  bool prune) {
+  std::vector<std::unique_ptr<Worker>> workers;
+  for (unsigned k = 0; k < threads; ++k) workers.push_back(std::make_unique<Worker>(sh, per_triangle, prune));
+  return workers;
+}
+
+// ---- candidate lists begin here -------------------------------------------------------------------
+
+void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers, const std::vector<std::uint8_t>* needed,
+                 std::vector<std::array<double, 4>>* boxes, std::uint32_t cap) {
+  if (boxes) boxes->assign(sh.dt.triangle_slots(), {kInf, kInf, -kInf, -kInf});
+  for (auto& w : workers) w->want_flood_box = boxes != nullptr;
+  const std::size_t slots = sh.dt.triangle_slots();
+  std::vector<std::vector<TriangleId>> parts(workers.size());
+  std::vector<std::uint32_t> local_begin(slots + 1, 0);
+  for_ranges(workers, slots, [&](Worker& w, std::size_t begin, std::size_t end, std::size_t k) {
+    std::vector<TriangleId>& part = parts[k];
+    part.reserve((end - begin) * 12);
+    std::vector<TriangleId> one;
+    for (std::size_t t = begin; t < end; ++t) {
+      sh.check_deadline();
+      local_begin[t] = static_cast<std::uint32_t>(part.size());
+      const auto dtt = static_cast<TriangleId>(t);
+      if (sh.dt.is_dead(dtt) || sh.dt.is_ghost(dtt) || (needed && (*needed)[t] == 0)) continue;
+      if (cap == std::numeric_limits<std::uint32_t>::max()) {
+        w.flood(dtt, one);
+      } else {
+        one.clear();
+        bool over = false;
+        w.flood_each(dtt, [&](TriangleId c) {
+          if (one.size() == cap) {
+            over = true;
+            return false;
+          }
+          one.push_back(c);
+          return true;
+        });
+        sh.truncated[t] = over ? 1 : 0;
+      }
+      if (boxes) (*boxes)[t] = w.flood_box;
+      part.insert(part.end(), one.begin(), one.end());
+    }
+  });
+  std::size_t total = 0;
+  for (const auto& part : parts) total += part.size();
+  if (total > 0xFFFFFFF0u) throw InternalError("bundle: candidate lists too long");
+  sh.list.clear();
+  sh.list.reserve(total);
+  sh.list_begin.assign(slots + 1, 0);
+  for (std::size_t k = 0; k < workers.size(); ++k) {
+    const std::size_t begin = slots * k / workers.size(), end = slots * (k + 1) / workers.size();
+    const auto offset = static_cast<std::uint32_t>(sh.list.size());
+    for (std::size_t t = begin; t < end; ++t) sh.list_begin[t] = local_begin[t] + offset;
+    sh.list.insert(sh.list.end(), parts[k].begin(), parts[k].end());
+    parts[k] = {};
+  }
+  sh.list_begin[slots] = static_cast<std::uint32_t>(sh.list.size());
+}
+
+bool build_lists_within_budget(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers, std::size_t budget) {
+  const std::size_t slots = sh.dt.triangle_slots();
+  std::size_t disks = 0;
+  for (TriangleId d = 0; d < slots; ++d) disks += sh.dt.is_dead(d) || sh.dt.is_ghost(d) ? 0 : 1;
+  const auto share = [](std::size_t total, std::size_t parts) {
+    return static_cast<std::uint32_t>(std::min<std::size_t>(total / std::max<std::size_t>(parts, 1), 0xFFFFFFF0u));
+  };
+  const std::uint32_t first_cap = std::max<std::uint32_t>(1, share(budget, disks));
+  sh.truncated.assign(slots, 0);
+  build_lists(sh, workers, nullptr, nullptr, first_cap);
+  std::vector<std::uint8_t> again(slots, 0);
+  std::size_t cut = 0;
+  for (TriangleId d = 0; d < slots; ++d) {
+    again[d] = sh.truncated[d];
+    cut += again[d];
+  }
+  if (cut == 0) {
+    sh.truncated.clear();
+    return true;
+  }
+  const std::size_t used = sh.list.size();
+  const std::uint32_t second_cap = share(budget > used ? budget - used : 0, cut);
+  if (second_cap > first_cap) {
+    std::vector<TriangleId> first_list = std::move(sh.list);
+    std::vector<std::uint32_t> first_begin = std::move(sh.list_begin);
+    build_lists(sh, workers, &again, nullptr, second_cap);
+    std::vector<TriangleId> list;
+    std::vector<std::uint32_t> begin(slots + 1, 0);
+    list.reserve(first_list.size() + sh.list.size());
+    cut = 0;
+    for (TriangleId d = 0; d < slots; ++d) {
+      begin[d] = static_cast<std::uint32_t>(list.size());
+      if (again[d]) {
+        list.insert(list.end(), sh.list.begin() + sh.list_begin[d], sh.list.begin() + sh.list_begin[d + 1]);
+        cut += sh.truncated[d];
+      } else {
+        list.insert(list.end(), first_list.begin() + first_begin[d], first_list.begin() + first_begin[d + 1]);
+      }
+    }
+    begin[slots] = static_cast<std::uint32_t>(list.size());
+    sh.list = std::move(list);
+    sh.list_begin = std::move(begin);
+    for (TriangleId d = 0; d < slots; ++d) {
+      if (!again[d]) sh.truncated[d] = 0;
+    }
+  }
+  if (cut == 0) sh.truncated.clear();
+  return cut == 0;
+}
+
+}  // namespace mwst::bundle

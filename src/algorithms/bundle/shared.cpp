@@ -1,0 +1,254 @@
+// src/algorithms/bundle/shared.cpp — renumbering the mesh, DT(V) and the pencils (shared.hpp).
+#include "algorithms/bundle/shared.hpp"
+
+#include <algorithm>
+
+#include "algorithms/bundle/approx.hpp"
+#include "mwst/error.hpp"
+#include "mwst/mesh/delaunay.hpp"
+
+namespace mwst::bundle {
+
+namespace {
+
+// Morton (Z-order) key, 30 bits, of the cell of (x, y) in a 2^15 × 2^15 grid over the bounding box.
+std::uint32_t morton_key(const Point& p, double x0, double y0, double scale) {
+  auto cell = [scale](double v, double v0) {
+    const double c = (v - v0) * scale;
+    return static_cast<std::uint32_t>(std::clamp(c, 0.0, 32767.0));
+  };
+  auto spread = [](std::uint32_t v) {
+    v = (v | (v << 8)) & 0x00FF00FFu;
+    v = (v | (v << 4)) & 0x0F0F0F0Fu;
+    v = (v | (v << 2)) & 0x33333333u;
+    v = (v | (v << 1)) & 0x55555555u;
+    return v;
+  };
+  return spread(cell(p.x, x0)) | (spread(cell(p.y, y0)) << 1);
+}
+
+}  // namespace
+
+// ---- Shared::build begins here --------------------------------------------------------------------
+
+bool Shared::build(bool list_pencils, const std::vector<VertexId>* subset, Mesh* prior_dt,
+                   const std::vector<VertexId>* prior_ids) {
+  std::vector<std::uint8_t> state;  // 1: corner of a live triangle, 2: vertex of T
+  if (!mark_vertices(subset, state)) return false;
+  apply_order(vertex_order(state, subset, prior_dt, prior_ids), state);
+  return finish(list_pencils);
+}
+
+// Marks the corners of live triangles (1) and the vertices of T (2; with a subset, only those in
+// it). False if T has no vertex (in the subset).
+bool Shared::mark_vertices(const std::vector<VertexId>* subset, std::vector<std::uint8_t>& state) const {
+  const std::size_t nv = m.points.size();
+  state.assign(nv, 0);
+  bool any = false;
+  for (TriangleId t = 0; t < m.triangle_slots(); ++t) {
+    if (m.is_dead(t)) continue;
+    const std::uint8_t s = m.in_domain(t) ? 2 : 1;
+    any = any || s == 2;
+    for (const VertexId v : m.triangles[t].v) {
+      if (v != kInfinite) state[v] = std::max(state[v], s);
+    }
+  }
+  if (!any) return false;
+  if (subset) {
+    std::vector<std::uint8_t> in_subset(nv, 0);
+    for (const VertexId v : *subset) in_subset[v] = 1;
+    bool some = false;
+    for (VertexId v = 0; v < nv; ++v) {
+      if (state[v] == 2 && !in_subset[v]) state[v] = 1;
+      some = some || state[v] == 2;
+    }
+    if (!some) return false;
+  }
+  return true;
+}
+
+// The renumbering: vertices of T first (they are the DT ids), each group in Morton order — group
+// in bit 62, the 30-bit key in bits 32..61, the old id below. With a prior DT(V) its vertices come
+// first in its order (and prior_ is set for finish()); with a subset the DT is small and the sweeps
+// few: the groups in id order, without a sort.
+std::vector<std::uint64_t> Shared::vertex_order(const std::vector<std::uint8_t>& state,
+                                                const std::vector<VertexId>* subset, Mesh* prior_dt,
+                                                const std::vector<VertexId>* prior_ids) {
+  const std::size_t nv = m.points.size();
+  double x0 = kInf, y0 = kInf, x1 = -kInf, y1 = -kInf;
+  for (VertexId v = 0; v < nv; ++v) {
+    if (state[v] == 0) continue;
+    x0 = std::min(x0, m.points[v].x);
+    y0 = std::min(y0, m.points[v].y);
+    x1 = std::max(x1, m.points[v].x);
+    y1 = std::max(y1, m.points[v].y);
+  }
+  const double extent = std::max(x1 * 0.5 - x0 * 0.5, y1 * 0.5 - y0 * 0.5);
+  const double scale = extent > 0.0 ? 16383.0 / extent : 0.0;  // extent is half the range
+  std::vector<std::uint64_t> order;
+  std::vector<std::uint8_t> in_prior;
+  if (!subset && prior_dt && prior_ids && prior_dt->triangle_slots() > 0 &&
+      prior_dt->points.size() == prior_ids->size()) {
+    in_prior.assign(nv, 0);
+    for (std::size_t i = 0; i < prior_ids->size(); ++i) {
+      const VertexId v = (*prior_ids)[i];
+      if (v >= nv || state[v] != 2 || in_prior[v] || !(m.points[v] == prior_dt->points[i])) {
+        in_prior.clear();
+        break;
+      }
+      in_prior[v] = 1;
+    }
+  }
+  if (!in_prior.empty()) {
+    prior_ = prior_dt;
+    prior_used_ = static_cast<std::uint32_t>(prior_ids->size());
+    for (const VertexId v : *prior_ids) order.push_back(v);  // group 0, key 0: kept in front
+    const std::size_t kept = order.size();
+    for (VertexId v = 0; v < nv; ++v) {
+      if (state[v] == 0 || in_prior[v]) continue;
+      const std::uint64_t group = state[v] == 2 ? 0 : 1;
+      order.push_back((group << 62) | (std::uint64_t{morton_key(m.points[v], x0, y0, scale)} << 32) | v);
+    }
+    std::sort(order.begin() + static_cast<std::ptrdiff_t>(kept), order.end());
+  } else if (subset) {
+    for (const int group : {2, 1}) {
+      for (VertexId v = 0; v < nv; ++v) {
+        if (state[v] == group) order.push_back(std::uint64_t{group == 2 ? 0u : 1u} << 62 | v);
+      }
+    }
+  } else {
+    for (VertexId v = 0; v < nv; ++v) {
+      if (state[v] == 0) continue;
+      const std::uint64_t group = state[v] == 2 ? 0 : 1;
+      order.push_back((group << 62) | (std::uint64_t{morton_key(m.points[v], x0, y0, scale)} << 32) | v);
+    }
+    std::sort(order.begin(), order.end());
+  }
+  return order;
+}
+
+// Applies the order: pts, mesh_id, used, and the slots with renumbered corners.
+void Shared::apply_order(const std::vector<std::uint64_t>& order, const std::vector<std::uint8_t>& state) {
+  const std::size_t nv = m.points.size();
+  std::vector<VertexId> renumber(nv, kInfinite);
+  pts.resize(order.size());
+  mesh_id.resize(order.size());
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    const auto v = static_cast<VertexId>(order[i] & 0xFFFFFFFFu);
+    renumber[v] = static_cast<VertexId>(i);
+    mesh_id[i] = v;
+    pts[i] = m.points[v];
+    if (state[v] == 2) used = static_cast<std::uint32_t>(i + 1);
+  }
+  slots.resize(m.triangle_slots());
+  domain.resize(m.triangle_slots());
+  vertex_edge.assign(pts.size(), kNone);
+  for (TriangleId t = 0; t < m.triangle_slots(); ++t) {
+    domain[t] = m.in_domain(t) ? 1 : 0;
+    for (unsigned k = 0; k < 3; ++k) {
+      const VertexId v = m.triangles[t].v[k];
+      slots[t].v[k] = (v == kInfinite || m.is_dead(t)) ? kInfinite : renumber[v];
+      slots[t].n[k] = m.triangles[t].n[k];
+    }
+    if (m.is_dead(t)) continue;
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle h = make_handle(t, e);
+      const VertexId o = org(h);
+      if (o != kInfinite && vertex_edge[o] == kNone) vertex_edge[o] = h;
+    }
+  }
+}
+
+// ---- Shared::build_region begins here -------------------------------------------------------------
+
+bool Shared::build_region(const std::vector<TriangleId>& region, const DenseIds& region_ids,
+                          const std::vector<VertexId>& w) {
+  DenseIds ids(w.size() + region.size());
+  std::vector<std::uint8_t> in_t;  // per region vertex (in `ids` order): a corner of an in-domain slot
+  for (const VertexId v : w) ids.insert(v);
+  in_t.assign(w.size(), 0);
+  for (const TriangleId t : region) {
+    const bool in = m.in_domain(t);
+    for (const VertexId v : m.triangles[t].v) {
+      if (v == kInfinite) continue;
+      const auto [id, added] = ids.insert(v);
+      if (added) in_t.push_back(0);
+      if (in) in_t[id] = 1;
+    }
+  }
+  // DT ids: the vertices of w that are vertices of T (a vertex of w has all its triangles in the
+  // region, so in_t is exact for it), then the other region vertices.
+  std::vector<VertexId> renumber(ids.size(), kNone);  // by `ids` id
+  pts.clear();
+  pts.reserve(ids.size());
+  mesh_id.clear();
+  for (std::uint32_t i = 0; i < w.size(); ++i) {
+    if (!in_t[i]) continue;
+    renumber[i] = static_cast<VertexId>(pts.size());
+    pts.push_back(m.points[w[i]]);
+    mesh_id.push_back(w[i]);
+  }
+  used = static_cast<std::uint32_t>(pts.size());
+  if (used == 0) return false;
+  for (std::uint32_t i = 0; i < ids.size(); ++i) {
+    if (renumber[i] != kNone) continue;
+    renumber[i] = static_cast<VertexId>(pts.size());
+    pts.push_back(m.points[ids.key(i)]);
+    mesh_id.push_back(ids.key(i));
+  }
+  outside = static_cast<TriangleId>(region.size());
+  slots.resize(region.size() + 1);
+  domain.assign(region.size() + 1, 0);
+  vertex_edge.assign(pts.size(), kNone);
+  for (TriangleId t = 0; t < region.size(); ++t) {
+    const Triangle& tri = m.triangles[region[t]];
+    domain[t] = m.in_domain(region[t]) ? 1 : 0;
+    for (unsigned k = 0; k < 3; ++k) {
+      const VertexId v = tri.v[k];
+      slots[t].v[k] = v == kInfinite ? kInfinite : renumber[ids.find(v)];
+      const TriangleId n = region_ids.find(triangle_of(tri.n[k]));
+      slots[t].n[k] = n == kNone ? make_handle(outside, 0) : make_handle(n, edge_of(tri.n[k]));
+    }
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle h = make_handle(t, e);
+      const VertexId o = org(h);
+      if (o != kInfinite && vertex_edge[o] == kNone) vertex_edge[o] = h;
+    }
+  }
+  slots[outside].v = {kInfinite, kInfinite, kInfinite};
+  for (unsigned k = 0; k < 3; ++k) slots[outside].n[k] = make_handle(outside, k);
+  return finish(false);
+}
+
+// ---- Shared::finish begins here -------------------------------------------------------------------
+
+bool Shared::finish(bool list_pencils) {
+  if (prior_) {
+    dt = std::move(*prior_);
+    prior_ = nullptr;
+    kept_dt = true;
+    Handle hint = kNone;
+    for (std::uint32_t i = prior_used_; i < used; ++i) {
+      dt.points.push_back(pts[i]);
+      dt.vertex_kind.push_back(VertexKind::kSteiner);
+      dt.vertex_marker.push_back(0);
+      if (dt.insert_vertex(i, hint, &hint) != i) throw InternalError("bundle: two vertices of the mesh coincide");
+    }
+  } else {
+    dt = delaunay(std::vector<Point>(pts.begin(), pts.begin() + used));
+  }
+  if (!dt.duplicates.empty()) throw InternalError("bundle: two vertices of the mesh coincide");
+  if (!list_pencils) return true;
+  for (TriangleId t = 0; t < dt.triangle_slots(); ++t) {
+    if (dt.is_dead(t) || dt.is_ghost(t)) continue;
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle h = make_handle(t, e);
+      const TriangleId other = triangle_of(dt.sym(h));
+      if (!dt.is_ghost(other) && other < t) continue;  // each interior edge once
+      pencils.push_back(h);
+    }
+  }
+  return true;
+}
+
+}  // namespace mwst::bundle

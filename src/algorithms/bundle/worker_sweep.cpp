@@ -1,0 +1,466 @@
+// src/algorithms/bundle/worker_sweep.cpp — a Worker's sweep over the pencil of disks of one
+// Delaunay edge (worker.hpp; the geometry is in docs/algorithms/bundle-number.md, "One pencil").
+#include "algorithms/bundle/worker.hpp"
+
+#include "algorithms/bundle/circle_predicates.hpp"
+
+namespace mwst::bundle {
+
+// ---- the sweep begins here ------------------------------------------------------------------------
+
+void Worker::sweep(std::size_t index) {
+  const Mesh& dt = sh_.dt;
+  const Handle h = sh_.pencils[index];
+  const Handle hs = dt.sym(h);
+  const VertexId lv = dt.apex(h), rv = dt.apex(hs);  // rv = kInfinite on a hull edge
+  if (!start_pencil(h, rv)) return;
+  ++pencils;
+  gather_candidates(h, hs, rv);
+  candidate_pairs += candidates_.size();
+  // No disk of this pencil meets more triangles than it has candidates: below the count asked
+  // for (in_k_bundle), the pencil cannot matter.
+  if (candidates_.size() < min_candidates) return;
+  // A result of an earlier call with the same key (see CachedSweep).
+  const bool cacheable = reuse != nullptr && per_triangle_enabled_ && candidates_.size() >= kCachedCandidates;
+  if (cacheable && reuse_cached_sweep(lv, rv)) return;
+  // No disk of this pencil meets more triangles than it has candidates. Its two circumdisks
+  // are still counted (directly, when their lists could beat the best circumdisk so far).
+  if (prune_ && candidates_.size() <= best_count) {
+    count_pencil_ends(h, hs);
+    return;
+  }
+  std::uint32_t always_count = 0, b_total = 0;
+  collect_events(lv, rv, always_count, b_total);
+  order_events();
+  std::uint32_t lo_group = kNone, hi_group = kNone;
+  group_events(lo_group, hi_group);
+  // The circumdisks (the ends of the pencil).
+  circumdisk_best = std::max(circumdisk_best, count_at_end(hi_group, always_count));
+  if (lo_group != kNone) circumdisk_best = std::max(circumdisk_best, count_at_end(lo_group, always_count));
+  // Valid intervals: above the class of s_lo (if any), not above the class of s_hi.
+  const std::uint32_t j_min = lo_group == kNone ? 0 : lo_group + 1;
+  const std::uint32_t j_max = hi_group;
+  if (j_min > j_max) return;  // cannot happen: s_lo < s_hi strictly here
+  best_interval(index, j_min, j_max, always_count, b_total);
+  if (per_triangle_enabled_) spread_per_triangle(j_min, j_max, cacheable);
+}
+
+// Sets the pencil of Delaunay edge h (p → q); false if it is not swept: s_lo = s_hi (the four
+// vertices are cocircular; the only disk is a circumdisk, which the neighbouring pencils reach as a
+// limit, see docs/algorithms/bundle-number.md), or a list cut at the budget's cap (the sweep would
+// not be exact; bundle_number bounds it).
+bool Worker::start_pencil(Handle h, VertexId rv) {
+  const Mesh& dt = sh_.dt;
+  const Handle hs = dt.sym(h);
+  const VertexId lv = dt.apex(h);
+  pc_.pv = dt.org(h);
+  pc_.qv = dt.dest(h);
+  pc_.p = sh_.pts[pc_.pv];
+  pc_.q = sh_.pts[pc_.qv];
+  pc_.points = sh_.pts.data();
+  if (rv != kInfinite && incircle(pc_.p, pc_.q, sh_.pts[lv], sh_.pts[rv]) == 0) return false;
+  if (!sh_.truncated.empty() && (sh_.truncated[triangle_of(h)] || (rv != kInfinite && sh_.truncated[triangle_of(hs)]))) {
+    return false;
+  }
+  return true;
+}
+
+// The candidates: the union of the lists of the two Delaunay triangles on the edge (every disk of
+// the pencil lies in their circumdisks), each triangle once.
+void Worker::gather_candidates(Handle h, Handle hs, VertexId rv) {
+  bump(candidate_mark_, [this] { std::fill(candidate_stamp_.begin(), candidate_stamp_.end(), 0); });
+  candidates_.clear();
+  auto gather = [&](TriangleId dtt) {
+    for (std::uint32_t i = sh_.list_begin[dtt]; i < sh_.list_begin[dtt + 1]; ++i) {
+      const TriangleId t = sh_.list[i];
+      if (candidate_stamp_[t] == candidate_mark_) continue;
+      candidate_stamp_[t] = candidate_mark_;
+      candidate_index_[t] = static_cast<std::uint32_t>(candidates_.size());
+      Candidate c;
+      c.triangle = t;
+      candidates_.push_back(c);
+    }
+  };
+  gather(triangle_of(h));
+  if (rv != kInfinite) gather(triangle_of(hs));
+}
+
+// Looks the pencil up in the cache of an earlier call (KBundleCache); true if its result was
+// reused (per_triangle updated). Otherwise starts the entry this call makes (`made`).
+bool Worker::reuse_cached_sweep(VertexId lv, VertexId rv) {
+  const SweepKey key = SweepKey{sh_.mesh_id[pc_.pv]} << 32 | sh_.mesh_id[pc_.qv];
+  key_order_.resize(candidates_.size());
+  key_triangles_.resize(candidates_.size());
+  for (std::uint32_t i = 0; i < candidates_.size(); ++i) {
+    key_order_[i] = i;
+    const auto& tv = sh_.slots[candidates_[i].triangle].v;
+    std::array<VertexId, 3> m{sh_.mesh_id[tv[0]], sh_.mesh_id[tv[1]], sh_.mesh_id[tv[2]]};
+    while (m[0] > m[1] || m[0] > m[2]) m = {m[1], m[2], m[0]};
+    key_triangles_[i] = m;
+  }
+  std::sort(key_order_.begin(), key_order_.end(),
+            [this](std::uint32_t x, std::uint32_t y) { return key_triangles_[x] < key_triangles_[y]; });
+  const VertexId lm = sh_.mesh_id[lv], rm = rv == kInfinite ? kInfinite : sh_.mesh_id[rv];
+  const auto it = reuse->sweeps.find(key);
+  if (it != reuse->sweeps.end() && it->second.lv == lm && it->second.rv == rm &&
+      it->second.triangles.size() == candidates_.size()) {
+    const CachedSweep& c = it->second;
+    bool same = true;
+    for (std::size_t j = 0; j < key_order_.size() && same; ++j) same = c.triangles[j] == key_triangles_[key_order_[j]];
+    if (same) {
+      for (std::size_t j = 0; j < key_order_.size(); ++j) {
+        std::uint32_t& slot = per_triangle_[candidates_[key_order_[j]].triangle];
+        slot = std::max(slot, c.best[j]);
+      }
+      ++pencils_reused;
+      reused_keys.push_back(key);
+      return true;
+    }
+  }
+  made.emplace_back(key, CachedSweep{lm, rm, {}, {}});
+  CachedSweep& c = made.back().second;
+  c.triangles.reserve(candidates_.size());
+  for (const std::uint32_t i : key_order_) c.triangles.push_back(key_triangles_[i]);
+  c.best.assign(candidates_.size(), 0);
+  return false;
+}
+
+// A pencil pruned: only its two circumdisks are counted, when their lists could beat the best
+// circumdisk so far.
+void Worker::count_pencil_ends(Handle h, Handle hs) {
+  const Mesh& dt = sh_.dt;
+  for (const TriangleId dtt : {triangle_of(h), triangle_of(hs)}) {
+    if (dt.is_ghost(dtt)) continue;
+    const std::uint32_t size = sh_.list_begin[dtt + 1] - sh_.list_begin[dtt];
+    if (size <= circumdisk_best) continue;
+    circumdisk_best = std::max(circumdisk_best, circumdisk_count(dtt, sh_.list.data() + sh_.list_begin[dtt], size, nullptr));
+  }
+}
+
+// The thresholds of every candidate (classify) and of the pencil's ends s_hi (apex lv) and s_lo
+// (apex rv, none on a hull edge); counts the candidates that meet every disk and the b_t events.
+void Worker::collect_events(VertexId lv, VertexId rv, std::uint32_t& always_count, std::uint32_t& b_total) {
+  pc_.bx = pc_.q.x - pc_.p.x;
+  pc_.by = pc_.q.y - pc_.p.y;
+  pc_.local_scale = 2.0 / (pc_.bx * pc_.bx + pc_.by * pc_.by);
+  bump(pencil_stamp_, [this] {
+    for (auto& x : pencil_vertex_) x.stamp = 0;
+  });
+  const auto n_cand = static_cast<std::uint32_t>(candidates_.size());
+  if (edge_ref_.size() < 3 * static_cast<std::size_t>(n_cand)) edge_ref_.resize(3 * static_cast<std::size_t>(n_cand));
+  edge_info_.clear();
+  events_.clear();
+  for (std::uint32_t i = 0; i < n_cand; ++i) {
+    bool has_a = false, has_b = false;
+    Threshold a, b;
+    classify(i, has_a, a, has_b, b);
+    if (candidates_[i].always) {
+      ++always_count;
+      continue;
+    }
+    if (has_a) events_.push_back({a, i, kRoleA});
+    if (has_b) {
+      events_.push_back({b, i, kRoleB});
+      ++b_total;
+    }
+  }
+  events_.push_back({rational_threshold(pc_, Kind::kThroughVertex, lv, sh_.pts[lv]), kNone, kRoleHi});
+  if (rv != kInfinite) {
+    events_.push_back({rational_threshold(pc_, Kind::kThroughVertex, rv, sh_.pts[rv]), kNone, kRoleLo});
+  }
+}
+
+// Sorts the events by rounded value, then repairs runs whose error windows overlap with exact
+// comparisons (an insertion sort per run: runs are short).
+void Worker::order_events() {
+  std::sort(events_.begin(), events_.end(), [](const Event& x, const Event& y) {
+    if (x.th.value != y.th.value) return x.th.value < y.th.value;
+    if (x.role != y.role) return x.role < y.role;
+    return x.candidate < y.candidate;
+  });
+  const std::size_t n = events_.size();
+  for (std::size_t i = 0; i < n;) {
+    std::size_t j = i + 1;
+    while (j < n && events_[j].th.value - events_[j - 1].th.value <=
+                        events_[j].th.error + events_[j - 1].th.error) {
+      ++j;
+    }
+    for (std::size_t k = i + 1; k < j; ++k) {
+      const Event moving = events_[k];
+      std::size_t l = k;
+      while (l > i && compare_thresholds(pc_, events_[l - 1].th, moving.th, exact_comparisons) > 0) {
+        events_[l] = events_[l - 1];
+        --l;
+      }
+      events_[l] = moving;
+    }
+    i = j;
+  }
+}
+
+// Classes of equal thresholds: group_start_, and per class how many a_t and b_t it holds; each
+// candidate learns the classes of its thresholds. Interval j lies below class j (j = 0: below
+// everything).
+void Worker::group_events(std::uint32_t& lo_group, std::uint32_t& hi_group) {
+  group_start_.clear();
+  group_a_.clear();
+  group_b_.clear();
+  const std::size_t n = events_.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i == 0 || compare_thresholds(pc_, events_[i - 1].th, events_[i].th, exact_comparisons) != 0) {
+      group_start_.push_back(static_cast<std::uint32_t>(i));
+      group_a_.push_back(0);
+      group_b_.push_back(0);
+    }
+    const auto g = static_cast<std::uint32_t>(group_start_.size() - 1);
+    const Event& ev = events_[i];
+    if (ev.role == kRoleLo) {
+      lo_group = g;
+    } else if (ev.role == kRoleHi) {
+      hi_group = g;
+    } else if (ev.role == kRoleA) {
+      candidates_[ev.candidate].a_group = g;
+      ++group_a_[g];
+    } else {
+      candidates_[ev.candidate].b_group = g;
+      ++group_b_[g];
+    }
+  }
+}
+
+// The count of the end circumdisk in class g: thresholds strictly below / above the end count.
+std::uint32_t Worker::count_at_end(std::uint32_t g, std::uint32_t always_count) const {
+  const auto groups = static_cast<std::uint32_t>(group_start_.size());
+  std::uint32_t a_lt = 0, b_gt = 0;
+  for (std::uint32_t k = 0; k < g; ++k) a_lt += group_a_[k];
+  for (std::uint32_t k = g + 1; k < groups; ++k) b_gt += group_b_[k];
+  return always_count + a_lt + b_gt;
+}
+
+// The count on every open interval up to j_max (counts_), and the witness of the best one in
+// [j_min, j_max] if it beats best_count (the first such interval: ties go to the lowest).
+void Worker::best_interval(std::size_t index, std::uint32_t j_min, std::uint32_t j_max, std::uint32_t always_count,
+                           std::uint32_t b_total) {
+  counts_.resize(static_cast<std::size_t>(j_max) + 1);
+  std::uint32_t a_below = 0, b_below = 0, best_j = j_min;
+  for (std::uint32_t j = 0; j <= j_max; ++j) {
+    counts_[j] = always_count + a_below + (b_total - b_below);
+    if (j >= j_min && counts_[j] > counts_[best_j]) best_j = j;
+    a_below += group_a_[j];
+    b_below += group_b_[j];
+  }
+  if (counts_[best_j] > best_count) record_witness(index, best_j, counts_[best_j]);
+}
+
+// Per candidate, the largest count of an interval whose disks meet it (prefix and suffix maxima
+// of counts_), into per_triangle_ and, if cacheable, into the entry this call makes.
+void Worker::spread_per_triangle(std::uint32_t j_min, std::uint32_t j_max, bool cacheable) {
+  if (cacheable) key_best_.assign(candidates_.size(), 0);
+  prefix_max_.resize(counts_.size());
+  suffix_max_.resize(counts_.size() + 1);
+  std::uint32_t run = 0;
+  for (std::uint32_t j = j_min; j <= j_max; ++j) prefix_max_[j] = run = std::max(run, counts_[j]);
+  run = 0;
+  suffix_max_[j_max + 1] = 0;
+  for (std::uint32_t j = j_max + 1; j-- > j_min;) suffix_max_[j] = run = std::max(run, counts_[j]);
+  for (const Candidate& c : candidates_) {
+    std::uint32_t best = 0;
+    if (c.always) {
+      best = prefix_max_[j_max];
+    } else {
+      if (c.a_group != kNone) {
+        const std::uint32_t j = std::max(c.a_group + 1, j_min);
+        if (j <= j_max) best = std::max(best, suffix_max_[j]);
+      }
+      if (c.b_group != kNone) {
+        const std::uint32_t j = std::min(c.b_group, j_max);
+        if (j >= j_min) best = std::max(best, prefix_max_[j]);
+      }
+    }
+    std::uint32_t& slot = per_triangle_[c.triangle];
+    slot = std::max(slot, best);
+    if (cacheable) key_best_[candidate_index_[c.triangle]] = best;
+  }
+  if (cacheable) {
+    std::vector<std::uint32_t>& out = made.back().second.best;
+    for (std::size_t j = 0; j < key_order_.size(); ++j) out[j] = key_best_[key_order_[j]];
+  }
+}
+
+// ---- classifying the candidates begins here -------------------------------------------------------
+
+// Side of vertex v relative to the directed line p→q, cached per pencil with its local
+// coordinates.
+const Worker::PencilVertex& Worker::vertex(VertexId v) {
+  PencilVertex& x = pencil_vertex_[v];
+  if (x.stamp != pencil_stamp_) {
+    x.stamp = pencil_stamp_;
+    if (v == pc_.pv) {
+      x.side = kSideP;
+    } else if (v == pc_.qv) {
+      x.side = kSideQ;
+    } else {
+      const Point& pt = sh_.pts[v];
+      x.side = static_cast<std::int8_t>(orient2d(pc_.p, pc_.q, pt));
+      const double dx = pt.x - pc_.p.x, dy = pt.y - pc_.p.y;
+      x.local = {(dx * pc_.bx + dy * pc_.by) * pc_.local_scale - 1.0,
+                 (pc_.bx * dy - pc_.by * dx) * pc_.local_scale};
+    }
+  }
+  return x;
+}
+
+// Keeps the smaller (sigma = +1) or larger (sigma = −1) threshold in `best`.
+void Worker::keep_extreme(int sigma, bool& has, Threshold& best, const Threshold& t) {
+  if (!has) {
+    has = true;
+    best = t;
+  } else if (compare_thresholds(pc_, t, best, exact_comparisons) * sigma < 0) {
+    best = t;
+  }
+}
+
+// The contribution of edge uw (see EdgeInfo); `info` starts empty.
+void Worker::classify_edge(VertexId u, VertexId w, EdgeInfo& info) {
+  const PencilVertex& xu = vertex(u);
+  const PencilVertex& xw = vertex(w);
+  const std::int8_t su = xu.side, sw = xw.side;
+  const Point& pu = sh_.pts[u];
+  const Point& pw = sh_.pts[w];
+  if ((su == 1 && sw == -1) || (su == -1 && sw == 1)) {
+    // No vertex lies on the open chord of a Delaunay edge: crossing is proper or absent.
+    if (orient2d(pu, pw, pc_.p) * orient2d(pu, pw, pc_.q) < 0) {
+      info.crosses = true;
+      return;
+    }
+  }
+  const bool u_end = su == kSideP || su == kSideQ;
+  const bool w_end = sw == kSideP || sw == kSideQ;
+  if (u_end || w_end) {
+    if (u_end && w_end) return;  // the edge pq itself: its triangles meet the chord
+    // An edge from p or q: f is linear along it, its infimum is the tangent at that end.
+    const std::int8_t end_side = u_end ? su : sw;
+    const std::int8_t far_side = u_end ? sw : su;
+    const VertexId far = u_end ? w : u;
+    if (far_side != 1 && far_side != -1) return;
+    const Threshold th = rational_threshold(pc_, end_side == kSideP ? Kind::kTangentAtP : Kind::kTangentAtQ,
+                                            far, sh_.pts[far]);
+    if (far_side == 1) {
+      info.has_a = true;
+      info.a = th;
+    } else {
+      info.has_b = true;
+      info.b = th;
+    }
+    return;
+  }
+  for (const int sigma : {1, -1}) {
+    const bool in_u = su == sigma, in_w = sw == sigma;
+    if (!in_u && !in_w) continue;
+    bool interior = false;
+    if (in_u && in_w) {
+      interior = detail::enters_circle(pc_.p, pc_.q, pu, pw, su) > 0 && detail::enters_circle(pc_.p, pc_.q, pw, pu, sw) > 0;
+    } else if (in_u) {
+      interior = detail::enters_circle(pc_.p, pc_.q, pu, pw, su) > 0;
+    } else {
+      interior = detail::enters_circle(pc_.p, pc_.q, pw, pu, sw) > 0;
+    }
+    if (!interior) continue;
+    // Local coordinates, mirrored for the lower side (f(x₁, −x₂) = −f(x₁, x₂)).
+    Point lu = in_u ? xu.local : xw.local;
+    Point lw = in_u ? xw.local : xu.local;
+    if (sigma < 0) {
+      lu.y = -lu.y;
+      lw.y = -lw.y;
+    }
+    Threshold th;
+    th.kind = Kind::kTangentToEdge;
+    th.value = sigma * tangency_minimum(lu, lw);
+    if (sigma > 0) {
+      info.has_a = true;
+      info.a = th;
+    } else {
+      info.has_b = true;
+      info.b = th;
+    }
+  }
+}
+
+// Classifies candidate i for the current pencil: "always", and/or the thresholds a_t (above:
+// counts for s > a_t) and b_t (below: counts for s < b_t). Edge contributions are shared with
+// the neighbouring candidate across each edge.
+void Worker::classify(std::uint32_t i, bool& has_a, Threshold& a, bool& has_b, Threshold& b) {
+  Candidate& cand = candidates_[i];
+  const TriangleId t = cand.triangle;
+  const auto& tv = sh_.slots[t].v;
+  bool always = false;
+  int ip = -1, iq = -1;
+  for (int k = 0; k < 3; ++k) {
+    const std::int8_t s = vertex(tv[k]).side;
+    if (s == kSideP) ip = k;
+    if (s == kSideQ) iq = k;
+  }
+  if (ip >= 0 && iq >= 0) always = true;  // pq is an edge of t
+  // The open chord pq enters t at its corner p (or q): q strictly inside the corner's angle.
+  if (!always && ip >= 0) {
+    const Point& x = sh_.pts[tv[next3(static_cast<unsigned>(ip))]];
+    const Point& y = sh_.pts[tv[prev3(static_cast<unsigned>(ip))]];
+    always = orient2d(pc_.p, x, pc_.q) > 0 && orient2d(pc_.p, pc_.q, y) > 0;
+  }
+  if (!always && iq >= 0) {
+    const Point& x = sh_.pts[tv[next3(static_cast<unsigned>(iq))]];
+    const Point& y = sh_.pts[tv[prev3(static_cast<unsigned>(iq))]];
+    always = orient2d(pc_.q, x, pc_.p) > 0 && orient2d(pc_.q, pc_.p, y) > 0;
+  }
+  has_a = has_b = false;
+  const auto& neighbours = sh_.slots[t].n;
+  for (unsigned k = 0; k < 3; ++k) {
+    const Handle across = neighbours[k];
+    const TriangleId n = triangle_of(across);
+    std::uint32_t& ref = edge_ref_[3 * static_cast<std::size_t>(i) + k];
+    if (candidate_stamp_[n] == candidate_mark_ && candidate_index_[n] < i) {
+      ref = edge_ref_[3 * static_cast<std::size_t>(candidate_index_[n]) + edge_of(across)];
+    } else {
+      ref = static_cast<std::uint32_t>(edge_info_.size());
+      edge_info_.emplace_back();
+      classify_edge(tv[next3(k)], tv[prev3(k)], edge_info_.back());
+    }
+    const EdgeInfo& info = edge_info_[ref];
+    always = always || info.crosses;
+    if (info.has_a) keep_extreme(1, has_a, a, info.a);
+    if (info.has_b) keep_extreme(-1, has_b, b, info.b);
+  }
+  cand.always = always;
+  // A triangle that misses the chord cannot meet one disk of the pencil both above and below
+  // the line (the segment joining the two meeting points would cross the open chord), so
+  // b_t ≤ a_t; keep rounded tangencies from contradicting that.
+  if (!always && has_a && has_b && compare_thresholds(pc_, b, a, exact_comparisons) > 0) b = a;
+}
+
+// ---- the witness begins here ----------------------------------------------------------------------
+
+// A disk of the current pencil inside interval j, and the triangles it meets.
+void Worker::record_witness(std::size_t index, std::uint32_t j, std::uint32_t count) {
+  best_count = count;
+  best_pencil = index;
+  const double upper = events_[group_start_[j]].th.value;
+  double s = 0.0;
+  if (j == 0) {
+    s = upper - std::max(1.0, std::fabs(upper));
+  } else {
+    const double lower = events_[group_start_[j - 1]].th.value;
+    s = 0.5 * lower + 0.5 * upper;
+  }
+  // Centre m + s·h with h = (q − p)⊥ / 2.
+  const double mx = 0.5 * pc_.p.x + 0.5 * pc_.q.x, my = 0.5 * pc_.p.y + 0.5 * pc_.q.y;
+  best_center = {mx - s * 0.5 * pc_.by, my + s * 0.5 * pc_.bx};
+  best_radius = distance(best_center, pc_.p);
+  best_triangles.clear();
+  for (const Candidate& c : candidates_) {
+    if (c.always || (c.a_group != kNone && c.a_group < j) || (c.b_group != kNone && c.b_group >= j)) {
+      best_triangles.push_back(c.triangle);
+    }
+  }
+}
+
+}  // namespace mwst::bundle

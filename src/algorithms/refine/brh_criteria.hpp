@@ -1,0 +1,255 @@
+// src/algorithms/refine/brh_criteria.hpp — bundle removal's criterion for the refinement engine
+// (internal): the shape of CGAL's Delaunay_mesh_criteria_2 beside Delaunay_mesher_2. BRH plugs
+// "skinny and in a K-bundle" into RefineOptions::is_bad; the engine (refiner.hpp) does the rest.
+//   sorted_triple    — a triangle by its corners, whatever its slot
+//   SkinnyTest       — an angle below A, decided without atan2 when it can be
+//   FloodSet         — a set emptied in O(1), what one flood has seen
+//   LocalBundleTest  — the fast local witness: the circumdisk of t or of a neighbour is
+//                      vertex-empty and meets at least K triangles (exact test: in_k_bundle)
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <numbers>
+#include <vector>
+
+#include "mwst/geometry/geometry.hpp"
+#include "mwst/mesh/mesh.hpp"
+
+namespace mwst::brh {
+
+inline std::array<VertexId, 3> sorted_triple(const Mesh& m, TriangleId t) {
+  std::array<VertexId, 3> v = m.triangles[t].v;
+  std::sort(v.begin(), v.end());
+  return v;
+}
+
+// Has t an angle below A (in degrees, as triangle_angles_deg measures it)? The angle at a corner
+// is atan2(|cross|, dot) of the two edges leaving it; below A < 90° iff dot > 0 and
+// |cross| < tan(A)·dot. That comparison decides unless the two sides agree to 1e-9 relatively;
+// then (and for A ≥ 90°) the angle itself is computed, so the answer is always the one
+// triangle_angles_deg gives. Called for every triangle the refinement makes: no atan2 on the way.
+class SkinnyTest {
+ public:
+  explicit SkinnyTest(double min_angle_deg)
+      : a_(min_angle_deg), tan_a_(std::tan(min_angle_deg * std::numbers::pi / 180.0)), fast_(min_angle_deg < 89.0) {}
+
+  bool operator()(const Mesh& m, TriangleId t) const {
+    const auto& v = m.triangles[t].v;
+    const Point* p[3] = {&m.points[v[0]], &m.points[v[1]], &m.points[v[2]]};
+    for (int i = 0; i < 3; ++i) {
+      const Point& o = *p[i];
+      const Point& q = *p[(i + 1) % 3];
+      const Point& r = *p[(i + 2) % 3];
+      const double ux = q.x - o.x, uy = q.y - o.y, vx = r.x - o.x, vy = r.y - o.y;
+      const double cross = std::fabs(ux * vy - uy * vx), dot = ux * vx + uy * vy;
+      if (fast_) {
+        if (dot <= 0.0) continue;  // a right or obtuse angle
+        const double bound = tan_a_ * dot;
+        if (cross < bound * (1.0 - 1e-9)) return true;
+        if (cross > bound * (1.0 + 1e-9)) continue;
+      }
+      if (std::atan2(cross, dot) * 180.0 / std::numbers::pi < a_) return true;
+    }
+    return false;
+  }
+
+ private:
+  double a_, tan_a_;
+  bool fast_;
+};
+
+// A set of 32-bit keys (triangle slots, vertex ids) emptied in O(1) by a new stamp: what one flood
+// of the local test has seen. Its table is sized for every key a flood can add (the flood is capped)
+// and stays in cache, where per-slot or per-vertex stamp arrays over the whole mesh would not.
+class FloodSet {
+ public:
+  explicit FloodSet(std::size_t max_keys) : cells_(std::bit_ceil(2 * max_keys + 16)), mask_(cells_.size() - 1) {}
+
+  void clear() {
+    if (++stamp_ == 0) {
+      std::fill(cells_.begin(), cells_.end(), Cell{});
+      stamp_ = 1;
+    }
+  }
+  bool contains(std::uint32_t key) const {
+    for (std::size_t i = hash(key);; i = (i + 1) & mask_) {
+      if (cells_[i].stamp != stamp_) return false;
+      if (cells_[i].key == key) return true;
+    }
+  }
+  // Adds key; false if it was there.
+  bool insert(std::uint32_t key) {
+    std::size_t i = hash(key);
+    for (; cells_[i].stamp == stamp_; i = (i + 1) & mask_) {
+      if (cells_[i].key == key) return false;
+    }
+    cells_[i] = {key, stamp_};
+    return true;
+  }
+
+ private:
+  struct Cell {
+    std::uint32_t key = 0;
+    std::uint32_t stamp = 0;
+  };
+  std::size_t hash(std::uint32_t key) const {
+    return static_cast<std::size_t>((std::uint64_t{key} * 0x9E3779B97F4A7C15ull) >> 40) & mask_;
+  }
+  std::vector<Cell> cells_;
+  std::size_t mask_;
+  std::uint32_t stamp_ = 1;
+};
+
+// The local test: is the open circumdisk of t, or of a (live, finite) neighbour of t, free of
+// vertices and meeting at least K in-domain triangles? Such a disk meets t (t's own circumdisk
+// holds t; a neighbour's holds the shared edge's interior, hence points of t), so t is then in a
+// K-bundle (up to the floating-point edge crossings of the flood). Results are cached per slot
+// and corner triple until clear().
+class LocalBundleTest {
+ public:
+  // A flood pops at most cap_ + 1 triangles, so it adds at most 3 (cap_ + 1) + 1 triangles and
+  // as many vertices plus the three corners to its sets.
+  explicit LocalBundleTest(std::uint32_t k)
+      : k_(k), cap_(8 * static_cast<std::size_t>(k) + 64), seen_triangles_(3 * cap_ + 8), seen_vertices_(3 * cap_ + 8) {}
+
+  // Forgets every cached result (a new epoch: no sweep over the cache).
+  void clear() {
+    if (++epoch_ == 0) {
+      std::fill(cache_.begin(), cache_.end(), Cached{});
+      epoch_ = 1;
+    }
+  }
+
+  bool in_bundle(const Mesh& m, TriangleId t) {
+    if (cache_.size() < m.triangle_slots()) cache_.resize(m.triangle_slots() + m.triangle_slots() / 4 + 64);
+    Cached& c = cache_[t];
+    if (c.epoch == epoch_ && c.v == m.triangles[t].v) return c.value == 2;
+    bool found = disk_count(m, t) >= k_;
+    for (unsigned e = 0; e < 3 && !found; ++e) {
+      const TriangleId n = triangle_of(m.triangles[t].n[e]);
+      if (!m.is_ghost(n) && !m.is_dead(n)) found = disk_count(m, n) >= k_;
+    }
+    c.v = m.triangles[t].v;
+    c.value = found ? 2 : 1;
+    c.epoch = epoch_;
+    return found;
+  }
+
+ private:
+  // circumdisk_count(m, c), remembered while the mesh is unchanged: the refinement only inserts
+  // vertices, so the mesh is the same while its vertex and slot counts are (the triangles made by
+  // one insertion are tested one after another, each with its neighbours, many of them made by the
+  // same insertion: without this, one disk would be flooded up to four times).
+  std::uint32_t disk_count(const Mesh& m, TriangleId c) {
+    const std::uint64_t version = std::uint64_t{m.points.size()} << 32 | m.triangles.size();
+    if (disk_cache_.size() < m.triangle_slots()) disk_cache_.resize(m.triangle_slots() + m.triangle_slots() / 4 + 64);
+    DiskCount& d = disk_cache_[c];
+    if (d.version == version && d.v == m.triangles[c].v) return d.count;
+    d = {m.triangles[c].v, version, circumdisk_count(m, c)};
+    return d.count;
+  }
+
+  struct Cached {
+    std::array<VertexId, 3> v{kNone, kNone, kNone};
+    std::uint8_t value = 0;   // 1 no, 2 yes
+    std::uint16_t epoch = 0;  // valid if equal to epoch_
+  };
+
+  // The number of in-domain triangles meeting the open circumdisk of c, by a flood across the
+  // edges meeting it; 0 if a vertex lies strictly inside the disk (exact incircle), or if the
+  // flood grows past cap_ (unknown: the exact test will decide).
+  std::uint32_t circumdisk_count(const Mesh& m, TriangleId c) {
+    if (++stamp_ == 0) {
+      value_.fill(ValueSlot{});
+      stamp_ = 1;
+    }
+    seen_triangles_.clear();
+    seen_vertices_.clear();
+    const auto& cv = m.triangles[c].v;
+    const Point& a = m.points[cv[0]];
+    const Point& b = m.points[cv[1]];
+    const Point& d = m.points[cv[2]];
+    const double orient = (a.x - d.x) * (b.y - d.y) - (a.y - d.y) * (b.x - d.x);
+    for (const VertexId v : cv) {
+      seen_vertices_.insert(v);
+      value_[v % kValueCache] = {v, stamp_, 0.0};
+    }
+    auto value_at = [&](VertexId v) {
+      ValueSlot& s = value_[v % kValueCache];
+      if (s.v != v || s.stamp != stamp_) return detail::incircle_determinant(a, b, d, m.points[v]).value;
+      return s.value;
+    };
+    stack_.clear();
+    stack_.push_back(c);
+    seen_triangles_.insert(c);
+    std::uint32_t count = 0;
+    std::size_t visited = 0;
+    while (!stack_.empty()) {
+      const TriangleId t = stack_.back();
+      stack_.pop_back();
+      if (++visited > cap_) return 0;
+      if (m.in_domain(t)) ++count;
+      for (unsigned e = 0; e < 3; ++e) {
+        const Handle h = make_handle(t, e);
+        const VertexId u = m.org(h), w = m.dest(h);
+        // The incircle value along the edge is a concave quadratic: its maximum on [0, 1]. (Tested
+        // first: it needs only t's corners, so the triangle across is loaded only for edges that
+        // meet the disk.)
+        const double gu = value_at(u), gw = value_at(w);
+        const Point& pu = m.points[u];
+        const Point& pw = m.points[w];
+        const double ex = pw.x - pu.x, ey = pw.y - pu.y;
+        const double quad = orient * (ex * ex + ey * ey);
+        const double slope = gw - gu + quad;
+        const double lambda = quad > 0.0 ? std::clamp(slope / (2.0 * quad), 0.0, 1.0) : 0.0;
+        if (!(gu + lambda * (slope - quad * lambda) > 0.0)) continue;
+        const Handle across = m.sym(h);
+        const TriangleId n = triangle_of(across);
+        if (seen_triangles_.contains(n)) continue;
+        // u and w are finite (t is), so the triangle across is a ghost iff its apex is infinite.
+        const VertexId x = m.apex(across);
+        if (x == kInfinite) continue;
+        seen_triangles_.insert(n);
+        if (seen_vertices_.insert(x)) {
+          // The sign of the incircle determinant decides (exactly: incircle's filter, then its exact
+          // stage only when the filter cannot vouch); its rounded value serves the edge tests.
+          const detail::FilteredDeterminant det = detail::incircle_determinant(a, b, d, m.points[x]);
+          if (det.value > det.bound) return 0;  // the disk is not vertex-empty
+          if (!(-det.value > det.bound) && detail::incircle_exact(a, b, d, m.points[x]) > 0) return 0;
+          value_[x % kValueCache] = {x, stamp_, det.value};
+        }
+        stack_.push_back(n);
+      }
+    }
+    return count;
+  }
+
+  struct ValueSlot {
+    VertexId v = kNone;
+    std::uint32_t stamp = 0;  // the flood that wrote it
+    double value = 0.0;
+  };
+  static constexpr std::size_t kValueCache = 256;
+
+  std::uint32_t k_;
+  std::size_t cap_;
+  std::uint32_t stamp_ = 0;  // the current flood
+  FloodSet seen_triangles_, seen_vertices_;
+  std::vector<TriangleId> stack_;
+  std::array<ValueSlot, kValueCache> value_{};
+  std::vector<Cached> cache_;
+  struct DiskCount {
+    std::array<VertexId, 3> v{kNone, kNone, kNone};
+    std::uint64_t version = 0;
+    std::uint32_t count = 0;
+  };
+  std::vector<DiskCount> disk_cache_;
+  std::uint16_t epoch_ = 1;
+};
+
+}  // namespace mwst::brh

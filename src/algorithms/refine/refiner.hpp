@@ -1,0 +1,289 @@
+// src/algorithms/refine/refiner.hpp — the Delaunay refinement engine behind refine() (internal).
+// The engine is Triangle's: a bucketed queue of bad triangles, a criterion (the angle and area
+// test, or the caller's RefineOptions::is_bad) and a Steiner-point rule (circumcenter, off-center,
+// or the caller's). docs/algorithms/refine.md describes the method. The private steps, by file:
+//   refine.cpp       run: prepare, split_encroached_subsegments, queue_bad_triangles,
+//                    split_bad_triangles, count_left, report; hull marking, conforming Delaunay,
+//                    the area reservation; the facade refine()
+//   criteria.cpp     evaluate (is a triangle bad?), encroaches, check_subsegment, may_split,
+//                    mpw_leaves (Miller–Pav–Walkington)
+//   steiner.cpp      steiner_point (circumcenter / off-center), split_triangle, split_at_centroid
+//   insertion.cpp    walk, insert_for: insert_free (grow_cavity, check_cavity_boundary,
+//                    fill_star, queue_star) or insert_lawson; after_insertion
+//   segments.cpp     split_all_pending, split_subsegment (concentric shells; too_thin_to_split,
+//                    find_split_point, insert_split_vertex, fold_hull_after_split), relax,
+//                    restore_hull, unfold_hull_slivers
+//   termination_guard.cpp   set_feature_guard and feature_guard_length
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+#include <utility>
+#include <vector>
+
+#include "mesh/keys.hpp"
+#include "mwst/algorithms/refine.hpp"
+#include "mwst/mesh/mesh.hpp"
+
+namespace mwst::refinement {
+
+using Clock = std::chrono::steady_clock;
+
+inline double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// A priority queue of triangle slots in buckets of a positive key (smallest first). The bucket is
+// the key's exponent and top mantissa bits, so each octave of the key has 2^kSubBits buckets.
+// An entry is a triangle slot and the vertex at its corner 0 when queued: a popped entry whose slot
+// now holds a triangle with another corner 0 is stale and dropped without touching coordinates
+// (most stale entries are cavity triangles destroyed by an earlier insertion). An entry that
+// passes is re-tested, so staleness never causes a wrong split. Within a bucket the last pushed
+// comes first (the newest triangles are the ones in cache).
+class BucketQueue {
+ public:
+  static constexpr unsigned kSubBits = 2;
+  static constexpr std::size_t kBuckets = std::size_t{2048} << kSubBits;
+
+  BucketQueue() : buckets_(kBuckets), nonempty_(kBuckets / 64, 0) {}
+
+  struct Entry {
+    TriangleId t;
+    VertexId v0;
+  };
+
+  void push(double key, TriangleId t, VertexId v0) {
+    std::size_t b = 0;
+    if (key > 0.0) {
+      b = static_cast<std::size_t>(std::bit_cast<std::uint64_t>(key) >> (52 - kSubBits));
+      if (b >= kBuckets) b = kBuckets - 1;
+    }
+    buckets_[b].push_back({t, v0});
+    nonempty_[b >> 6] |= std::uint64_t{1} << (b & 63);
+    if (b < lowest_) lowest_ = b;
+    ++size_;
+  }
+
+  bool pop(Entry& out) {
+    if (size_ == 0) return false;
+    std::size_t word = lowest_ >> 6;
+    std::uint64_t bits = nonempty_[word] & (~std::uint64_t{0} << (lowest_ & 63));
+    while (bits == 0) bits = nonempty_[++word];
+    const std::size_t b = (word << 6) | static_cast<std::size_t>(std::countr_zero(bits));
+    lowest_ = b;
+    std::vector<Entry>& v = buckets_[b];
+    out = v.back();
+    v.pop_back();
+    if (v.empty()) nonempty_[b >> 6] &= ~(std::uint64_t{1} << (b & 63));
+    --size_;
+    return true;
+  }
+
+  std::size_t size() const { return size_; }
+
+ private:
+  std::vector<std::vector<Entry>> buckets_;
+  std::vector<std::uint64_t> nonempty_;
+  std::size_t lowest_ = kBuckets;
+  std::size_t size_ = 0;
+};
+
+// What the default test learns about a triangle.
+struct Eval {
+  bool bad = false;
+  bool angle_bad = false;  // smallest angle below the bound
+  bool size_bad = false;   // area above the bound
+  unsigned apex = 0;       // corner opposite the shortest edge (the smallest angle)
+  double shortest2 = 0.0;  // squared length of the shortest edge
+  double key = 0.0;        // priority (smaller first)
+};
+
+class Refiner {
+ public:
+  Refiner(Mesh& mesh, const RefineOptions& options, RefineStats& stats)
+      : m_(mesh), opt_(options), stats_(stats) {
+    const double alpha = std::max(0.0, options.min_angle_deg) * std::numbers::pi / 180.0;
+    alpha_ = alpha;
+    if (alpha > 0.0) {
+      const double c = std::cos(alpha);
+      good_cos2_ = c * c;
+      offcenter_scale_ = options.offcenter_factor * 0.5 / std::tan(0.5 * alpha);
+    }
+    // Lens: apex angle ≥ 180° − 2α, i.e. cos(apex) ≤ −cos 2α. For α ≥ 45° the lens would exceed
+    // the diametral circle, and for α = 0 it is empty; both fall back to the circle.
+    // Conforming Delaunay asks for empty diametral circles (Triangle's -D does the same).
+    conforming_ = options.conforming_delaunay;
+    lens_ = options.encroachment == Encroachment::kDiametralLens && options.min_angle_deg > 0.0 &&
+            options.min_angle_deg < 45.0 && !conforming_;
+    if (lens_) {
+      const double c2 = std::cos(2.0 * alpha);
+      lens_cos2_ = c2 * c2;
+    }
+    max_area_ = options.max_area;
+    own_bounds_ = !mesh.area_bound.empty();
+    custom_test_ = static_cast<bool>(options.is_bad);
+    if (options.feature_guard_length > 0.0) guard_length2_ = options.feature_guard_length * options.feature_guard_length;
+    seeded_ = custom_test_ && !options.seed_triangles.empty();
+    worst_first_ = options.order == RefineOrder::kWorstQualityFirst;
+  }
+
+  void run();
+
+ private:
+  // ---- tests -----------------------------------------------------------------------------------
+  bool evaluate(TriangleId t, Eval& ev);
+  void enqueue_if_bad(TriangleId t) {
+    Eval ev;
+    if (seeded_) tested_.push_back(t);
+    if (evaluate(t, ev)) queue_.push(ev.key, t, m_.triangles[t].v[0]);
+  }
+  bool encroaches(const Point& x, const Point& a, const Point& b) const;
+  void check_subsegment(Handle h);
+  bool may_split(Handle h) const;
+  bool mpw_leaves(TriangleId t, const Eval& ev) const;
+
+  // ---- Steiner points --------------------------------------------------------------------------
+  Point steiner_point(TriangleId t, const Eval& ev) const;
+  void split_triangle(TriangleId t, const Eval& ev);
+  void split_at_centroid(TriangleId t, const Eval& ev);
+
+  // ---- walking and inserting -------------------------------------------------------------------
+  enum class WalkKind { kInTriangle, kOnEdge, kOnVertex, kBlocked };
+  struct WalkResult {
+    WalkKind kind;
+    Handle handle;
+  };
+  WalkResult walk(const Point& p, TriangleId start);
+  enum class InsertKind { kInserted, kEncroaches, kProtected, kFailed };
+  void insert_for(TriangleId t, const Eval& ev, const Point& p, TriangleId t0, bool centroid_next);
+  // The steps of one insertion are defined in insertion.cpp and used only there; inline, they
+  // compile into insert_for as one routine (an insertion costs a few thousand instructions, so a
+  // call per step would show).
+  inline InsertKind insert_free(const Point& p, TriangleId t0);
+  inline bool grow_cavity(const Point& p, TriangleId t0);
+  inline InsertKind check_cavity_boundary(const Point& p);
+  inline void fill_star(const Point& p);
+  inline void queue_star(std::size_t n);
+  inline void insert_lawson(const Point& p, TriangleId t0);
+  void after_insertion(VertexId v, Handle around);
+
+  // ---- subsegments -----------------------------------------------------------------------------
+  struct Pending {
+    VertexId u, w;
+    Handle hint;
+  };
+  void push_pending(Handle h) { pending_.push_back({m_.org(h), m_.dest(h), h}); }
+  Handle find_subsegment(const Pending& p);
+  bool split_all_pending();
+  bool split_subsegment(Handle h);
+  // split_subsegment's steps (segments.cpp only; inline for the same reason as insert_free's).
+  inline bool too_thin_to_split(Handle h, double length) const;
+  inline bool find_split_point(Handle h, double length, Point& p);
+  inline void insert_split_vertex(Handle h, const Point& p);
+  inline void fold_hull_after_split(const std::array<Handle, 4>& opposite);
+  bool shares_acute_segment(Handle h) const;
+  bool split_point_valid(Handle h, const Point& p) const;
+  void restore_hull(std::vector<TriangleId>& work);
+  void relax();
+  bool unfold_hull_slivers(Handle h);
+  std::pair<VertexId, VertexId> original_segment(VertexId v) const {
+    const auto it = segment_of_.find(v);
+    return it == segment_of_.end() ? std::pair<VertexId, VertexId>{kNone, kNone} : it->second;
+  }
+
+  // ---- bookkeeping -----------------------------------------------------------------------------
+  void prepare(std::vector<TriangleId>& seeds);
+  void split_encroached_subsegments(const std::vector<TriangleId>& seeds);
+  void queue_bad_triangles(const std::vector<TriangleId>& seeds);
+  void split_bad_triangles(Clock::time_point t0);
+  std::size_t count_left();
+  void report(std::size_t left);
+  void mark_hull_segments();
+  void set_feature_guard();
+  void prepare_conforming();
+  void reserve_for_area_bound();
+  bool budget_reached() const {
+    return stats_.steiner_inserted + stats_.segment_splits >= opt_.max_steiner;
+  }
+  void ensure_capacity() {
+    // Grow by a quarter instead of doubling: for large refinements this bounds peak memory.
+    if (m_.triangles.size() + 2 > m_.triangles.capacity()) {
+      const std::size_t n = m_.triangles.capacity() + m_.triangles.capacity() / 4 + 64;
+      m_.triangles.reserve(n);
+      m_.flags.reserve(n);
+      if (!m_.segment_marker.empty()) m_.segment_marker.reserve(3 * n);
+    }
+    if (m_.points.size() + 1 > m_.points.capacity()) {
+      const std::size_t n = m_.points.capacity() + m_.points.capacity() / 4 + 64;
+      m_.points.reserve(n);
+      m_.vertex_kind.reserve(n);
+      m_.vertex_marker.reserve(n);
+    }
+  }
+
+  Mesh& m_;
+  const RefineOptions& opt_;
+  RefineStats& stats_;
+  double alpha_ = 0.0;
+  double good_cos2_ = 1.0;  // cos² of the angle bound
+  double offcenter_scale_ = 0.0;
+  bool lens_ = false;
+  double lens_cos2_ = 0.0;
+  double max_area_ = -1.0;
+  bool own_bounds_ = false;  // Mesh::area_bound in use
+  bool conforming_ = false;  // RefineOptions::conforming_delaunay
+  std::size_t protected_skips_ = 0;  // triangles left: their point lies on or beyond a protected subsegment
+  // Squared length below which a subsegment is no longer split for conforming Delaunay (the
+  // termination guard of those splits; 0 = none).
+  double conforming_guard2_ = 0.0;
+  bool custom_test_ = false;
+  bool seeded_ = false;  // RefineOptions::seed_triangles in use
+  bool worst_first_ = false;
+  bool stop_ = false;
+  std::string stop_reason_;
+  const Clock::time_point started_ = Clock::now();  // the time budget counts from here
+  std::size_t segment_splits_timed_ = 0;            // split_all_pending's clock reads, 1 in 16
+  // Squared length below which an angle-bad triangle's shortest edge stops the refinement (the
+  // termination guard; 0 = none): see set_feature_guard().
+  double guard_length2_ = 0.0;
+
+  BucketQueue queue_;
+  std::vector<Pending> pending_;
+  std::unordered_set<std::uint64_t> unsplittable_;
+  // Refinement-made vertices on segments → the endpoints of the input segment they lie on.
+  std::unordered_map<VertexId, std::pair<VertexId, VertexId>> segment_of_;
+  std::uint32_t walk_rng_ = 0x2545F491u;
+
+  // Scratch (no allocation per insertion).
+  std::vector<TriangleId> cavity_;
+  // cavity_stamp_[t] == cavity_round_ iff slot t is in the cavity being grown: an O(1) membership
+  // test (a linear search of cavity_ made an insertion quadratic in its cavity size, and the first
+  // insertions into the fan of skinny triangles a point set on a circle gives have cavities of
+  // the whole mesh).
+  std::vector<std::uint32_t> cavity_stamp_;
+  std::uint32_t cavity_round_ = 0;
+  std::vector<Handle> boundary_;
+  std::vector<Handle> stack_;
+  struct BoundaryEdge {
+    VertexId org;
+    Handle outer;
+    bool segment;
+    std::int32_t marker;
+    double bound;  // Mesh::area_bound of the cavity triangle on this edge
+  };
+  std::vector<BoundaryEdge> ring_;
+  std::vector<TriangleId> slots_;
+  std::vector<TriangleId> hull_work_;
+  std::vector<TriangleId> unfolded_;  // ghosts made by unfold_hull_slivers, to be refolded
+  std::vector<TriangleId> tested_;    // seeded: every slot tested (the final recount's range)
+};
+
+}  // namespace mwst::refinement
