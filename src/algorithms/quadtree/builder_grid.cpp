@@ -33,8 +33,9 @@ void Builder::number_vertices() {
   // Which vertices each leaf owns (neighbour look-ups: two threads), then their ids by a prefix
   // sum in leaf order, then their positions (two threads).
   split_half_ = leaves_.size();
-  in_two_halves(leaves_.size(), threaded_leaves_, [&](std::size_t begin, std::size_t end) {
-    auto& split_pairs = split_across_[begin == 0 ? 0 : 1];
+  support::parallel_ranges(workers_for(leaves_.size(), threaded_leaves_), leaves_.size(),
+      [&](std::size_t half, std::size_t begin, std::size_t end) {
+    auto& split_pairs = split_across_[half];
     split_pairs.clear();
     if (begin != 0) split_half_ = begin;
     for (std::size_t k = begin; k < end; ++k) {
@@ -59,11 +60,11 @@ void Builder::number_vertices() {
   if (leaves_.size() >= threaded_leaves_) {
     support::PageFaulter pages;
     pages.add(gpos_.data(), grid_count_ * sizeof(Point));
-    in_two_halves(2, 0, [&](std::size_t, std::size_t) { pages.work(); });
+    support::parallel_ranges(2, 2, [&](std::size_t, std::size_t, std::size_t) { pages.work(); });
   }
   gpos_.resize(grid_count_);
-  in_two_halves(leaves_.size(), threaded_leaves_,
-                [&](std::size_t begin, std::size_t end) { place_owned_vertices(begin, end); });
+  support::parallel_ranges(workers_for(leaves_.size(), threaded_leaves_), leaves_.size(),
+                           [&](std::size_t, std::size_t begin, std::size_t end) { place_owned_vertices(begin, end); });
 }
 
 // Which vertices leaf k owns (own_mask_; Own bits), and for link_cell() what lies across its west
@@ -163,12 +164,13 @@ void Builder::build_loops() {
   const std::size_t leaf_count = leaves_.size();
   std::array<std::vector<std::pair<std::uint32_t, std::uint8_t>>, 2> across_halves;
   std::array<std::vector<std::array<std::uint32_t, 2>>, 2> both_mids_per_half;
-  in_two_halves(leaf_count, threaded_leaves_, [&](std::size_t begin, std::size_t end) {
-    auto& with_vertex = with_vertex_[begin == 0 ? 0 : 1];
-    auto& near_segment = near_segment_[begin == 0 ? 0 : 1];
-    auto& both_mids = both_mids_per_half[begin == 0 ? 0 : 1];
+  support::parallel_ranges(workers_for(leaf_count, threaded_leaves_), leaf_count,
+      [&](std::size_t half, std::size_t begin, std::size_t end) {
+    auto& with_vertex = with_vertex_[half];
+    auto& near_segment = near_segment_[half];
+    auto& both_mids = both_mids_per_half[half];
     const std::uint32_t lo = own_base_[begin], hi = end == leaf_count ? grid_count_ : own_base_[end];
-    auto& later = across_halves[begin == 0 ? 0 : 1];
+    auto& later = across_halves[half];
     for (auto k = static_cast<std::uint32_t>(begin); k < end; ++k) {
       prefetch_neighbours(k, end, 0, 1);  // east, north
       const std::uint32_t a = leaves_[k];

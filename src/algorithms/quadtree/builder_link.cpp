@@ -117,10 +117,7 @@ bool Builder::write_cells(Mesh& mesh, unsigned thread_count, std::size_t triangl
         schedule.stop_all();
       }
     };
-    {
-      std::jthread worker([&] { guarded(1); });
-      guarded(0);
-    }
+    support::parallel_ranges(2, 2, [&](std::size_t t, std::size_t, std::size_t) { guarded(static_cast<unsigned>(t)); });
     if (error[0] || error[1]) return false;
   }
   join_chunk_lists(schedule);

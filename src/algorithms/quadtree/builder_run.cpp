@@ -224,7 +224,8 @@ std::size_t Builder::give_final_ids(Mesh& mesh) {
   mesh.vertex_marker.resize(steiner_base + steiner);
   // Ids in grid order (a prefix count: a half starts after the Steiner points below it), with the
   // kinds and markers, in two halves.
-  in_two_halves(grid, threaded_leaves_, [&](std::size_t begin, std::size_t end) {
+  support::parallel_ranges(workers_for(grid, threaded_leaves_), grid,
+      [&](std::size_t, std::size_t begin, std::size_t end) {
     auto next = static_cast<VertexId>(steiner_base + (begin == 0 ? 0 : begin - warped_below_middle));
     for (std::size_t g = begin; g < end; ++g) {
       if (gwarped_[g]) continue;  // (its input vertex's id: below)

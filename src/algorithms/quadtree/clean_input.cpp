@@ -146,8 +146,8 @@ std::vector<PointKey> sorted_points(const std::vector<Point>& p, const QuadtreeO
     return a.id < b.id;
   };
   const std::size_t half = n / 2;
-  in_two_halves(2, n >= threads_from(options, 65536) ? 0 : std::numeric_limits<std::size_t>::max(),
-                [&](std::size_t begin, std::size_t end) {
+  support::parallel_ranges(n >= threads_from(options, 65536) ? 2 : 1, 2,
+                           [&](std::size_t, std::size_t begin, std::size_t end) {
                   for (std::size_t part = begin; part < end; ++part) {
                     std::sort(keyed.begin() + static_cast<std::ptrdiff_t>(part == 0 ? 0 : half),
                               part == 0 ? keyed.begin() + static_cast<std::ptrdiff_t>(half) : keyed.end(), before);

@@ -26,12 +26,12 @@
 #include <limits>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "mwst/algorithms/quadtree.hpp"
 #include "mwst/mesh/mesh.hpp"
 #include "mwst/mesh/pslg.hpp"
+#include "support/parallel.hpp"
 
 namespace mwst::qtr {
 
@@ -42,33 +42,11 @@ inline double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
-// Runs body(begin, end) over [0, count) in two halves on two threads when count is large (the
-// halves write disjoint ranges). An exception of the first half wins, as it would in one pass.
-template <class Body>
-inline void in_two_halves(std::size_t count, std::size_t threshold, Body&& body) {
-  if (count < threshold || count < 2) {
-    body(std::size_t{0}, count);
-    return;
-  }
-  const std::size_t half = count / 2;
-  std::exception_ptr second_error;
-  std::exception_ptr first_error;
-  {
-    std::jthread worker([&] {
-      try {
-        body(half, count);
-      } catch (...) {
-        second_error = std::current_exception();
-      }
-    });
-    try {
-      body(std::size_t{0}, half);
-    } catch (...) {
-      first_error = std::current_exception();
-    }
-  }
-  if (first_error) std::rethrow_exception(first_error);
-  if (second_error) std::rethrow_exception(second_error);
+// The workers for a pass over `count` items (support::parallel_ranges(): contiguous halves that
+// write disjoint ranges; the first half's exception wins, as it would in one pass): two from
+// `threshold` on (and at least two items), else one, in the calling thread.
+inline std::size_t workers_for(std::size_t count, std::size_t threshold) {
+  return count < threshold || count < 2 ? 1 : 2;
 }
 
 // The size from which a pass splits over two threads: `large` by default, never with

@@ -41,8 +41,9 @@ void Tree::finish() {
   lane_level_ = std::min(10u, max_level_);
   std::array<std::vector<std::uint32_t>, 2> leaves_per_column;
   for (auto& count : leaves_per_column) count.assign(std::size_t{1} << lane_level_, 0);
-  in_two_halves(node_count, threaded_nodes_, [&](std::size_t begin, std::size_t end) {
-    std::vector<std::uint32_t>& count = leaves_per_column[begin == 0 ? 0 : 1];
+  support::parallel_ranges(workers_for(node_count, threaded_nodes_), node_count,
+      [&](std::size_t half, std::size_t begin, std::size_t end) {
+    std::vector<std::uint32_t>& count = leaves_per_column[half];
     for (auto a = static_cast<std::uint32_t>(begin); a < end; ++a) {
       if (!is_leaf(a)) continue;
       ++count[lane_column_of(nodes[a])];
@@ -88,7 +89,7 @@ void Tree::finish() {
   // corner (split() queues the vertex leaves whose corner cells it splits); a deferred leaf
   // stays queued for the last lane.
   const std::size_t threshold = node_count >= threaded_nodes_ ? 0 : std::numeric_limits<std::size_t>::max();
-  in_two_halves(2, threshold, [&](std::size_t begin, std::size_t end) {
+  support::parallel_ranges(workers_for(2, threshold), 2, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t r = begin; r < end; ++r) run(lanes[r]);
   });
   join_lanes(node_count, feature_count, node_room, feature_room, lanes);
@@ -128,7 +129,8 @@ void Tree::join_lanes(std::size_t node_count, std::size_t feature_count, std::si
   // each round in two halves.
   for (std::size_t round = 0; shift > 0 && round < used1; round += shift) {
     const std::size_t count = std::min(shift, used1 - round);
-    in_two_halves(count, threaded_nodes_, [&](std::size_t begin, std::size_t end) {
+    support::parallel_ranges(workers_for(count, threaded_nodes_), count,
+        [&](std::size_t, std::size_t begin, std::size_t end) {
       for (std::size_t i = round + begin; i < round + end; ++i) {
         Node n = nodes[base1 + i];
         renumber(n.parent);

@@ -193,7 +193,8 @@ void Tree::decide_splits(Level& level) const {
   const std::size_t count = level.frontier.size();
   level.splits.resize(count);
   level.place.resize(count);
-  in_two_halves(count, threaded_items_, [&](std::size_t begin, std::size_t end) {
+  support::parallel_ranges(workers_for(count, threaded_items_), count,
+      [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       const Item& item = level.frontier[i];
       const Node& n = nodes[item.node];
@@ -239,8 +240,9 @@ void Tree::fill_level(Level& level) {
   constexpr std::size_t kLookAhead = 8;
   const ItemList& frontier = level.frontier;
   const std::uint32_t node_base = level.node_base;
-  in_two_halves(frontier.size(), threaded_items_, [&](std::size_t begin, std::size_t end) {
-    HalfScratch& out = level.half[begin == 0 ? 0 : 1];
+  support::parallel_ranges(workers_for(frontier.size(), threaded_items_), frontier.size(),
+      [&](std::size_t half, std::size_t begin, std::size_t end) {
+    HalfScratch& out = level.half[half];
     std::vector<std::uint32_t>& lists_out = begin == 0 ? level.next_pool : out.pool;
     bool first_split = true;
     for (std::size_t i = begin; i < end; ++i) {
@@ -329,8 +331,9 @@ std::vector<std::uint32_t> Tree::leaves_in_order() const {
   const std::size_t leaf_room = nodes.size() - nodes.size() / 4 + 1;  // 4 children per inner node: ¾ leaves
   std::array<std::vector<std::uint32_t>, 2> part;
   const std::size_t threshold = nodes.size() >= threaded_nodes_ ? 0 : std::numeric_limits<std::size_t>::max();
-  in_two_halves(tops.size(), threshold, [&](std::size_t begin, std::size_t end) {
-    std::vector<std::uint32_t>& out = part[begin == 0 ? 0 : 1];
+  support::parallel_ranges(workers_for(tops.size(), threshold), tops.size(),
+      [&](std::size_t half, std::size_t begin, std::size_t end) {
+    std::vector<std::uint32_t>& out = part[half];
     reserve_room(out, begin == 0 ? leaf_room : leaf_room / 2 + 64);
     std::vector<std::uint32_t> walk;
     for (std::size_t i = begin; i < end; ++i) {
@@ -354,7 +357,8 @@ std::vector<std::uint32_t> Tree::leaves_in_order() const {
 // Writes each leaf's ordinal in Morton order into its child field (kLeafBit | k).
 void Tree::number_leaves(const std::vector<std::uint32_t>& leaves, std::size_t threaded) {
   if (nodes.size() >= kLeafBit || leaves.size() >= kLeafBit - 1) throw RouteFailure{"too many nodes"};
-  in_two_halves(leaves.size(), threaded, [&](std::size_t begin, std::size_t end) {
+  support::parallel_ranges(workers_for(leaves.size(), threaded), leaves.size(),
+      [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t k = begin; k < end; ++k) nodes[leaves[k]].child = kLeafBit | static_cast<std::uint32_t>(k);
   });
 }
