@@ -178,6 +178,27 @@ class Builder {
   // callback may move corners or append vertices.
   template <class Visit>
   void for_each_crossed_edge(const std::vector<std::uint32_t>& near, Visit&& visit) {
+    for_each_leaf_segment(near, [&](std::uint32_t k, const std::array<std::uint32_t, 8>& loop, std::uint32_t s,
+                                    const Point& segment_a, const Point& segment_b) {
+      const Point a = segment_a, b = segment_b;
+      for (unsigned slot = 0; slot < 8; ++slot) {
+        const std::uint32_t u = loop[slot];
+        if (u == kNone) continue;
+        unsigned next = (slot + 1) % 8;
+        while (loop[next] == kNone) next = (next + 1) % 8;
+        const std::uint32_t w = loop[next];
+        if (on_segment(u, s) || on_segment(w, s)) continue;
+        const Point pu = gpos_[u], pw = gpos_[w];
+        if (orient2d(a, b, pu) * orient2d(a, b, pw) >= 0) continue;
+        if (orient2d(pu, pw, a) * orient2d(pu, pw, b) >= 0) continue;
+        visit(k, slot, u, w, s, a, b);
+      }
+    });
+  }
+  // Calls visit(k, loop, s, a, b) for every leaf k in `near` (its loop read once, before the
+  // visits) and every segment s = ab of k's feature list.
+  template <class Visit>
+  void for_each_leaf_segment(const std::vector<std::uint32_t>& near, Visit&& visit) const {
     const std::uint32_t nv = tree_.vertex_count();
     for (const std::uint32_t k : near) {
       const Node& n = tree_.nodes[leaves_[k]];
@@ -186,20 +207,7 @@ class Builder {
         const std::uint32_t f = tree_.features[n.feat_begin + i];
         if (f < nv) continue;
         const std::uint32_t s = f - nv;
-        const Point a = pts_[in_.segments[s].a];
-        const Point b = pts_[in_.segments[s].b];
-        for (unsigned slot = 0; slot < 8; ++slot) {
-          const std::uint32_t u = loop[slot];
-          if (u == kNone) continue;
-          unsigned next = (slot + 1) % 8;
-          while (loop[next] == kNone) next = (next + 1) % 8;
-          const std::uint32_t w = loop[next];
-          if (on_segment(u, s) || on_segment(w, s)) continue;
-          const Point pu = gpos_[u], pw = gpos_[w];
-          if (orient2d(a, b, pu) * orient2d(a, b, pw) >= 0) continue;
-          if (orient2d(pu, pw, a) * orient2d(pu, pw, b) >= 0) continue;
-          visit(k, slot, u, w, s, a, b);
-        }
+        visit(k, loop, s, pts_[in_.segments[s].a], pts_[in_.segments[s].b]);
       }
     }
   }

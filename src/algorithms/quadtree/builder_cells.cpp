@@ -302,7 +302,8 @@ void Builder::link_inside_cell(const SpecialCell& cell, PreparedChunk& out, Cell
     for (std::uint32_t i = 0; i < count; ++i) {
       for (unsigned e = 0; e < 3; ++e) {
         const std::size_t from = local[i][next3(e)], to = local[i][prev3(e)];
-        std::uint32_t& slot = from < m && to == (from + 1 == m ? 0 : from + 1) ? bound[from] : edge_at[from * width + to];
+        const bool on_boundary = from < m && to == (from + 1 == m ? 0 : from + 1);
+        std::uint32_t& slot = on_boundary ? bound[from] : edge_at[from * width + to];
         if (slot != kNone) throw RouteFailure{"a cell triangulation is not closed"};
         slot = 3 * i + e;
       }

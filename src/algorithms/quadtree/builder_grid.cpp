@@ -16,10 +16,14 @@ namespace mwst::qtr {
 
 // ==== grid vertices begins here ==================================================================
 
+// The ownership block's size (see own_storage_).
 std::size_t Builder::own_storage_bytes() const {
   return leaves_.size() * std::max(sizeof(std::uint32_t) + 1, sizeof(CellBound));
 }
 
+// The leaves in Morton order; which grid vertices each leaf owns (its lower-left corner, the
+// midpoints of its left and bottom sides where the neighbours there are split, and on the root's
+// top and right border its other corners), their ids by a prefix sum and their positions.
 void Builder::number_vertices() {
   tree_.lend_dead_room(spare_);
   leaves_ = tree_.leaves_in_order();
@@ -150,6 +154,8 @@ void Builder::place_owned_vertices(std::size_t begin, std::size_t end) {
 
 // ==== loops begins here ==========================================================================
 
+// Each leaf's loop of up to 8 grid vertices (packed, see PackedLoop), the deepest and shallowest
+// leaf level around each grid vertex, and the leaves with an input vertex or a segment.
 void Builder::build_loops() {
   for (auto& half : with_vertex_) half.clear();
   for (auto& half : near_segment_) half.clear();
@@ -268,6 +274,7 @@ std::array<std::uint32_t, 8> Builder::find_loop(std::uint32_t k) const {
 
 // ==== warping onto input vertices begins here ====================================================
 
+// BEG's warp: the corner of its leaf nearest each input vertex moves onto it.
 void Builder::warp() {
   gwarped_.reserve(gpos_.capacity());
   gwarped_.assign(grid_count_, false);

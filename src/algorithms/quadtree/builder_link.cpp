@@ -18,6 +18,8 @@
 
 namespace mwst::qtr {
 
+// ==== the chunks begins here =====================================================================
+
 // Cells are triangulated in chunks of leaves, each in three steps: prepare_cells() computes each
 // leaf's triangles, their adjacency inside the cell and their exact checks (the dynamic program of
 // the warped and cut cells is most of the work); emit_cells() writes them into the mesh at their
@@ -168,7 +170,8 @@ void Builder::write_chunks(Mesh& mesh, ChunkSchedule& schedule, unsigned t) {
     for (const SpecialCell& cell : chunk.special) centre_count += cell.centre_count;
     // Take the places (growing the arrays past their room only on one thread).
     if (!schedule.wait_for(schedule.token, c)) return;
-    if (schedule.tri_end + tri_count > mesh.triangles.capacity() || schedule.bound_end + bound_count > bound_.capacity()) {
+    if (schedule.tri_end + tri_count > mesh.triangles.capacity() ||
+        schedule.bound_end + bound_count > bound_.capacity()) {
       if (!alone) throw RouteFailure{"out of room"};  // (redone on one thread)
       mesh.triangles.reserve(std::max(schedule.tri_end + tri_count, mesh.triangles.capacity() / 2 * 3));
       bound_.reserve(std::max(schedule.bound_end + bound_count, bound_.capacity() / 2 * 3));
@@ -246,6 +249,10 @@ void Builder::add_centres(Mesh& mesh) {
   west_south_.reset();
   leaf_shape_.reset();
 }
+
+// ==== the chunks ends here =======================================================================
+
+// ==== linking the cells begins here ==============================================================
 
 // The edges of a leaf on one side: its polygon edges [begin, end), read from the case table (a
 // table cell) or from bound_ (a warped or cut cell).
@@ -347,6 +354,12 @@ void Builder::link_cell(const std::vector<Point>& points, Triangle* tris, const 
   }
 }
 
+// ==== linking the cells ends here ================================================================
+
+// ==== the border and the subsegments begins here =================================================
+
+// Ghost triangles around the root square (its border is the convex hull), from the border edges
+// link_cell() collected.
 void Builder::close_border(Mesh& mesh) {
   auto& outer = outer_;
   // Ghost triangles around the root square (its border is the convex hull).
@@ -373,6 +386,8 @@ void Builder::close_border(Mesh& mesh) {
   mesh.flags.assign(mesh.triangles.size(), 0);
 }
 
+// Flags and marks the subsegments (both sides of each), and checks that every subsegment of the
+// chains is one edge of the mesh.
 void Builder::mark_segments(Mesh& mesh) {
   // Every subsegment must be one edge of the mesh (found from one or both sides).
   std::vector<std::pair<std::uint64_t, std::uint32_t>> seen;
@@ -399,6 +414,7 @@ void Builder::mark_segments(Mesh& mesh) {
   if (seen.size() != subsegment_count_) throw RouteFailure{"a subsegment is not an edge of the mesh"};
 }
 
+// See the declaration: the rounding of the points on segments, bounded against the domain's area.
 void Builder::refuse_rounded_sliver(const Mesh& mesh) const {
   double moved = 0.0;  // bound on the area between the subsegments and their segments
   for (const auto& [h, s] : segment_edges_) {
@@ -418,5 +434,7 @@ void Builder::refuse_rounded_sliver(const Mesh& mesh) const {
     throw RouteFailure{"the domain is a sliver thinner than the rounding of points on its segments", false};
   }
 }
+
+// ==== the border and the subsegments ends here ===================================================
 
 }  // namespace mwst::qtr

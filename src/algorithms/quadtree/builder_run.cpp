@@ -107,8 +107,9 @@ class Builder::ArrayHelper {
       builder_.allocate_cell_arrays(mesh_, pages_);
       return;
     }
-    for (int stage = stage_.load(std::memory_order_acquire); stage < 2; stage = stage_.load(std::memory_order_acquire)) {
+    for (int stage = stage_.load(std::memory_order_acquire); stage < 2;) {
       stage_.wait(stage, std::memory_order_acquire);
+      stage = stage_.load(std::memory_order_acquire);
     }
     if (!error_[1]) pages_.work();
     thread_.join();
@@ -303,6 +304,8 @@ void Builder::carve_to_domain(Mesh& mesh, const std::vector<Point>& holes) {
 
 // ==== free corners for the fallback begins here ======================================================
 
+// Grid corners away from every feature (at least a quarter of their smallest leaf from it), for
+// the fallback; empty unless number_vertices() and build_loops() ran on this tree.
 std::vector<Point> Builder::fallback_points(const Tree& tree) const {
   // Grid corners away from every feature: at least a quarter of their smallest leaf from it.
   std::vector<Point> out;

@@ -34,29 +34,20 @@ void Builder::segments_pass() {
 
 // 1. Corners exactly on a segment join its chain where they are.
 void Builder::corners_on_segments(const std::vector<std::uint32_t>& near) {
-  const std::uint32_t nv = tree_.vertex_count();
-  for (const std::uint32_t k : near) {
-    const Node& n = tree_.nodes[leaves_[k]];
-    const std::array<std::uint32_t, 8> loop = loop_of(k);
-    for (std::uint32_t i = 0; i < n.feat_count; ++i) {
-      const std::uint32_t f = tree_.features[n.feat_begin + i];
-      if (f < nv) continue;
-      const std::uint32_t s = f - nv;
-      const Point& a = pts_[in_.segments[s].a];
-      const Point& b = pts_[in_.segments[s].b];
-      for (unsigned slot = 0; slot < 8; ++slot) {
-        const std::uint32_t g = loop[slot];
-        if (g == kNone || gwarped_[g] || gon_segment_[g]) continue;
-        const Point& p = gpos_[g];
-        if (orient2d(a, b, p) != 0) continue;
-        const bool between = a.x != b.x ? ((a.x < p.x && p.x < b.x) || (b.x < p.x && p.x < a.x))
-                                        : ((a.y < p.y && p.y < b.y) || (b.y < p.y && p.y < a.y));
-        if (!between) continue;
-        set_segment(g, s);
-        ++stats_.on_segment;
-      }
+  for_each_leaf_segment(near, [&](std::uint32_t, const std::array<std::uint32_t, 8>& loop, std::uint32_t s,
+                                  const Point& a, const Point& b) {
+    for (unsigned slot = 0; slot < 8; ++slot) {
+      const std::uint32_t g = loop[slot];
+      if (g == kNone || gwarped_[g] || gon_segment_[g]) continue;
+      const Point& p = gpos_[g];
+      if (orient2d(a, b, p) != 0) continue;
+      const bool between = a.x != b.x ? ((a.x < p.x && p.x < b.x) || (b.x < p.x && p.x < a.x))
+                                      : ((a.y < p.y && p.y < b.y) || (b.y < p.y && p.y < a.y));
+      if (!between) continue;
+      set_segment(g, s);
+      ++stats_.on_segment;
     }
-  }
+  });
 }
 
 // 2. BEG's warp towards segments: corners close to a segment move onto it, so that no sliver
@@ -117,34 +108,25 @@ void Builder::offer_crossing_snaps(const std::vector<std::uint32_t>& near, SnapC
 
 // 2b. Rule P: corners close to a segment running almost along the cell edges.
 void Builder::offer_projection_snaps(const std::vector<std::uint32_t>& near, SnapChoices& choice) const {
-  const std::uint32_t nv = tree_.vertex_count();
-  for (const std::uint32_t k : near) {
-    const Node& n = tree_.nodes[leaves_[k]];
-    const std::array<std::uint32_t, 8> loop = loop_of(k);
-    for (std::uint32_t i = 0; i < n.feat_count; ++i) {
-      const std::uint32_t f = tree_.features[n.feat_begin + i];
-      if (f < nv) continue;
-      const std::uint32_t s = f - nv;
-      const Point& a = pts_[in_.segments[s].a];
-      const Point& b = pts_[in_.segments[s].b];
-      const double dx = b.x - a.x, dy = b.y - a.y;
-      for (unsigned slot = 0; slot < 8; ++slot) {
-        const std::uint32_t g = loop[slot];
-        if (g == kNone || gwarped_[g] || gon_segment_[g]) continue;
-        const Point& p = gpos_[g];
-        const double t = ((p.x - a.x) * dx + (p.y - a.y) * dy) / (dx * dx + dy * dy);
-        if (!(t > 0.0 && t < 1.0)) continue;
-        const Point proj{a.x + t * dx, a.y + t * dy};
-        const double d = distance(p, proj);
-        const double size = tree_.cell_size(gtop_[g]);
-        if (!(d < options_.snap_fraction * size) || !(d < 0.4 * tree_.cell_size(glevel_[g])) ||
-            !(d < distance(proj, a)) || !(d < distance(proj, b))) {
-          continue;
-        }
-        offer_snap(choice, g, {s, d / size, proj});
+  for_each_leaf_segment(near, [&](std::uint32_t, const std::array<std::uint32_t, 8>& loop, std::uint32_t s,
+                                  const Point& a, const Point& b) {
+    const double dx = b.x - a.x, dy = b.y - a.y;
+    for (unsigned slot = 0; slot < 8; ++slot) {
+      const std::uint32_t g = loop[slot];
+      if (g == kNone || gwarped_[g] || gon_segment_[g]) continue;
+      const Point& p = gpos_[g];
+      const double t = ((p.x - a.x) * dx + (p.y - a.y) * dy) / (dx * dx + dy * dy);
+      if (!(t > 0.0 && t < 1.0)) continue;
+      const Point proj{a.x + t * dx, a.y + t * dy};
+      const double d = distance(p, proj);
+      const double size = tree_.cell_size(gtop_[g]);
+      if (!(d < options_.snap_fraction * size) || !(d < 0.4 * tree_.cell_size(glevel_[g])) ||
+          !(d < distance(proj, a)) || !(d < distance(proj, b))) {
+        continue;
       }
+      offer_snap(choice, g, {s, d / size, proj});
     }
-  }
+  });
 }
 
 // 3. Crossing points: every leaf edge properly crossed by a segment of the leaf's list (edges

@@ -16,6 +16,8 @@
 
 namespace mwst::qtr {
 
+// ==== a graph begins here ========================================================================
+
 // The centroid of finite triangle t of m, if it lies strictly inside t (exact orient2d; the
 // rounded centroid of a sliver can fall on or beyond an edge): a point of t well clear of its
 // edges, for a hole seed.
@@ -105,6 +107,8 @@ CleanInput clean_graph(const Pslg& pslg, const QuadtreeOptions& options, Quadtre
   return in;
 }
 
+// ==== a graph ends here ==========================================================================
+
 // ==== a point set begins here ========================================================================
 
 namespace {
@@ -163,6 +167,7 @@ struct DistinctPoints {
   std::vector<VertexId> ids;
   std::vector<Point> points;
 };
+// The distinct points of the sorted keys; the others become duplicates in m.
 DistinctPoints drop_duplicates(const std::vector<PointKey>& keyed, Mesh& m) {
   DistinctPoints unique;
   unique.ids.reserve(keyed.size());
@@ -188,6 +193,7 @@ struct Hull {
   std::vector<VertexId> vertices;
   std::size_t lower_edges = 0;
 };
+// Andrew's monotone chain over the distinct points (exact orient2d).
 Hull strict_hull(const Pslg& pslg, const DistinctPoints& unique) {
   const std::vector<Point>& p = pslg.points;
   auto chain = [&](bool lower) {
@@ -285,7 +291,9 @@ CleanInput clean_point_set(const Pslg& pslg, const QuadtreeOptions& options) {
   m.input_vertex_count = static_cast<std::uint32_t>(n);
   const DistinctPoints unique = drop_duplicates(keyed, m);
   std::vector<PointKey>().swap(keyed);
-  if (unique.ids.size() == 1) throw InputError(pslg.source, 0, "fewer than three distinct points (all points coincide)");
+  if (unique.ids.size() == 1) {
+    throw InputError(pslg.source, 0, "fewer than three distinct points (all points coincide)");
+  }
   if (unique.ids.size() == 2) throw InputError(pslg.source, 0, "fewer than three distinct points");
   const Hull hull_chains = strict_hull(pslg, unique);
   const std::vector<VertexId>& hull = hull_chains.vertices;

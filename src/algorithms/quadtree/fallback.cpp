@@ -14,6 +14,8 @@
 
 namespace mwst::qtr {
 
+// ==== the fallback begins here ===================================================================
+
 // The fallback: the carved CDT of the input — the domain every method and the independent checker
 // build — plus extra Steiner points (quadtree corners away from the features) inserted into it
 // with Lawson flips that never cross a subsegment. Only points strictly inside a triangle of the
@@ -40,6 +42,10 @@ Mesh fallback_mesh(const Pslg& pslg, const QuadtreeOptions& options, std::vector
   return m;
 }
 
+// ==== the fallback ends here =====================================================================
+
+// ==== the kept vertices begins here ==============================================================
+
 // The vertices the output keeps: every input point (ids are kept) and every Steiner point of a
 // triangle of the domain. Quadtree corners outside the domain (the root square is twice the
 // input's bounding box) are dropped, with the triangles around them.
@@ -60,6 +66,8 @@ VertexId out_of_range_vertex(const Mesh& m, const std::vector<char>& kept) {
   }
   return kNone;
 }
+
+// ==== the kept vertices ends here ================================================================
 
 // ==== dropping the unused corners begins here =======================================================
 
@@ -245,7 +253,8 @@ void place_domain_triangles(const Mesh& m, const KeptDomain& d,
       out.triangles[triangle_of(it->second)].n[edge_of(it->second)] = make_handle(nt, e);
       if (m.is_segment(h)) {
         const Handle o = it->second;
-        out.flags[triangle_of(o)] = static_cast<std::uint8_t>(out.flags[triangle_of(o)] | (kSegmentEdge0 << edge_of(o)));
+        std::uint8_t& flags = out.flags[triangle_of(o)];
+        flags = static_cast<std::uint8_t>(flags | (kSegmentEdge0 << edge_of(o)));
         if (markers) out.segment_marker[3 * std::size_t{triangle_of(o)} + edge_of(o)] = m.marker(h);
       }
     }

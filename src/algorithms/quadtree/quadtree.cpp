@@ -62,7 +62,8 @@ Mesh mesh_from_tree(Builder& builder, const std::vector<Point>& holes, bool forc
                     const QuadtreeStats& stats) {
   if (force_fallback) throw RouteFailure{"forced by the options"};
   if (stats.unresolved > 0) {
-    throw RouteFailure{std::to_string(stats.unresolved) + " leaves at the deepest level still see the input non-simply"};
+    throw RouteFailure{std::to_string(stats.unresolved) +
+                       " leaves at the deepest level still see the input non-simply"};
   }
   Mesh mesh = builder.run(holes);
   // Round trip: what is written must lie in the supported coordinate range. A corner the domain
@@ -133,6 +134,7 @@ Mesh quadtree_route(const CleanInput& in, const QuadtreeOptions& options, const 
 
 }  // namespace
 
+// quadtree_refinement() with test switches (testing.hpp): clean, route, or the fallback.
 Mesh refine_with_switches(const Pslg& pslg, const QuadtreeOptions& options, const TestSwitches& switches,
                           QuadtreeStats* stats_out, std::vector<QuadtreeLeaf>* leaves) {
   if (!(options.snap_fraction > 0.0 && options.snap_fraction < 0.5)) {
@@ -157,6 +159,7 @@ Mesh refine_with_switches(const Pslg& pslg, const QuadtreeOptions& options, cons
 
 }  // namespace qtr
 
+// The public entry point (mwst/algorithms/quadtree.hpp): no test switches.
 Mesh quadtree_refinement(const Pslg& pslg, const QuadtreeOptions& options, QuadtreeStats* stats) {
   return qtr::refine_with_switches(pslg, options, qtr::TestSwitches{}, stats, nullptr);
 }

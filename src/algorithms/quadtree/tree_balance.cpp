@@ -112,8 +112,8 @@ void Tree::finish() {
 // the west lane's, renumbering the references into it on the way, and trims the arrays. Only
 // the east lane's nodes and the older nodes it split (their child) refer to its block: the
 // west lane's hints point into its own half, and older nodes' hints are older nodes.
-void Tree::join_lanes(std::size_t node_count, std::size_t feature_count, std::size_t node_room, std::size_t feature_room,
-                std::array<Lane, 2>& lanes) {
+void Tree::join_lanes(std::size_t node_count, std::size_t feature_count, std::size_t node_room,
+                      std::size_t feature_room, std::array<Lane, 2>& lanes) {
   const std::size_t used0 = lanes[0].node_next - node_count;
   const std::size_t base1 = lanes[1].node_begin;
   const std::size_t used1 = lanes[1].node_next - base1;

@@ -96,7 +96,7 @@ Tree::Tree(const CleanInput& in, const QuadtreeOptions& options, QuadtreeStats& 
 // (Written through raw pointers into room made first: this runs for every list entry of every
 // level, and push_back's growth check was a call per entry.)
 void Tree::filter_children(const Node& parent, const std::uint32_t* list, std::size_t count,
-                     std::array<FeatureList, 4>& out) const {
+                           std::array<FeatureList, 4>& out) const {
   // Vertices: each child grown by half its size (one grid step of level parent + 2), columns
   // 4ix − 1 … 4ix + 3 and 4ix + 1 … 4ix + 5, the same for rows.
   const unsigned h = parent.level + 2u;
