@@ -1,4 +1,4 @@
-// algorithms/quadtree/builder.hpp — step 3 of quadtree refinement: from the finished tree to the
+// algorithms/quadtree/builder.hpp — stage 3 of quadtree refinement: from the finished tree to the
 // mesh. Grid vertices (leaf corners and the side midpoints that smaller neighbours create) are
 // owned by one leaf each, so ids come from one pass over the leaves in Morton order with no
 // hashing; every leaf reads its loop of up to 8 vertices through neighbour look-ups. Corners move
@@ -60,6 +60,8 @@ class Builder {
  private:
   using Tri = std::array<std::uint32_t, 3>;
 
+  // ---- per-leaf look-ups (inline) ----
+  // The id of the vertex leaf k owns as Own bit `bit`.
   std::uint32_t own(std::uint32_t k, unsigned bit) const {
     if (((own_mask_[k] >> bit) & 1u) == 0) throw RouteFailure{"a leaf lacks an expected vertex"};
     return own_base_[k] + bits_in_byte(static_cast<unsigned>(own_mask_[k] & ((1u << bit) - 1u)));
@@ -84,6 +86,7 @@ class Builder {
     if (dy == gy) return own(k, kOwnBottomMid);
     throw RouteFailure{"vertex ownership is inconsistent"};
   }
+
   // ---- the steps, in the order run() takes them ----
   // (run() itself, with the memory moves between the steps, is in builder_run.cpp:
   // ArrayHelper, allocate_*_arrays(), give_final_ids(), move_points_into_mesh(), assemble_cells(),
@@ -171,6 +174,7 @@ class Builder {
   void assemble_cells(Mesh& mesh);       // triangulate_cells(), close_border(), mark_segments()
   void carve_to_domain(Mesh& mesh, const std::vector<Point>& holes);
 
+  // ---- per-leaf passes and grid-vertex look-ups (inline) ----
   // Calls visit(k, slot, u, w, s, a, b) for every edge u→w of the loop of a leaf k in `near` (from
   // `slot` to the next present slot) that segment s = ab of k's feature list crosses properly: u
   // and w strictly on opposite sides of ab and a, b strictly on opposite sides of uw (exact); edges
@@ -231,12 +235,14 @@ class Builder {
     gsegment_[g] = s;
   }
 
+  // Does grid vertex g lie on segment s (on it by segments_pass(), or warped onto an endpoint)?
   bool on_segment(std::uint32_t g, std::uint32_t s) const {
     if (segment_of(g) == s) return true;
     const FeatureSegment& seg = in_.segments[s];
     return input_gv_[seg.a] == g || input_gv_[seg.b] == g;
   }
 
+  // ---- data ----
   const CleanInput& in_;
   const QuadtreeOptions& options_;
   QuadtreeStats& stats_;

@@ -1,4 +1,4 @@
-// algorithms/quadtree/clean_input.cpp — step 1 of quadtree refinement: the features. A PSLG goes
+// algorithms/quadtree/clean_input.cpp — stage 1 of quadtree refinement: the features. A PSLG goes
 // through the constrained Delaunay triangulation (duplicates merged, segments split at vertices on
 // them and at crossings); a point set is cleaned by sorting and an exact monotone-chain hull. When
 // the domain is the convex hull, the hull edges are features too.

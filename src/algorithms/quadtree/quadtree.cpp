@@ -25,7 +25,7 @@ namespace qtr {
 
 namespace {
 
-// Step 1, with its statistics; `holes` receives the seeds to carve (none unless a segment that is
+// Stage 1 (route.hpp), with its statistics; `holes` receives the seeds to carve (none unless a segment that is
 // not a hull edge bounds the domain).
 CleanInput clean_input(const Pslg& pslg, const QuadtreeOptions& options, QuadtreeStats& stats,
                        std::vector<Point>& holes) {
@@ -56,7 +56,7 @@ void collect_leaves(const Tree& tree, std::vector<QuadtreeLeaf>& leaves) {
   }
 }
 
-// Steps 3 and 4 on a finished tree: the mesh with the corners outside the domain dropped, or
+// Stages 3 and 4 on a finished tree: the mesh with the corners outside the domain dropped, or
 // RouteFailure.
 Mesh mesh_from_tree(Builder& builder, const std::vector<Point>& holes, bool force_fallback,
                     const QuadtreeStats& stats) {
@@ -83,7 +83,7 @@ Mesh mesh_from_tree(Builder& builder, const std::vector<Point>& holes, bool forc
   return mesh;
 }
 
-// Steps 2 to 4. On failure stats.fallback is set, with its reason, and `extra` receives the free
+// Stages 2 to 4. On failure stats.fallback is set, with its reason, and `extra` receives the free
 // corners the fallback may add.
 Mesh quadtree_route(const CleanInput& in, const QuadtreeOptions& options, const TestSwitches& switches,
                     const std::vector<Point>& holes, QuadtreeStats& stats, std::vector<QuadtreeLeaf>* leaves,

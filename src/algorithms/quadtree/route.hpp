@@ -1,7 +1,8 @@
 // algorithms/quadtree/route.hpp — the vocabulary of quadtree refinement (QTR), shared by the files
-// of this folder, and the route's steps in order (docs/algorithms/quadtree.md explains them):
+// of this folder, and the route's stages in order, by file (docs/algorithms/quadtree.md explains
+// the method's steps, 1 to 5, and where each one lives):
 //
-//   quadtree.cpp           quadtree_refinement(): runs the steps below, or the fallback
+//   quadtree.cpp           quadtree_refinement(): runs the stages below, or the fallback
 //   1. clean_input.cpp     clean_graph(), clean_point_set(): the features (vertices, segments)
 //   2. tree.hpp            Tree: nodes, feature lists, neighbour look-ups (inline)
 //      tree_build.cpp      Tree(): the root and the vertices' Morton ranks; build(): split by
@@ -13,9 +14,11 @@
 //      builder_segments.cpp segments_pass(): corners onto segments, crossing points, chains
 //      cells.hpp           the case table with its adjacency (PlainCell)
 //      builder_cells.cpp   prepare_cells(), emit_cells(): each leaf's triangles
+//      quadtree_cells.cpp  the max–min-angle dynamic program and the case table (detail::)
 //      builder_link.cpp    triangulate_cells() over chunks, link_cell(), the border, the segments
 //      builder_run.cpp     Builder::run(): the steps in order, the mesh's arrays, carving
 //   4. fallback.cpp        fallback_mesh(); drop_unused_vertices(): corners outside the domain
+//   testing.hpp            the test switches (refine_with_switches()), for tests/test_quadtree.cpp
 // Memory and thread helpers live in src/support/ (parallel.hpp, spare_room.hpp, page_faulter.hpp).
 #pragma once
 

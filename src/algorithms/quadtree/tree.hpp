@@ -1,4 +1,4 @@
-// algorithms/quadtree/tree.hpp — step 2 of quadtree refinement: the balanced quadtree.
+// algorithms/quadtree/tree.hpp — stage 2 of quadtree refinement: the balanced quadtree.
 // Nodes live in one flat array (NodeArray); the four children of a node are consecutive (SW, SE,
 // NW, NE: Morton order) and a node is addressed by (level, ix, iy), so every cell corner is the
 // same double however it is reached. Each leaf keeps the features (vertex ranks in Morton order,
