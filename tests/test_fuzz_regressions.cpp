@@ -316,7 +316,7 @@ TEST(FuzzRegressions, OptKeepsTheConvexHullOfANeedleConvex) {
 // segment from (131084.75, 131085) to (131083.25, 131084.5), whose pieces end at rounded crossing
 // points: in the CDT the seed lay beside its piece and carved the face there, while the quadtree
 // put a corner exactly on the line at the seed and its carve ignored the seed as lying on a
-// segment. Fixed in quadtree.cpp (clean_graph): QTR carves from the centroid of the CDT triangle
+// segment. Fixed in quadtree/clean_input.cpp (clean_graph): QTR carves from the centroid of the CDT triangle
 // each seed carved, and drops the seeds the CDT ignored. (Reduced from the fuzz input by removing
 // segments, holes and points while it still failed.)
 TEST(FuzzRegressions, QuadtreeCarvesTheHoleTheCdtCarvesFromASeedOnASegmentLine) {

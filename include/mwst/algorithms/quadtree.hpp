@@ -1,79 +1,17 @@
-// mwst/algorithms/quadtree.hpp — quadtree refinement (QTR): a balanced-quadtree Steiner triangulation of a
-// point set or of a polygonal domain with holes, after Bern, Eppstein and Gilbert, "Provably good
-// mesh generation" (FOCS 1990; JCSS 48, 1994), the QTR column of Boyacı, Erten, Üngör,
-// "Triangulations Loosing Bundles and Weight". Eppstein (1994) shows such a triangulation weighs
+// mwst/algorithms/quadtree.hpp — quadtree refinement (QTR): a Steiner triangulation of a point set
+// or of a polygonal domain with holes from a balanced quadtree, after Bern, Eppstein and Gilbert,
+// "Provably good mesh generation" (FOCS 1990; JCSS 48, 1994); the QTR column of Boyacı, Erten,
+// Üngör, "Triangulations Loosing Bundles and Weight". Eppstein (1994): such a triangulation weighs
 // O(1) times the minimum weight Steiner triangulation.
-//
-// The route (src/algorithms/quadtree/quadtree.cpp has the details and the reasons):
-//  1. Clean input. A PSLG goes through the constrained Delaunay triangulation (duplicates merged,
-//     segments split at vertices on them and at crossings); features = its vertices and
-//     subsegments. A point set is cleaned by sorting (duplicates) and an exact monotone-chain hull.
-//     When the domain is the convex hull (a point set, or --convex-hull) the hull edges are
-//     features too: they bound the domain.
-//  2. Split. A square root cell, at least twice the input's bounding box, is split until every
-//     leaf C of size s that meets a feature sees the input "simply" in its extended cell B(C): the
-//     vertices in C grown by s/2 on every side and the segments meeting C grown by s (the 3×3 block
-//     of same-size cells) are at most one vertex; with one vertex, only segments incident to it;
-//     with none, segments that share an endpoint (at most one segment, or one vertex's segments).
-//     The tree is refused (fallback) beyond QuadtreeOptions::max_leaves leaves: its size grows
-//     with the integral of 1/lfs², not with the number of features.
-//     For a point set: each point is alone in its leaf grown by half its size (hull edges keep the
-//     full block, as all segments do). Half is the least growth that keeps two points from
-//     claiming one corner in step 4 (the square of side s centred on a corner, where the points
-//     that move it lie, is inside each incident leaf grown by s/2); BEG's 3×3 block for vertices
-//     made 21 % more triangles on uniform points. Segments keep the full block: with half of it,
-//     cells cut near small input angles fell below the cut-cell bound (3.4° next to a 4.2° input
-//     angle in the star-polygon tests).
-//  3. Balance: edge-adjacent leaves differ in size by at most a factor 2. Warp rule: the four
-//     leaves around the corner a vertex will take have the vertex's leaf size (finer ones split
-//     the vertex's leaf, coarser ones are split).
-//  4. Warp. The corner of its leaf nearest each vertex moves onto it. Towards segments (BEG's
-//     warping of corners to nearby crossings): a corner moves along a cell edge onto the crossing
-//     point of a segment that lies within snap_fraction of a leaf size of it (and within half the
-//     edge), or onto its projection if it lies nearer to a segment than snap_fraction × its
-//     largest leaf and 0.4 × its smallest (a segment running along cell edges).
-//  5. Cut and triangulate. Segments cross the remaining cell edges at Steiner points; each leaf
-//     is cut along its segment pieces (chords) into pieces, and triangulated:
-//       - an untouched square (no moved corner, no segment) by the case table below;
-//       - a warped square or a piece of a cut one by the max–min-angle triangulation of its
-//         boundary (dynamic program), or, if that keeps an angle below 20°, by the fan from a
-//         Steiner point at its vertex average when that is better.
-//     The triangles of all leaves form one Mesh over the root square (ghost triangles on its
-//     border), the segment pieces are subsegments, and the mesh is carved to the domain exactly
-//     as the CDT carves (flood from the outside and from the hole seeds, stopped by segments;
-//     each seed is taken at the centroid of the CDT triangle it carved from, and the seeds the
-//     CDT ignored are dropped, so that a seed on a segment's line carves the same face in both).
-//     Input vertices are never moved and keep their ids; every input segment is a chain of
-//     subsegments (corners moved onto it and crossing points are rounded to double once).
-//
-// Case table (an untouched leaf with corners BL, BR, TR, TL and the midpoints b, r, t, l of the
-// sides whose neighbours are smaller; computed once as the max–min-angle triangulation of the unit
-// square, ties to the lighter one; see quadtree_case_table()):
-//   no midpoint     (BL BR TL) (BR TR TL): the diagonal BR–TL, angles 45/45/90
-//   one midpoint    joined to the two far corners, e.g. b: (BL b TL) (b TR TL) (b BR TR)
-//   more            corners next to two midpoints are cut off by right isosceles triangles, the
-//                   rest is fanned, e.g. all four: the four corners cut off, the diamond split r–l
-// Every case-table triangle has its angles in [atan(1/2), 90°] = [26.57°, 90°]: none is obtuse.
-//
-// Guarantees and measurements (tests/test_quadtree.cpp checks each):
-//  - Validity: validate() passes; every input vertex is a vertex; every input segment is a chain
-//    of subsegments; the domain's area equals the CDT's; every Steiner point is a corner of a
-//    triangle of the domain and lies in the closed domain (the quadtree corners outside it are
-//    dropped, and the rest of the hull is triangulated anew); every vertex lies in the supported
-//    coordinate range (else the route gives way to the fallback), so the output reads back.
-//  - Leaf size s against the local feature size lfs (the radius of the smallest disk centred at x
-//    that meets two features that do not touch): s ≤ 2·lfs(x) at every x of a leaf that meets a
-//    feature (the splitting rule: a disk of radius below s/2 centred in C lies in C grown by s/2,
-//    where the features are pairwise touching), s ≤ 2·lfs(centre) for an empty leaf (a feature
-//    within s/2 of the centre would meet it), and lfs(centre) ≤ 12·s (grading; 7.4 is the
-//    largest ratio on the 13 data sets).
-//  - Angles. Untouched squares: [26.57°, 90°]. Warped squares of a point set: at least 18.3° (the
-//    worst case over an enumeration of their configurations with points outside each other's
-//    leaves grown by half, not a proof; BEG's 3×3 separation gives the same worst case). Cells cut by segments
-//    or the hull: no proof; on the data sets and the random tests the smallest angle is at least
-//    min(9°, 0.9 θ), θ the smallest input angle (between two segments at a vertex, or of the hull).
-//    BEG's point-set construction avoids obtuse triangles; this one does not (the largest angle
-//    seen is 160°, next to a 6.5° input angle of Florida; 139° in the point sets).
+// Contract: input vertices keep their ids and positions; every input segment is a chain of
+// subsegments; the domain is the CDT's (same area); every Steiner point is a corner of a triangle
+// of the domain and lies in the supported coordinate range. A leaf of size s that meets a feature
+// has s ≤ 2·lfs; untouched cells have all angles in [26.57°, 90°]; cut cells have no proven angle
+// bound. The output is byte-identical whatever the number of threads. If the quadtree route cannot
+// finish (QuadtreeStats::fallback), the output is the CDT of the input plus the quadtree's free
+// corners: valid, without the guarantees.
+// The route, the case table, the guarantees with their measurements, and the data layout:
+// docs/algorithms/quadtree.md.
 #pragma once
 
 #include <array>
@@ -91,10 +29,10 @@ namespace mwst {
 struct QuadtreeOptions {
   bool convex_hull = false;    // keep the whole convex hull (Triangle's -c); holes still carve
   bool strict = false;         // refuse crossing segments (InputError) instead of splitting them
-  // BEG's warp towards segments (step 4 above): a corner moves onto a segment crossing one of its
-  // edges within this fraction of the leaf size, or lying this fraction of its largest leaf from
-  // it (and 0.4 of its smallest). In (0, 0.5); larger values move more corners and leave fewer,
-  // fatter pieces in cut cells.
+  // BEG's warp towards segments (docs/algorithms/quadtree.md, step 4): a corner moves onto a
+  // segment crossing one of its edges within this fraction of the leaf size, or lying this
+  // fraction of its largest leaf from it (and 0.4 of its smallest). In (0, 0.5); larger values
+  // move more corners and leave fewer, fatter pieces in cut cells.
   double snap_fraction = 0.4;
   // Deepest level of the quadtree (cells of size root / 2^max_depth); at most 52 (cell corners
   // are then still distinct doubles for inputs near the origin).
@@ -103,19 +41,9 @@ struct QuadtreeOptions {
   // instead of running out of memory or time. 0: automatic, 1024 per input feature (vertex or
   // segment) but at least 2^20 and at most 2^26.
   std::size_t max_leaves = 0;
-  bool keep_leaves = false;    // fill QuadtreeStats::leaf_cells (used by the tests)
   // 0: two threads on large inputs (about 10^4 points and up); 1: one thread; 2: two threads
   // whatever the size (testing). The output is byte-identical in all three.
   unsigned threads = 0;
-  // Testing only: skip the quadtree route and build the fallback (see QuadtreeStats::fallback).
-  bool force_fallback = false;
-};
-
-// A leaf of the final quadtree: lower-left corner, side, and whether its closed square meets a
-// feature (a vertex or a segment).
-struct QuadtreeLeaf {
-  double x = 0.0, y = 0.0, size = 0.0;
-  bool meets_feature = false;
 };
 
 struct QuadtreeStats {
@@ -142,7 +70,6 @@ struct QuadtreeStats {
   double seconds_tree = 0.0;         // splitting, balancing
   double seconds_mesh = 0.0;         // warping, cutting, triangulating, assembling
   double seconds_carve = 0.0;
-  std::vector<QuadtreeLeaf> leaf_cells;  // only with QuadtreeOptions::keep_leaves
 };
 
 // Quadtree refinement of a point set (.node: the domain is the convex hull) or a PSLG (.poly: the

@@ -1,12 +1,12 @@
 // tests/algorithms/quadtree/test_quadtree.cpp — tests of quadtree refinement, mwst::quadtree_refinement
-// (src/algorithms/quadtree/quadtree.cpp, src/algorithms/quadtree/quadtree_cells.cpp; Bern, Eppstein, Gilbert,
+// (src/algorithms/quadtree/, with its test switches in testing.hpp; Bern, Eppstein, Gilbert,
 // "Provably good mesh generation", JCSS 1994, the QTR method of Boyacı, Erten, Üngör).
 //
 // Every output is checked by validate() and independently: every input point is a mesh vertex,
 // every input segment is a chain of subsegments lying on it (within a relative 1e-9: corners moved
 // onto segments and crossing points are rounded), the domain's area equals the area of the
 // constrained Delaunay triangulation's domain, and every counted Steiner point lies in the closed
-// domain (located in the CDT). The properties claimed in include/mwst/algorithms/quadtree.hpp are tested: the
+// domain (located in the CDT). The properties claimed in docs/algorithms/quadtree.md are tested: the
 // case table's angles; the worst warped point-set cell over an enumeration of its configurations;
 // leaf size against the local feature size; the angle bound on the data sets and random inputs;
 // determinism; and the fallback.
@@ -33,6 +33,7 @@
 #include "mwst/io/triangle_files.hpp"
 #include "mwst/algorithms/metrics.hpp"
 #include "mwst/algorithms/quadtree.hpp"
+#include "algorithms/quadtree/testing.hpp"
 #include "support/exact_checker.hpp"
 #include "support/generators.hpp"
 
@@ -89,15 +90,25 @@ double smallest_input_angle(const Pslg& g) {
   return best;
 }
 
+using qtr::QuadtreeLeaf;
+
 struct Result {
   Mesh mesh;
   QuadtreeStats stats;
+  std::vector<QuadtreeLeaf> leaf_cells;  // with TestSwitches::keep_leaves
 };
 
-Result run(const Pslg& g, QuadtreeOptions options = {}) {
+// quadtree_refinement(), or with test switches (algorithms/quadtree/testing.hpp) when given.
+Result run(const Pslg& g, QuadtreeOptions options = {}, const qtr::TestSwitches& switches = {}) {
   Result r;
-  r.mesh = quadtree_refinement(g, options, &r.stats);
+  r.mesh = qtr::refine_with_switches(g, options, switches, &r.stats, &r.leaf_cells);
   return r;
+}
+
+qtr::TestSwitches keeping_leaves() {
+  qtr::TestSwitches switches;
+  switches.keep_leaves = true;
+  return switches;
 }
 
 // The checks every output passes (see the file comment). Returns the measured smallest angle.
@@ -540,12 +551,10 @@ class QuadtreeDataSet : public ::testing::TestWithParam<std::string> {};
 TEST_P(QuadtreeDataSet, ValidConformingAndAreaConserving) {
   const std::string path = std::string(MWST_DATA_DIR) + "/" + GetParam();
   const Pslg g = io::read_input(path);
-  QuadtreeOptions options;
-  options.keep_leaves = true;
-  const Result r = run(g, options);
+  const Result r = run(g, {}, keeping_leaves());
   const double smallest = check_output(g, r);
   EXPECT_TRUE(r.stats.warnings.empty()) << joined(r.stats.warnings);
-  EXPECT_EQ(r.stats.leaves, r.stats.leaf_cells.size());
+  EXPECT_EQ(r.stats.leaves, r.leaf_cells.size());
   // The angle bound: no proof for cut cells; this is what every data set and random input meets.
   const double input_angle = smallest_input_angle(g);
   EXPECT_GE(smallest, std::min(9.0, 0.9 * input_angle)) << "smallest input angle " << input_angle;
@@ -556,15 +565,13 @@ TEST_P(QuadtreeDataSet, ValidConformingAndAreaConserving) {
 TEST_P(QuadtreeDataSet, LeafSizeFollowsTheLocalFeatureSize) {
   const std::string path = std::string(MWST_DATA_DIR) + "/" + GetParam();
   const Pslg g = io::read_input(path);
-  QuadtreeOptions options;
-  options.keep_leaves = true;
-  const Result r = run(g, options);
+  const Result r = run(g, {}, keeping_leaves());
   const Features f = features_of(g);
   // A sample of the leaves (every leaf of the small inputs).
-  const std::size_t step = std::max<std::size_t>(1, r.stats.leaf_cells.size() / 1500);
+  const std::size_t step = std::max<std::size_t>(1, r.leaf_cells.size() / 1500);
   double worst_upper = 0.0, worst_lower = 0.0;
-  for (std::size_t i = 0; i < r.stats.leaf_cells.size(); i += step) {
-    const QuadtreeLeaf& leaf = r.stats.leaf_cells[i];
+  for (std::size_t i = 0; i < r.leaf_cells.size(); i += step) {
+    const QuadtreeLeaf& leaf = r.leaf_cells[i];
     const Point centre{leaf.x + leaf.size / 2, leaf.y + leaf.size / 2};
     const double lfs = local_feature_size(f, centre);
     if (leaf.meets_feature) {
@@ -624,12 +631,10 @@ TEST(Quadtree, PointLeavesAreAloneInTheirHalfGrownCell) {
     SCOPED_TRACE("seed " + std::to_string(seed));
     Pslg g;
     g.points = seed == 1 ? test::uniform_points(600, seed) : test::kuzmin_points(600, seed);
-    QuadtreeOptions options;
-    options.keep_leaves = true;
-    const Result r = run(g, options);
+    const Result r = run(g, {}, keeping_leaves());
     ASSERT_FALSE(r.stats.fallback) << r.stats.fallback_reason;
     std::size_t holding = 0, closer_than_one_size = 0;
-    for (const QuadtreeLeaf& leaf : r.stats.leaf_cells) {
+    for (const QuadtreeLeaf& leaf : r.leaf_cells) {
       const double s = leaf.size;
       std::size_t inside = 0, half = 0, full = 0;
       for (const Point& p : g.points) {
@@ -663,9 +668,8 @@ TEST(Quadtree, LeavesAreBalancedAndKeepTheWarpRule) {
                : seed == 2 ? test::kuzmin_points(4000, seed)
                            : test::clustered_points(3000, 3, seed);
     QuadtreeOptions options;
-    options.keep_leaves = true;
     options.threads = seed == 3 ? 1 : 2;
-    const Result r = run(g, options);
+    const Result r = run(g, options, keeping_leaves());
     ASSERT_FALSE(r.stats.fallback) << r.stats.fallback_reason;
     ASSERT_EQ(r.stats.unresolved, 0u);
     // Leaves by (size, x, y); the root's lower-left corner is the least leaf corner, its side the
@@ -673,7 +677,7 @@ TEST(Quadtree, LeavesAreBalancedAndKeepTheWarpRule) {
     std::set<std::array<double, 3>> leaves;
     std::set<double> sizes;
     double ox = std::numeric_limits<double>::infinity(), oy = ox, right = -ox;
-    for (const QuadtreeLeaf& leaf : r.stats.leaf_cells) {
+    for (const QuadtreeLeaf& leaf : r.leaf_cells) {
       leaves.insert({leaf.size, leaf.x, leaf.y});
       sizes.insert(leaf.size);
       ox = std::min(ox, leaf.x);
@@ -992,9 +996,9 @@ TEST(Quadtree, FeaturesBelowTheDeepestLevelFallBackToAValidMesh) {
   check_output(g, r, /*expect_no_fallback=*/false);
   // And the forced fallback on a polygon.
   const Pslg poly = io::read_input(std::string(MWST_DATA_DIR) + "/Plate.poly");
-  QuadtreeOptions options;
-  options.force_fallback = true;
-  const Result f = run(poly, options);
+  qtr::TestSwitches forced;
+  forced.force_fallback = true;
+  const Result f = run(poly, {}, forced);
   EXPECT_TRUE(f.stats.fallback);
   check_output(poly, f, /*expect_no_fallback=*/false);
 }
