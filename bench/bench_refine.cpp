@@ -186,7 +186,7 @@ Quality refine_quality(const Pslg& g, const RefineOptions& options) {
   Mesh mesh = constrained_delaunay(g);
   const RefineStats stats = refine(mesh, options);
   const Metrics m = measure(mesh);
-  return {m.weight_interior, m.steiner, m.min_angle_deg, stats.stop_reason};
+  return {m.weight_interior, m.steiner, m.min_angle_deg, to_string(stats.stop)};
 }
 
 int quality(const std::string& dir) {

@@ -1,7 +1,7 @@
 # cmake/install.cmake — what `cmake --install` writes besides the library, the CLI and the headers:
 #   lib/cmake/mwst/mwstConfig.cmake, mwstConfigVersion.cmake (SameMajorVersion), mwstTargets.cmake
 #     so that another project's find_package(mwst 0.2 CONFIG REQUIRED) gives the target mwst::mwst;
-#   lib/pkgconfig/mwst.pc for builds without CMake.
+#   lib/pkgconfig/mwst.pc and mwst-draw.pc (the pictures) for builds without CMake.
 include(CMakePackageConfigHelpers)
 
 set(MWST_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/mwst)
@@ -13,7 +13,7 @@ install(TARGETS mwst mwst_draw mwst_cli EXPORT mwstTargets
 install(DIRECTORY include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(EXPORT mwstTargets NAMESPACE mwst:: DESTINATION ${MWST_CMAKE_DIR})
 
-# A static libmwst leaves cairo and GMP (its private dependencies) to the program that links it:
+# A static libmwst leaves GMP (and libmwst_draw cairo), its private dependencies, to the program that links it:
 # the config file then finds them the way the build did (pkg-config), under the same target names.
 set(MWST_STATIC_LIBRARY ON)
 if(BUILD_SHARED_LIBS)
@@ -30,15 +30,23 @@ install(FILES ${PROJECT_BINARY_DIR}/mwstConfig.cmake ${PROJECT_BINARY_DIR}/mwstC
 # for `cmake --install build --prefix ANYWHERE`.
 file(RELATIVE_PATH MWST_PC_TO_PREFIX "/${CMAKE_INSTALL_LIBDIR}/pkgconfig" "/")
 string(REGEX REPLACE "/$" "" MWST_PC_TO_PREFIX "${MWST_PC_TO_PREFIX}")
+# mwst-draw.pc is the pictures' library (libmwst_draw, cairo) on top of mwst.pc.
 if(BUILD_SHARED_LIBS)
   set(MWST_PC_REQUIRES "nlohmann_json")
-  set(MWST_PC_REQUIRES_PRIVATE "cairo gmp")
+  set(MWST_PC_REQUIRES_PRIVATE "gmp")
+  set(MWST_DRAW_PC_REQUIRES "mwst")
+  set(MWST_DRAW_PC_REQUIRES_PRIVATE "cairo")
   set(MWST_PC_CFLAGS "-DMWST_SHARED")
 else()
-  # A static archive: `pkg-config --libs mwst` must name cairo and GMP even without --static.
-  set(MWST_PC_REQUIRES "nlohmann_json cairo gmp")
+  # A static archive: `pkg-config --libs mwst` must name GMP (and mwst-draw cairo) even without
+  # --static.
+  set(MWST_PC_REQUIRES "nlohmann_json gmp")
   set(MWST_PC_REQUIRES_PRIVATE "")
+  set(MWST_DRAW_PC_REQUIRES "mwst cairo")
+  set(MWST_DRAW_PC_REQUIRES_PRIVATE "")
   set(MWST_PC_CFLAGS "")
 endif()
 configure_file(${PROJECT_SOURCE_DIR}/cmake/mwst.pc.in ${PROJECT_BINARY_DIR}/mwst.pc @ONLY)
-install(FILES ${PROJECT_BINARY_DIR}/mwst.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+configure_file(${PROJECT_SOURCE_DIR}/cmake/mwst-draw.pc.in ${PROJECT_BINARY_DIR}/mwst-draw.pc @ONLY)
+install(FILES ${PROJECT_BINARY_DIR}/mwst.pc ${PROJECT_BINARY_DIR}/mwst-draw.pc
+  DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)

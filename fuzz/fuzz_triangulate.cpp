@@ -5,7 +5,7 @@
 // Weight" — is run with a small Steiner budget, and the result must pass validate()
 // (mwst/mesh/mesh.hpp, our own structure), then round-trip through the files `mwst triangulate` writes:
 // written with io::write_mesh to a scratch directory, read back with io::read_mesh, it must be the
-// same mesh bit for bit (tests/round_trip.hpp) and pass the independent checker
+// same mesh bit for bit (tests/support/round_trip.hpp) and pass the independent checker
 // check_triangulation() (mwst/mesh/check.hpp) on what was read back, as `mwst check` would run it.
 // An InputError from the mesher is an acceptable answer; any other exception, a crash, a sanitizer
 // report, a file mwst cannot read back, a difference or a checker violation is a bug (abort).

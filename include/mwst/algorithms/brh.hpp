@@ -26,7 +26,7 @@ struct BrhStats {
   std::size_t segment_splits = 0;
   std::size_t skinny_left = 0;        // skinny triangles left: each in no K-bundle
   std::size_t left_small_angle = 0;   // bad triangles the engine could not improve (MPW rule)
-  std::string stop_reason;
+  StopReason stop;  // kBoundReached, kTimeBudget, kSteinerBudget, kRoundLimit, kBeyondFeatureSize, kSmallInputAngles
   double seconds = 0.0;
 };
 
@@ -38,7 +38,7 @@ struct BrhStats {
 // angle below A is in no K-bundle; when K ≥ ⌈4π/A⌉ + 3 the mesh is K-bundle-free. With
 // refine.max_area > 0 every triangle larger than it is split as well, so on a normal stop none is
 // left. BRH shares DR's termination guard (measured once on its input, feature_guard_length) and
-// stops with kStopBeyondFeatureSize where DR would. docs/algorithms/brh.md describes the passes,
+// stops with StopKind::kBeyondFeatureSize where DR would. docs/algorithms/brh.md describes the passes,
 // the local and exact tests, what is reused between tests, and the cost.
 MWST_API BrhStats bundle_removal(Mesh& mesh, const BrhOptions& options);
 

@@ -23,6 +23,7 @@
 #include "mwst/mesh/mesh.hpp"
 #include "mwst/mesh/pslg.hpp"
 #include "mwst/algorithms/refine.hpp"
+#include "mwst/algorithms/stop_reason.hpp"
 
 namespace mwst {
 
@@ -120,39 +121,6 @@ struct TriangulateOptions {
   ProgressCallback progress;
 };
 
-// Why a refinement method (dr, brh, opt) stopped, checked against the final mesh (after the flips and
-// opt's moves) and the budgets: see settle_stop_reason().
-enum class StopKind {
-  kUnset,                 // dt, qtr: no stop reason
-  kBoundReached,          // every triangle meets the angle and area bounds ("bound reached")
-  kSmallInputAngles,      // all but `count` triangles next to input angles under 60° do
-  kSteinerBudget,         // max_steiner ran out first
-  kTimeBudget,            // time_budget_seconds passed first
-  kLocalMinimum,          // opt: no move lowers the weight, and the area bound holds
-  kRoundLimit,            // brh: its pass limit
-  kBeyondFeatureSize,     // the termination guard of dr and brh (refine.hpp, kStopBeyondFeatureSize)
-  kBelowBoundAfterFlips,  // flip: `count` triangles below the bound after the flips
-  kSkinnyInBundles,       // brh with flip: `count` skinny triangles in K-bundles after the flips
-  kLeftBelowBound,        // `count` triangles miss the bound, none of the reasons above holds
-  kProtectedSegments,     // `count` triangles miss the bound beside subsegments that may not be
-                          // split (segment_splitting, Triangle's -Y / -YY)
-  kOther,                 // a reason an engine gave in its own words (`text`)
-};
-struct StopReason {
-  StopKind kind = StopKind::kUnset;
-  std::size_t count = 0;  // kSmallInputAngles, kBelowBoundAfterFlips, kSkinnyInBundles, kLeftBelowBound,
-                          // kProtectedSegments
-  std::string text;       // kOther
-  friend bool operator==(const StopReason&, const StopReason&) = default;
-};
-// The words of the report: "bound reached", "N triangles left near small input angles",
-// "steiner budget", "time budget", "local minimum", "round limit", "N triangles below the angle
-// bound after the flips", "N skinny triangles in K-bundles after the flips", "N triangles left
-// outside the bounds", "N triangles left beside subsegments that may not be split", or the
-// engine's text; "" for kUnset.
-std::string to_string(const StopReason& reason);
-// The reason an engine (RefineStats::stop_reason, BrhStats::stop_reason) gives in words.
-StopReason parse_stop_reason(std::string_view text);
 // The true stop reason of `method`'s result `mesh` under `options`, given the reason its engine
 // gave (`engine`) and whether the flips ran after it. The bounds are checked on the mesh (check_bounds
 // of metrics.hpp: angle for dr, area for dr, brh, opt): a mesh that meets them (exemptions: the

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "mwst/algorithms/stop_reason.hpp"
 #include "mwst/mesh/mesh.hpp"
 
 namespace mwst {
@@ -86,21 +87,12 @@ struct RefineOptions {
   // field then).
   std::vector<TriangleId> seed_triangles;
   // The termination guard's edge length (see feature_guard_length): an angle-bad triangle the test
-  // calls bad whose shortest edge is shorter stops the refinement with kStopBeyondFeatureSize.
+  // calls bad whose shortest edge is shorter stops the refinement with StopKind::kBeyondFeatureSize.
   // < 0: computed from the mesh at the start of an unseeded run with the default test, none with
   // a custom one; 0: none; > 0: this length (a caller refining in passes, as BRH, computes it once
   // from its input and passes it to every pass, seeded or not).
   double feature_guard_length = -1.0;
 };
-
-// The stop reason of the termination guard (DR's and BRH's): refinement made an edge far shorter
-// than the input's smallest feature allows when it terminates (angle bounds above about 34°; see
-// docs/algorithms/refine.md).
-inline constexpr const char* kStopBeyondFeatureSize = "no progress: size beyond the local-feature-size bound";
-
-// The end of the stop reason "N triangles left beside subsegments that may not be split": bad
-// triangles remain whose Steiner points lie on or beyond protected subsegments (segment_splitting).
-inline constexpr const char* kStopProtectedSuffix = " triangles left beside subsegments that may not be split";
 
 // The termination guard's edge length for a carved mesh not yet refined: kFeatureGuardFraction
 // (1/1024, src/algorithms/refine/termination_guard.cpp) of its smallest feature, the shortest edge of a domain triangle or distance
@@ -124,10 +116,9 @@ struct RefineStats {
   std::size_t conforming_splits = 0;  // conforming_delaunay: splits of subsegments not locally Delaunay
   std::size_t precision_skips = 0;    // points not insertable at double precision (duplicate
                                       // vertex, or no valid rounded split point)
-  std::string stop_reason;            // "bound reached" | "steiner budget" | "time budget" |
-                                      // "N triangles left near small input angles" |
-                                      // "N" kStopProtectedSuffix |
-                                      // kStopBeyondFeatureSize
+  StopReason stop;                    // kBoundReached, kSteinerBudget, kTimeBudget,
+                                      // kSmallInputAngles (count left), kProtectedSegments (count
+                                      // left), kBeyondFeatureSize (the termination guard)
   double seconds = 0.0;               // total
   double seconds_segments = 0.0;      // first phase: splitting the initially encroached subsegments
   double seconds_triangles = 0.0;     // second phase: splitting bad triangles

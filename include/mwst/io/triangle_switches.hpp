@@ -2,34 +2,10 @@
 // TriangulateOptions and the input/output choices they make. One parser for `mwst triangle`, the
 // library's users and the Python binding.
 //
-// The switches have Triangle's documented meanings (Shewchuk, Triangle 1.6, "triangle -h"):
-//   p  read a .poly (segments, holes, regions)       r  refine the mesh of INPUT.node + INPUT.ele
-//   q  quality: minimum angle, 20° or q<deg>         a  area bound: a<area> for every triangle, a
-//                                                       alone for the .poly regions' / .area bounds
-//   A  regional attribute of each triangle in .ele   c  keep the convex hull (segments around it)
-//   D  conforming Delaunay                           Y  no Steiner points on boundary segments;
-//   S  at most S<n> Steiner points (S alone: none)      YY on no segment at all
-//   j  leave unused vertices out of the .node        e  write the edges (.edge)
-//   v  write the Voronoi diagram (.v.node, .v.edge)  n  write the neighbours (.neigh)
-//   z  number from zero (the input's own numbering   B  no boundary markers in the output
-//      wins when there is one)                       P, N, E  no .poly, .node, .ele output
-//   I  no iteration number in the output names       O  ignore the .poly's holes
-//   Q  quiet     V  verbose     h  help
-// Triangle refines (our method dr) when q or a is given, or D (conforming Delaunay is Ruppert's
-// refinement: with no q the angle bound is 0); otherwise the mesh is the (constrained) Delaunay
-// triangulation (method dt).
-//
-// Switches that choose how Triangle itself computes the same mesh are accepted and do nothing:
-// i (incremental), F (Fortune's sweepline), l (vertical cuts only), s (segments by splitting
-// instead of a constrained Delaunay triangulation), C (check the final mesh: mwst's meshes are
-// checked by construction and by `mwst check`), X (no exact arithmetic: mwst is always exact).
-// Switches mwst does not do are refused with std::invalid_argument naming the switch and why:
-// u (a user-compiled triunsuitable()), g (.off output), o2 (second-order triangles), and any
-// character that is no Triangle switch. So are malformed numbers, a number after a switch that
-// takes none, and a non-positive area (a0).
-//
-// Numbers follow their switch without a space and consist of digits and at most one '.' (no
-// sign or exponent: Triangle reads "a1e3" as a1, e and a stray 3, and we refuse the stray digit).
+// The switches have Triangle's documented meanings (Shewchuk, Triangle 1.6, "triangle -h"); the
+// table, what mwst accepts and ignores (Triangle's own algorithm choices), and what it refuses
+// are in docs/triangle-switches.md. Refused switches, malformed numbers, a number after a switch
+// that takes none and a non-positive area throw std::invalid_argument naming the switch and why.
 #pragma once
 
 #include <string>

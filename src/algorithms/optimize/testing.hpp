@@ -1,5 +1,5 @@
 // src/algorithms/optimize/testing.hpp — switches that only tests set: each runs the search a slower
-// way that must give the same result (tests/test_optimize.cpp compares the two). Internal.
+// way that must give the same result (tests/algorithms/optimize/test_optimize.cpp compares the two). Internal.
 #pragma once
 
 #include "mwst/algorithms/optimize.hpp"

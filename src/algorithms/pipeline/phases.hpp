@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "mwst/algorithms/pipeline.hpp"
+#include "mwst/algorithms/refine.hpp"
 #include "mwst/mesh/mesh.hpp"
 #include "mwst/mesh/pslg.hpp"
 
@@ -65,6 +66,24 @@ inline void announce(const TriangulateOptions& options, Clock::time_point start,
 inline std::string plural(std::size_t n, const char* one, const char* many) {
   return std::to_string(n) + " " + (n == 1 ? one : many);
 }
+
+// The carved constrained Delaunay triangulation every method except QTR starts from. Phases
+// "delaunay", "segments", "carve"; its warnings (duplicates, crossings, ...) go to the report.
+Mesh constrained_delaunay_phase(const Pslg& pslg, const TriangulateOptions& options, Report& report);
+
+// Refuses (ResourceError) an area bound whose mesh cannot fit in options.memory_budget_bytes.
+void check_memory_for_area_bound(const Mesh& cdt, const TriangulateOptions& options);
+
+// The refinement options of a run: its bounds where the method reads them, its budgets (what is
+// left of the time budget), the segment rules. A phase changes what it needs.
+RefineOptions refine_options_for(const TriangulateOptions& options, Clock::time_point start);
+
+// Bundle removal (BRH) on the mesh, with the run's options: phase "brh".
+void brh_phase(Mesh& mesh, const TriangulateOptions& options, Clock::time_point start, Report& report);
+
+// Our optimiser (method opt): opt's multistart over the CDT of the input, phase "optimize"
+// (optimize/multistart.cpp).
+Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::time_point start, Report& report);
 
 // The start mesh of Triangle's -r: the triangulation Pslg::triangles gives, validated (an InputError
 // names the first problem); start_mesh.cpp says what it checks and how it is built. Fills

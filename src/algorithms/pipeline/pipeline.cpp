@@ -38,11 +38,6 @@
 #include "support/parallel.hpp"
 #include "support/time_budget.hpp"
 #include "algorithms/triangle_key.hpp"
-#include "algorithms/optimize/crossover.hpp"
-#include "algorithms/optimize/domain_pieces.hpp"
-#include "algorithms/optimize/exact_polish.hpp"
-#include "algorithms/optimize/seed_points.hpp"
-#include "algorithms/optimize/separation.hpp"
 
 namespace mwst {
 
@@ -62,10 +57,12 @@ std::string bytes_text(double bytes) {
   return buf;
 }
 
+}  // namespace
+
 // Refuses an area bound whose mesh cannot fit in the memory budget, before any refinement: every
 // domain triangle has area at most max_area, so there are at least area / max_area of them, and
 // refinement makes about twice that (its triangles are not all as large as the bound).
-void check_memory_for_area_bound(const Mesh& cdt, const TriangulateOptions& options) {
+void phases::check_memory_for_area_bound(const Mesh& cdt, const TriangulateOptions& options) {
   if (!(options.max_area > 0.0) || !(options.memory_budget_bytes > 0.0)) return;
   const double area = cdt.domain_area();
   const double least = area / options.max_area;  // a lower bound on the triangles
@@ -82,7 +79,7 @@ void check_memory_for_area_bound(const Mesh& cdt, const TriangulateOptions& opti
 
 // The carved constrained Delaunay triangulation every method except QTR starts from. Phases
 // "delaunay", "segments", "carve" (as constrained_delaunay measures them).
-Mesh constrained_delaunay_phase(const Pslg& pslg, const TriangulateOptions& options, Report& report) {
+Mesh phases::constrained_delaunay_phase(const Pslg& pslg, const TriangulateOptions& options, Report& report) {
   ConstrainOptions constrain;
   constrain.strict = options.strict;
   constrain.convex_hull = options.convex_hull;
@@ -116,10 +113,11 @@ Mesh constrained_delaunay_phase(const Pslg& pslg, const TriangulateOptions& opti
   return mesh;
 }
 
+
 // The refinement options of a run, made here only: the angle and area bounds and the Steiner rule
 // where the method reads them (method_reads_option; otherwise no bound), the Steiner budget, what
 // is left of the time budget, and the segment rules (-Y, -D). A phase then changes what it needs.
-RefineOptions refine_options_for(const TriangulateOptions& options, Clock::time_point start) {
+RefineOptions phases::refine_options_for(const TriangulateOptions& options, Clock::time_point start) {
   RefineOptions r;
   r.min_angle_deg = method_reads_option(options.method, "min_angle_deg") ? options.min_angle_deg : 0.0;
   if (method_reads_option(options.method, "max_area")) r.max_area = options.max_area;
@@ -131,13 +129,15 @@ RefineOptions refine_options_for(const TriangulateOptions& options, Clock::time_
   return r;
 }
 
+namespace {
+
 // Delaunay refinement (Ruppert / Chew / Shewchuk with Üngör's off-centers): phase "refine".
 void refine_phase(Mesh& mesh, const TriangulateOptions& options, Clock::time_point start, Report& report) {
   const RefineOptions refine_options = refine_options_for(options, start);
   Phase phase(report, "refine");
   const RefineStats stats = refine(mesh, refine_options);
   phase.finish();
-  report.stop = parse_stop_reason(stats.stop_reason);
+  report.stop = stats.stop;
   report.refine = RefineSummary{stats.steiner_inserted, stats.segment_splits, stats.left_small_angle, std::nullopt};
   if (options.segment_splitting != SegmentSplitting::kAllowed) report.refine->left_protected = stats.left_protected;
 }
@@ -152,7 +152,9 @@ void conform_phase(Mesh& mesh, const TriangulateOptions& options, Clock::time_po
   const RefineStats stats = refine(mesh, refine_options);
   phase.finish();
   report.conform = ConformSummary{stats.segment_splits};
-  if (stats.stop_reason != "bound reached") report.warnings.push_back("conforming Delaunay stopped: " + stats.stop_reason);
+  if (stats.stop.kind != StopKind::kBoundReached) {
+    report.warnings.push_back("conforming Delaunay stopped: " + to_string(stats.stop));
+  }
 }
 
 // The edges of the final mesh that are not locally Delaunay (exact incircle across every edge with
@@ -183,8 +185,10 @@ void apply_regional_area_limits(Mesh& mesh, const Pslg& pslg, Report& report) {
   }
 }
 
+}  // namespace
+
 // Bundle removal (BRH): phase "brh".
-void brh_phase(Mesh& mesh, const TriangulateOptions& options, Clock::time_point start, Report& report) {
+void phases::brh_phase(Mesh& mesh, const TriangulateOptions& options, Clock::time_point start, Report& report) {
   BrhOptions brh;
   brh.min_angle_deg = options.min_angle_deg;
   brh.bundle_k = options.bundle_k != 0 ? options.bundle_k : default_bundle_k(options.min_angle_deg);
@@ -204,10 +208,12 @@ void brh_phase(Mesh& mesh, const TriangulateOptions& options, Clock::time_point 
   }
   const BrhStats stats = bundle_removal(mesh, brh);
   phase.finish();
-  report.stop = parse_stop_reason(stats.stop_reason);
+  report.stop = stats.stop;
   report.brh = BrhSummary{brh.bundle_k,           stats.rounds,         stats.exact_evaluations,
                           stats.steiner_inserted, stats.segment_splits, stats.skinny_left};
 }
+
+namespace {
 
 // Weight-reducing flips (EFH) after any method: phase "flip". The area bound of a method that
 // reads it (dr, brh, opt) holds after the flips too: no flip makes a triangle larger than it.
@@ -217,261 +223,6 @@ void flip_phase(Mesh& mesh, const TriangulateOptions& options, Report& report) {
   const FlipStats stats = flip_to_local_minimum(mesh, max_area);
   phase.finish();
   report.flip = FlipSummary{stats.flips, stats.weight_before, stats.weight_after};
-}
-
-// Our optimiser (method opt): the local search of optimize.hpp from several starting meshes —
-// BRH at the given (A, K) followed by EFH, DR at 5°, 10°, 15° and 20°, the CDT, and (inputs with
-// segments) the CDT seeded with Steiner points at its junction triangles' circumcenters and at its
-// centroids — keeping the lightest result (the starts within 5% of the best get the kicks and the
-// iterated local search), improved by a partition crossover with the others. Since every search
-// only lowers the weight of its start, and the crossover is kept only if lighter, opt is never
-// heavier than BRH+EFH with the same parameters. Phase "optimize".
-// With a time budget (--time-limit), every refinement and search gets what is left of it; once it
-// has passed, the starts not yet made are skipped, every search stops where it is, and the stop
-// reason says "time budget" (the lightest mesh so far is returned; valid, but then no longer
-// bounded by BRH+EFH if the BRH start itself was cut short).
-Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::time_point start,
-                    Report& report) {
-  Mesh best = constrained_delaunay_phase(pslg, options, report);
-  check_memory_for_area_bound(best, options);
-  const Mesh cdt = best;
-  // Independent pieces of the domain (optimize/domain_pieces.hpp): each searched alone, as if it
-  // were the whole input (its own starts and budgets), on all cores, and put back together.
-  // (Not with --max-steiner, a budget for the whole mesh.)
-  const bool whole_budget = options.max_steiner != std::numeric_limits<std::size_t>::max();
-  if (DomainPieces pieces; !options.convex_hull && !whole_budget && split_domain(pslg, cdt, pieces)) {
-    Phase phase(report, "optimize");
-    const std::size_t count = pieces.pslgs.size();
-    std::vector<Mesh> results(count);
-    std::vector<Report> reports(count);
-    // The first piece's error is rethrown, whichever thread ran it.
-    support::parallel_for(count, support::worker_count(options.threads),
-                          [&](std::size_t i) { results[i] = optimize_phase(pieces.pslgs[i], options, start, reports[i]); });
-    Mesh merged;
-    if (merge_pieces(pslg, cdt, pieces, results, merged)) {
-      phase.finish();
-      // optimize_phase settles each piece's stop (the string form comes later, in triangulate()).
-      const bool cut = std::any_of(reports.begin(), reports.end(), [](const Report& r) { return r.stop.kind == StopKind::kTimeBudget; });
-      report.stop = StopReason{cut ? StopKind::kTimeBudget : StopKind::kLocalMinimum, 0, {}};
-      report.optimize = OptimizeSummary{};
-      report.optimize->pieces = count;
-      report.optimize->weight_after = measure(merged).weight_total;
-      return merged;
-    }
-  }
-  Phase phase(report, "optimize");
-  // --max-steiner bounds the Steiner points beyond the CDT's (its crossing points) in every start
-  // and every search; a mesh over it (a seeded start, a crossover) is not taken.
-  const std::size_t cdt_steiner = measure(cdt).steiner;
-  const auto within_steiner_budget = [&](const Mesh& m) {
-    const std::size_t steiner = measure(m).steiner;
-    return steiner <= cdt_steiner || steiner - cdt_steiner <= options.max_steiner;
-  };
-  // With an area bound (--max-area), every start keeps it, as the search then does (OptimizeOptions::
-  // max_area): the refined starts get it, and the CDT and the seeded starts are refined to it with
-  // no angle bound (Delaunay refinement splitting only the triangles larger than the bound).
-  bool out_of_time = false;  // the budget has passed (a refinement or search was cut, or a step skipped)
-  bool out_of_steiner = false;  // a start's refinement ran out of max_steiner
-  const auto note_refinement = [&](const std::string& stop_reason) {
-    const StopKind kind = parse_stop_reason(stop_reason).kind;
-    out_of_time |= kind == StopKind::kTimeBudget;
-    out_of_steiner |= kind == StopKind::kSteinerBudget;
-  };
-  const auto area_bounded = [&](Mesh m) {
-    if (options.max_area > 0.0) {
-      RefineOptions ro = refine_options_for(options, start);
-      ro.min_angle_deg = 0.0;
-      note_refinement(refine(m, ro).stop_reason);
-    }
-    return m;
-  };
-  struct Start {
-    std::string name;
-    Mesh mesh;
-  };
-  std::vector<Start> starts;
-  const auto time_is_up = [&] {
-    out_of_time = out_of_time || budget_spent(options, start);
-    return out_of_time;
-  };
-  {
-    announce(options, start, "start brh+efh", 0, 1);
-    Mesh m = cdt;
-    Report scratch;
-    TriangulateOptions o = options;
-    if (!(o.min_angle_deg > 0.0)) o.min_angle_deg = 20.0;
-    brh_phase(m, o, start, scratch);
-    out_of_time |= scratch.stop.kind == StopKind::kTimeBudget;
-    out_of_steiner |= scratch.stop.kind == StopKind::kSteinerBudget;
-    // (The flips even past the budget: they take a fraction of a second on a million triangles
-    // and lower the weight most, e.g. the Delaunay triangulation of 20k points on an ellipse from
-    // 12737 to 130.)
-    flip_to_local_minimum(m, options.max_area);
-    starts.push_back({"brh+efh", std::move(m)});
-  }
-  // Large inputs: the BRH start only (each start costs a refinement and a search). Large also by
-  // the BRH start's size: an area bound makes meshes of tens of thousands of triangles from a few
-  // hundred points, and the search's cost grows faster than the mesh (Superior with --max-area 2,
-  // 27k triangles: 868 s with all eight starts).
-  constexpr std::size_t kLargeStartTriangles = 20000;
-  const bool large = pslg.points.size() > 100000 || starts.front().mesh.domain_triangle_count() > kLargeStartTriangles;
-  if (!large && !time_is_up()) {
-    for (const double angle : {5.0, 10.0, 15.0, 20.0}) {
-      if (time_is_up()) break;
-      announce(options, start, "start dr", starts.size(), 8);
-      Mesh m = cdt;
-      RefineOptions ro = refine_options_for(options, start);
-      ro.min_angle_deg = angle;
-      note_refinement(refine(m, ro).stop_reason);
-      starts.push_back({"dr" + std::to_string(static_cast<int>(angle)), std::move(m)});
-    }
-    if (!time_is_up()) {
-      announce(options, start, "start dt", starts.size(), 8);
-      starts.push_back({"dt", area_bounded(cdt)});
-    }
-    // Seeded starts (seed_steiner_points) for polygonal domains: the CDT with Steiner points where
-    // its dual branches (an approximate medial axis), and with one at every triangle's centroid.
-    // They pay where the domain has strips between boundary chains (the coastlines: 0.1–0.5 points)
-    // and cost a third more time; on point sets (Kuzmin2K, Ellipse, uniform points) they never
-    // won by more than 0.001%, so point sets skip them.
-    if (!pslg.segments.empty() && !time_is_up()) {
-      for (const auto& [name, seeds] : {std::pair{"dt+junctions", SeedPoints::kJunctionCircumcenters},
-                                        std::pair{"dt+centroids", SeedPoints::kCentroids}}) {
-        if (time_is_up()) break;
-        announce(options, start, "start seeded", starts.size(), 8);
-        Mesh m = cdt;
-        seed_steiner_points(m, seeds);
-        m = area_bounded(std::move(m));
-        if (within_steiner_budget(m)) starts.push_back({name, std::move(m)});
-      }
-    }
-  }
-  std::vector<std::pair<std::string, double>> tried;
-  // The local search on every start, then the costlier kicks (optimize.hpp) on the starts within 5%
-  // of the lightest local optimum (kicks have never gained more than ~4% on the data sets).
-  // Opt-in exact polish: each start re-triangulated by the exact MWT of its vertices (mwt.hpp; when
-  // solved and lighter) is one more start, "<name>+mwt"; the 5% cut is taken over the original
-  // starts only, so the original starts get the same treatment and the polish never makes opt heavier.
-  const std::size_t original_starts = starts.size();
-  if (options.exact_polish) {
-    for (std::size_t i = 0; i < original_starts && !time_is_up(); ++i) {
-      Mesh m = starts[i].mesh;
-      OptimizeOptions polish;
-      polish.max_area = options.max_area;
-      if (exact_polish_mesh(m, polish)) starts.push_back({starts[i].name + "+mwt", std::move(m)});
-    }
-  }
-  OptimizeOptions local;
-  local.kick_passes = 0;
-  local.fixed_vertices = cdt.points.size();  // the input and the CDT's crossing points
-  local.max_steiner = options.max_steiner;
-  local.max_area = options.max_area;
-  local.min_separation = default_min_separation(cdt);  // one scale for every start: the input's CDT
-  std::vector<double> local_weight;
-  double lightest = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < starts.size(); ++i) {
-    announce(options, start, "local search", i, starts.size());
-    local.time_budget_seconds = budget_left(options, start);
-    const OptimizeStats os = optimize(starts[i].mesh, local);
-    out_of_time |= os.out_of_time;
-    local_weight.push_back(os.weight_after);
-    if (i < original_starts) lightest = std::min(lightest, local_weight.back());
-  }
-  OptimizeOptions kicks;  // the whole-domain MWT was tried in the first pass
-  kicks.fixed_vertices = local.fixed_vertices;
-  kicks.max_steiner = local.max_steiner;
-  kicks.max_area = local.max_area;
-  kicks.min_separation = local.min_separation;
-  kicks.max_exact_polygon = 0;
-  kicks.max_exact_convex_polygon = 0;
-  kicks.exact_polish = options.exact_polish;  // and after the search (optimize.hpp)
-  std::vector<OptimizeStats> result(starts.size());
-  for (std::size_t i = 0; i < starts.size(); ++i) {
-    Start& s = starts[i];
-    OptimizeStats& os = result[i];
-    if (local_weight[i] <= 1.05 * lightest && !time_is_up()) {
-      announce(options, start, "kicks", i, starts.size());
-      // The iterated local search of optimize.hpp (perturbation_trials) follows the kicks; its
-      // budget counts trials, scaled by this start's own size (each trial copies the mesh), so
-      // that the exact polish's extra starts leave every original start's search unchanged.
-      OptimizeOptions o = kicks;
-      const std::size_t triangles = std::max<std::size_t>(1, s.mesh.domain_triangle_count());
-      o.perturbation_trials = options.opt_trials != kDefaultOptTrials
-                                  ? options.opt_trials
-                                  : std::min<std::size_t>(600, 300000 / triangles);
-      o.time_budget_seconds = budget_left(options, start);
-      os = optimize(s.mesh, o);
-      out_of_time |= os.out_of_time;
-    } else {
-      os.weight_before = os.weight_after = local_weight[i];
-    }
-    tried.emplace_back(s.name, os.weight_after);
-  }
-  // The results, lightest first (ties: the earlier start).
-  std::vector<std::size_t> order(starts.size());
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t x, std::size_t y) { return result[x].weight_after < result[y].weight_after; });
-  const std::size_t lightest_start = order.front();
-  double best_weight = result[lightest_start].weight_after;
-  const std::string best_name = starts[lightest_start].name;
-  const OptimizeStats best_stats = result[lightest_start];
-  best = std::move(starts[lightest_start].mesh);
-  // Partition crossover (crossover.cpp): the lightest result takes from each other result, in
-  // order, the pieces between their shared edges that are lighter there (different starts end in
-  // different local minima in different places), then the local search polishes the seams. Kept
-  // only if lighter; no gain, no change.
-  CrossoverStats crossed;
-  if (order.size() > 1 && !time_is_up()) {
-    announce(options, start, "crossover", 0, 1);
-    Mesh child = best;
-    for (std::size_t k = 1; k < order.size(); ++k) {
-      crossed.taken += partition_crossover(child, starts[order[k]].mesh).taken;
-    }
-    // (Pieces come from results that keep the area bound, but a start cut short by the budgets
-    // may hold larger triangles: a child with a triangle larger than the bound and than the
-    // lightest result's largest is not taken.)
-    const bool within_area = !(options.max_area > 0.0) ||
-                             measure(child).max_triangle_area <=
-                                 std::max(options.max_area, measure(best).max_triangle_area);
-    if (crossed.taken > 0 && within_steiner_budget(child) && within_area && !time_is_up()) {
-      local.time_budget_seconds = budget_left(options, start);
-      const OptimizeStats polished = optimize(child, local);
-      out_of_time |= polished.out_of_time;
-      if (polished.weight_after < best_weight) {
-        crossed.gain = best_weight - polished.weight_after;
-        best_weight = polished.weight_after;
-        best = std::move(child);
-      }
-    }
-  }
-  phase.finish();
-  report.stop.kind = out_of_time      ? StopKind::kTimeBudget
-                     : out_of_steiner ? StopKind::kSteinerBudget
-                                      : StopKind::kLocalMinimum;
-  OptimizeSummary& summary = report.optimize.emplace();
-  summary.start = best_name;
-  summary.starts = std::move(tried);
-  summary.rounds = best_stats.rounds;
-  summary.relocations = best_stats.relocations;
-  summary.removals = best_stats.removals;
-  summary.insertions = best_stats.insertions;
-  summary.region_retriangulations = best_stats.region_retriangulations;
-  summary.region_tries_skipped = best_stats.region_tries_skipped;
-  summary.kick_insertions = best_stats.kick_insertions;
-  summary.kick_removals = best_stats.kick_removals;
-  summary.perturbations = best_stats.perturbations;
-  summary.whole_polygon_mwt = best_stats.whole_polygon_mwt;
-  summary.flips = best_stats.flips;
-  summary.crossover_pieces = crossed.gain > 0.0 ? crossed.taken : 0;
-  summary.crossover_gain = crossed.gain;
-  summary.weight_before = best_stats.weight_before;
-  summary.weight_after = best_weight;
-  if (options.exact_polish) {
-    summary.exact_polishes = best_stats.exact_polishes;
-    summary.exact_polish_tries = best_stats.exact_polish_tries;
-  }
-  return best;
 }
 
 }  // namespace
@@ -584,15 +335,17 @@ double Report::total_seconds() const {
   return total;
 }
 
-Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* out) {
-  check_options(options);
+namespace {
+
+// The combinations of the Triangle switches and methods that triangulate() refuses: an existing
+// triangulation is refined by dt, dr and brh only; regional area limits need refinement (dr, brh);
+// conforming Delaunay is made by dt and dr; protected segments hold for every method that only adds
+// points through Delaunay refinement (dt, dr, brh).
+void check_method_supports_options(const Pslg& pslg, const TriangulateOptions& options) {
   if (!pslg.triangles.empty() && (options.method == Method::kQtr || options.method == Method::kOpt)) {
     throw std::invalid_argument("an existing triangulation (Pslg::triangles) is refined by the methods dt, dr and "
                                 "brh only, not " + std::string(method_name(options.method)));
   }
-  // The Triangle switches the methods honour: regional area limits need refinement (dr, brh);
-  // conforming Delaunay is made by dt and dr; protected segments hold for every method that only
-  // adds points through Delaunay refinement (dt, dr, brh).
   const bool refining = options.method == Method::kDr || options.method == Method::kBrh;
   if (options.regional_area_limits && !refining) {
     throw std::invalid_argument("regional_area_limits is supported by the methods dr and brh only, not " +
@@ -606,6 +359,80 @@ Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* ou
     throw std::invalid_argument("segment_splitting other than kAllowed is supported by the methods dt, dr and brh only, "
                                 "not " + std::string(method_name(options.method)));
   }
+}
+
+// Quadtree refinement (include/mwst/algorithms/quadtree.hpp): phases "input", "quadtree", "mesh",
+// "carve". It cleans the input with the CDT itself.
+Mesh quadtree_phase(const Pslg& pslg, const TriangulateOptions& options, Report& report) {
+  QuadtreeOptions quadtree_options;
+  quadtree_options.convex_hull = options.convex_hull;
+  quadtree_options.strict = options.strict;
+  quadtree_options.max_leaves = options.quadtree_max_leaves;
+  // QuadtreeOptions::threads: 1 is one thread, 0 two on large inputs (its most).
+  quadtree_options.threads = options.threads == 1 ? 1u : 0u;
+  QuadtreeStats qs;
+  Mesh mesh = quadtree_refinement(pslg, quadtree_options, &qs);
+  report.seconds.emplace_back("input", qs.seconds_input);
+  report.seconds.emplace_back("quadtree", qs.seconds_tree);
+  report.seconds.emplace_back("mesh", qs.seconds_mesh);
+  report.seconds.emplace_back("carve", qs.seconds_carve);
+  report.duplicates = qs.input.duplicates;
+  report.crossings = qs.input.crossings;
+  if (qs.input.duplicates > 0) {
+    report.warnings.push_back(plural(qs.input.duplicates, "duplicate point", "duplicate points") + " merged");
+  }
+  if (qs.input.crossings > 0) {
+    report.warnings.push_back("crossing segments split at " +
+                              plural(qs.input.crossings, "intersection point", "intersection points"));
+  }
+  for (std::string& w : qs.input.warnings) report.warnings.push_back(std::move(w));
+  for (std::string& w : qs.warnings) report.warnings.push_back(std::move(w));
+  report.qtr = QuadtreeSummary{qs.leaves, qs.depth, qs.warped, qs.snapped, qs.crossings, qs.centres, qs.fallback};
+  return mesh;
+}
+
+// The exact bundle number of the result (mwst/algorithms/bundle.hpp), with a witness disk, within
+// what is left of the time budget (past it the report has no bundle number, and a warning says
+// why): phase "bundle".
+void bundle_phase(const Mesh& mesh, const TriangulateOptions& options, Clock::time_point start, Report& report) {
+  Phase phase(report, "bundle");
+  BundleOptions bundle_options;
+  bundle_options.deadline = detail::deadline_after(start, options.time_budget_seconds);
+  bundle_options.threads = options.threads;
+  try {
+    const BundleResult bundle = bundle_number(mesh, bundle_options);
+    report.bundle = BundleSummary{bundle.bundle_number, bundle.disk_center, bundle.disk_radius, bundle.circumdisk_bound};
+  } catch (const KBundleTimeout&) {
+    report.warnings.push_back("the bundle number was not computed: the time budget (time_budget_seconds) ran out");
+  }
+  phase.finish();
+}
+
+// The metrics of the final mesh (weights, angles, largest area): phase "measure".
+void measure_phase(const Mesh& mesh, Report& report) {
+  Phase phase(report, "measure");
+  const Metrics metrics = measure(mesh);
+  phase.finish();
+  report.vertices = metrics.vertices;
+  report.triangles = metrics.triangles;
+  report.steiner = metrics.steiner;
+  report.weight_total = metrics.weight_total;
+  report.weight_boundary = metrics.weight_boundary;
+  report.weight_interior = metrics.weight_interior;
+  report.min_angle = metrics.min_angle_deg;
+  report.max_angle = metrics.max_angle_deg;
+  report.max_triangle_area = metrics.max_triangle_area;
+  if (metrics.triangles == 0) {
+    report.warnings.push_back("the domain is empty: the segments enclose no region outside the holes "
+                              "(convex_hull keeps the whole hull)");
+  }
+}
+
+}  // namespace
+
+Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* out) {
+  check_options(options);
+  check_method_supports_options(pslg, options);
   const Clock::time_point start = Clock::now();
   Report report;
   report.input = pslg.source;
@@ -644,38 +471,13 @@ Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* ou
       announce(options, start, "brh", phase_number++, phases);
       brh_phase(mesh, options, start, report);
       break;
-    case Method::kQtr: {
+    case Method::kQtr:
       announce(options, start, "quadtree", phase_number++, phases);
-      // Quadtree refinement (include/mwst/algorithms/quadtree.hpp); it cleans the input with the CDT itself.
-      QuadtreeOptions quadtree_options;
-      quadtree_options.convex_hull = options.convex_hull;
-      quadtree_options.strict = options.strict;
-      quadtree_options.max_leaves = options.quadtree_max_leaves;
-      // QuadtreeOptions::threads: 1 is one thread, 0 two on large inputs (its most).
-      quadtree_options.threads = options.threads == 1 ? 1u : 0u;
-      QuadtreeStats qs;
-      mesh = quadtree_refinement(pslg, quadtree_options, &qs);
-      report.seconds.emplace_back("input", qs.seconds_input);
-      report.seconds.emplace_back("quadtree", qs.seconds_tree);
-      report.seconds.emplace_back("mesh", qs.seconds_mesh);
-      report.seconds.emplace_back("carve", qs.seconds_carve);
-      report.duplicates = qs.input.duplicates;
-      report.crossings = qs.input.crossings;
-      if (qs.input.duplicates > 0) {
-        report.warnings.push_back(plural(qs.input.duplicates, "duplicate point", "duplicate points") + " merged");
-      }
-      if (qs.input.crossings > 0) {
-        report.warnings.push_back("crossing segments split at " +
-                                  plural(qs.input.crossings, "intersection point", "intersection points"));
-      }
-      for (std::string& w : qs.input.warnings) report.warnings.push_back(std::move(w));
-      for (std::string& w : qs.warnings) report.warnings.push_back(std::move(w));
-      report.qtr = QuadtreeSummary{qs.leaves, qs.depth, qs.warped, qs.snapped, qs.crossings, qs.centres, qs.fallback};
+      mesh = quadtree_phase(pslg, options, report);
       break;
-    }
     case Method::kOpt:
       announce(options, start, "optimize", phase_number++, phases);
-      mesh = optimize_phase(pslg, options, start, report);
+      mesh = phases::optimize_phase(pslg, options, start, report);
       break;
   }
   if (options.flip) {
@@ -688,20 +490,8 @@ Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* ou
                                      detail::deadline_after(start, options.time_budget_seconds));
   }
   if (options.bundle) {
-    // The exact bundle number of the result (mwst/algorithms/bundle.hpp), with a witness disk; within what is
-    // left of the time budget (past it the report has no bundle number, and a warning says why).
     announce(options, start, "bundle", phase_number++, phases);
-    Phase bundle_phase(report, "bundle");
-    BundleOptions bundle_options;
-    bundle_options.deadline = detail::deadline_after(start, options.time_budget_seconds);
-    bundle_options.threads = options.threads;
-    try {
-      const BundleResult bundle = bundle_number(mesh, bundle_options);
-      report.bundle = BundleSummary{bundle.bundle_number, bundle.disk_center, bundle.disk_radius, bundle.circumdisk_bound};
-    } catch (const KBundleTimeout&) {
-      report.warnings.push_back("the bundle number was not computed: the time budget (time_budget_seconds) ran out");
-    }
-    bundle_phase.finish();
+    bundle_phase(mesh, options, start, report);
   }
   if (options.conforming_delaunay) {
     const std::size_t bad = non_delaunay_edges(mesh);
@@ -717,22 +507,7 @@ Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* ou
   }
   report.stop_reason = to_string(report.stop);
 
-  Phase measure_phase(report, "measure");
-  const Metrics metrics = measure(mesh);
-  measure_phase.finish();
-  report.vertices = metrics.vertices;
-  report.triangles = metrics.triangles;
-  report.steiner = metrics.steiner;
-  report.weight_total = metrics.weight_total;
-  report.weight_boundary = metrics.weight_boundary;
-  report.weight_interior = metrics.weight_interior;
-  report.min_angle = metrics.min_angle_deg;
-  report.max_angle = metrics.max_angle_deg;
-  report.max_triangle_area = metrics.max_triangle_area;
-  if (metrics.triangles == 0) {
-    report.warnings.push_back("the domain is empty: the segments enclose no region outside the holes "
-                              "(convex_hull keeps the whole hull)");
-  }
+  measure_phase(mesh, report);
   if (out) *out = std::move(mesh);
   return report;
 }

@@ -17,6 +17,18 @@
 
 namespace mwst {
 
+namespace {
+
+// The termination guard's words (DR's and BRH's): refinement made an edge far shorter than the
+// input's smallest feature allows when it terminates (angle bounds above about 34°; see
+// docs/algorithms/refine.md).
+constexpr const char* kStopBeyondFeatureSize = "no progress: size beyond the local-feature-size bound";
+// The end of "N triangles left beside subsegments that may not be split": bad triangles remain
+// whose Steiner points lie on or beyond protected subsegments (segment_splitting).
+constexpr const char* kStopProtectedSuffix = " triangles left beside subsegments that may not be split";
+
+}  // namespace
+
 std::string to_string(const StopReason& r) {
   switch (r.kind) {
     case StopKind::kUnset: return "";

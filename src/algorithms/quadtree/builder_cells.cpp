@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "algorithms/quadtree/builder.hpp"
+#include "algorithms/quadtree/cell_triangulation.hpp"
 #include "algorithms/quadtree/cells.hpp"
 
 namespace mwst::qtr {
@@ -269,7 +270,7 @@ void Builder::triangulate_cell_piece(const Mesh& mesh, const std::uint32_t* inde
   std::uint32_t centre_id = kNone;
   if (used_centre) {
     // BEG add such points to distorted cells; it lifts the worst warped point-set cell from
-    // 13.4° to 18.3° (tests/test_quadtree.cpp enumerates the configurations).
+    // 13.4° to 18.3° (tests/algorithms/quadtree/test_quadtree.cpp enumerates the configurations).
     centre_id = kCentre | (static_cast<std::uint32_t>(out.centres.size()) - centre_begin);
     out.centres.push_back(centre);
   }

@@ -10,6 +10,7 @@
 
 #include "algorithms/quadtree/builder.hpp"
 #include "mwst/algorithms/quadtree.hpp"
+#include "algorithms/quadtree/cell_triangulation.hpp"
 
 namespace mwst::qtr {
 

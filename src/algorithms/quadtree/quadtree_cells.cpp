@@ -18,6 +18,7 @@
 #include <limits>
 
 #include "mwst/algorithms/quadtree.hpp"
+#include "algorithms/quadtree/cell_triangulation.hpp"
 #include "geometry/segments.hpp"
 
 namespace mwst::detail {

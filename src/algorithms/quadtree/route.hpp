@@ -18,7 +18,7 @@
 //      builder_link.cpp    triangulate_cells() over chunks, link_cell(), the border, the segments
 //      builder_run.cpp     Builder::run(): the steps in order, the mesh's arrays, carving
 //   4. fallback.cpp        fallback_mesh(); drop_unused_vertices(): corners outside the domain
-//   testing.hpp            the test switches (refine_with_switches()), for tests/test_quadtree.cpp
+//   testing.hpp            the test switches (refine_with_switches()), for tests/algorithms/quadtree/test_quadtree.cpp
 // Memory and thread helpers live in src/support/ (parallel.hpp, spare_room.hpp, page_faulter.hpp).
 #pragma once
 

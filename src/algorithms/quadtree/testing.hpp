@@ -1,5 +1,5 @@
 // algorithms/quadtree/testing.hpp — test switches of quadtree refinement, kept out of the public
-// QuadtreeOptions: the final quadtree's leaves, and a forced fallback. For tests/test_quadtree.cpp.
+// QuadtreeOptions: the final quadtree's leaves, and a forced fallback. For tests/algorithms/quadtree/test_quadtree.cpp.
 #pragma once
 
 #include <vector>

@@ -122,11 +122,11 @@ BundleRemoval::BundleRemoval(Mesh& mesh, const BrhOptions& options)
 }
 
 BrhStats BundleRemoval::run() {
-  stats_.stop_reason = "bound reached";
+  stats_.stop = StopReason{StopKind::kBoundReached, 0, {}};
   bool stopped = area_pass();
   for (stats_.rounds = 0; !stopped && stats_.rounds < options_.max_rounds;) {
     if (time_up()) {
-      stats_.stop_reason = "time budget";
+      stats_.stop = StopReason{StopKind::kTimeBudget, 0, {}};
       break;
     }
     update_skinny();
@@ -144,7 +144,7 @@ BrhStats BundleRemoval::run() {
     }
     if (refine_pass(any_local) == Step::kStop) break;
   }
-  if (stats_.rounds >= options_.max_rounds) stats_.stop_reason = "round limit";
+  if (stats_.rounds >= options_.max_rounds) stats_.stop = StopReason{StopKind::kRoundLimit, 0, {}};
   if (confirmed_) {
     stats_.skinny_left = confirmed_skinny_;  // the mesh has not changed since the sweep
   } else {
@@ -171,8 +171,8 @@ bool BundleRemoval::area_pass() {
   stats_.steiner_inserted += rs.steiner_inserted;
   stats_.segment_splits += rs.segment_splits;
   if (steiner_budget_ != static_cast<std::size_t>(-1)) steiner_budget_ -= std::min(steiner_budget_, added);
-  if (rs.stop_reason == "steiner budget" || rs.stop_reason == "time budget") {
-    stats_.stop_reason = rs.stop_reason;
+  if (rs.stop.kind == StopKind::kSteinerBudget || rs.stop.kind == StopKind::kTimeBudget) {
+    stats_.stop = rs.stop;
     return true;
   }
   return false;
@@ -283,7 +283,7 @@ BundleRemoval::Step BundleRemoval::exact_test() {
     try {
       answers = in_k_bundle(mesh_, K_, asked, nullptr, options_.threads, &sweep_cache_, deadline_);
     } catch (const KBundleTimeout&) {  // (the mesh is as the last pass left it)
-      stats_.stop_reason = "time budget";
+      stats_.stop = StopReason{StopKind::kTimeBudget, 0, {}};
       return Step::kStop;
     }
     for (std::size_t j = 0; j < asked.size(); ++j) {
@@ -327,8 +327,9 @@ BundleRemoval::Step BundleRemoval::refine_pass(bool any_local) {
   stats_.steiner_inserted += rs.steiner_inserted;
   stats_.segment_splits += rs.segment_splits;
   stats_.left_small_angle = rs.left_small_angle;
-  if (rs.stop_reason == "steiner budget" || rs.stop_reason == "time budget" || rs.stop_reason == kStopBeyondFeatureSize) {
-    stats_.stop_reason = rs.stop_reason;
+  if (rs.stop.kind == StopKind::kSteinerBudget || rs.stop.kind == StopKind::kTimeBudget ||
+      rs.stop.kind == StopKind::kBeyondFeatureSize) {
+    stats_.stop = rs.stop;
     return Step::kStop;
   }
   if (steiner_budget_ != static_cast<std::size_t>(-1)) steiner_budget_ -= std::min(steiner_budget_, added);
@@ -339,7 +340,7 @@ BundleRemoval::Step BundleRemoval::refine_pass(bool any_local) {
   force_exact_ = false;
   if (added == 0) {
     // Nothing could be split (the marked triangles sit at small input angles): stop honestly.
-    stats_.stop_reason = std::to_string(rs.left_small_angle) + " triangles left near small input angles";
+    stats_.stop = StopReason{StopKind::kSmallInputAngles, rs.left_small_angle, {}};
     return Step::kStop;
   }
   return Step::kProceed;

@@ -103,12 +103,12 @@ void Refiner::split_bad_triangles(Clock::time_point t0) {
     }
     if (ev.angle_bad && !ev.size_bad && ev.shortest2 < guard_length2_) {
       stop_ = true;
-      stop_reason_ = kStopBeyondFeatureSize;
+      stop_reason_ = StopReason{StopKind::kBeyondFeatureSize, 0, {}};
       break;
     }
     if (budget_reached()) {
       stop_ = true;
-      stop_reason_ = "steiner budget";
+      stop_reason_ = StopReason{StopKind::kSteinerBudget, 0, {}};
       break;
     }
     // (One clock read in 16 splits: a split costs far more, and on inputs where each split flips
@@ -116,7 +116,7 @@ void Refiner::split_bad_triangles(Clock::time_point t0) {
     if (opt_.time_budget_seconds > 0.0 && (++iterations & 15) == 0 &&
         seconds_since(t0) > opt_.time_budget_seconds) {
       stop_ = true;
-      stop_reason_ = "time budget";
+      stop_reason_ = StopReason{StopKind::kTimeBudget, 0, {}};
       break;
     }
     split_triangle(t, ev);
@@ -151,16 +151,14 @@ std::size_t Refiner::count_left() {
 void Refiner::report(std::size_t left) {
   stats_.left_small_angle = left;
   if (protected_skips_ > 0) stats_.left_protected = left;
-  if (!stop_reason_.empty()) {
-    stats_.stop_reason = stop_reason_;
+  if (stop_reason_.kind != StopKind::kUnset) {
+    stats_.stop = stop_reason_;
   } else if (left > 0 && protected_skips_ > 0) {
-    stats_.stop_reason = std::to_string(left);
-    stats_.stop_reason += kStopProtectedSuffix;
+    stats_.stop = StopReason{StopKind::kProtectedSegments, left, {}};
   } else if (left > 0) {
-    stats_.stop_reason = std::to_string(left);
-    stats_.stop_reason += " triangles left near small input angles";
+    stats_.stop = StopReason{StopKind::kSmallInputAngles, left, {}};
   } else {
-    stats_.stop_reason = "bound reached";
+    stats_.stop = StopReason{StopKind::kBoundReached, 0, {}};
   }
 }
 
@@ -239,7 +237,7 @@ RefineStats refine(Mesh& mesh, const RefineOptions& options) {
   if (options.min_angle_deg <= 0.0 && options.max_area <= 0.0 && !options.is_bad && mesh.area_bound.empty() &&
       !options.conforming_delaunay) {
     // Nothing asked: the constrained Delaunay triangulation is returned unchanged.
-    stats.stop_reason = "bound reached";
+    stats.stop = StopReason{StopKind::kBoundReached, 0, {}};
     stats.seconds = refinement::seconds_since(t0);
     return stats;
   }

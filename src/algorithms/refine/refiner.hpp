@@ -248,7 +248,7 @@ class Refiner {
   bool seeded_ = false;  // RefineOptions::seed_triangles in use
   bool worst_first_ = false;
   bool stop_ = false;
-  std::string stop_reason_;
+  StopReason stop_reason_;  // set when a budget or the termination guard stops the refinement
   const Clock::time_point started_ = Clock::now();  // the time budget counts from here
   std::size_t segment_splits_timed_ = 0;            // split_all_pending's clock reads, 1 in 16
   // Squared length below which an angle-bad triangle's shortest edge stops the refinement (the

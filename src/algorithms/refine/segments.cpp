@@ -64,14 +64,14 @@ bool Refiner::split_all_pending() {
     if (h == kNone || !may_split(h)) continue;
     if (budget_reached()) {
       stop_ = true;
-      stop_reason_ = "steiner budget";
+      stop_reason_ = StopReason{StopKind::kSteinerBudget, 0, {}};
       break;
     }
     // Segment splits can cascade for long (points on a circle: every hull edge encroached).
     if (opt_.time_budget_seconds > 0.0 && (++segment_splits_timed_ & 15) == 0 &&
         seconds_since(started_) > opt_.time_budget_seconds) {
       stop_ = true;
-      stop_reason_ = "time budget";
+      stop_reason_ = StopReason{StopKind::kTimeBudget, 0, {}};
       break;
     }
     if (split_subsegment(h)) any = true;
@@ -127,7 +127,7 @@ bool Refiner::split_subsegment(Handle h) {
   if (conforming_ && squared_distance(pa, pb) < conforming_guard2_) {
     // The conforming splits went far below the input's smallest feature: stop (termination guard).
     stop_ = true;
-    stop_reason_ = kStopBeyondFeatureSize;
+    stop_reason_ = StopReason{StopKind::kBeyondFeatureSize, 0, {}};
     return false;
   }
   const double length = distance(pa, pb);

@@ -1,5 +1,5 @@
 // src/algorithms/refine/termination_guard.cpp — the termination guard of Delaunay refinement
-// (refine.hpp: feature_guard_length, kStopBeyondFeatureSize).
+// (refine.hpp: feature_guard_length; the stop StopKind::kBeyondFeatureSize).
 //
 // Delaunay refinement provably terminates only for angle bounds up to
 // 20.7° (Ruppert 1995; Shewchuk 2002, with circumcenters and concentric shells), Triangle's

@@ -33,6 +33,7 @@
 #include "mwst/io/triangle_files.hpp"
 #include "mwst/algorithms/metrics.hpp"
 #include "mwst/algorithms/quadtree.hpp"
+#include "algorithms/quadtree/cell_triangulation.hpp"
 #include "algorithms/quadtree/testing.hpp"
 #include "support/exact_checker.hpp"
 #include "support/generators.hpp"

@@ -48,7 +48,7 @@ void check_brh(const std::string& file, BrhCase c) {
   o.min_angle_deg = c.angle;
   o.bundle_k = c.k != 0 ? c.k : default_bundle_k(c.angle);
   const BrhStats stats = bundle_removal(m, o);
-  EXPECT_EQ(stats.stop_reason, "bound reached");
+  EXPECT_EQ(to_string(stats.stop), "bound reached");
   EXPECT_TRUE(validate(m, {.delaunay = true}).empty());
   const BundleResult exact = expect_skinny_outside_k_bundles(m, c.angle, o.bundle_k, stats.skinny_left);
   if (o.bundle_k >= default_bundle_k(c.angle)) {
@@ -112,7 +112,7 @@ TEST(Brh, PointSetWithManySkinnyTrianglesLeft) {
   o.min_angle_deg = 20.0;
   o.bundle_k = 12;
   const BrhStats stats = bundle_removal(m, o);
-  EXPECT_EQ(stats.stop_reason, "bound reached");
+  EXPECT_EQ(to_string(stats.stop), "bound reached");
   EXPECT_GE(stats.exact_evaluations, 3u);
   EXPECT_GT(stats.known_clean, 0u);
   EXPECT_GT(stats.skinny_left, 1024u);
@@ -148,7 +148,7 @@ TEST(Brh, AreaBoundHolds) {
       bundle_removal(free, o);
       o.refine.max_area = max_area;
       const BrhStats stats = bundle_removal(bounded, o);
-      EXPECT_EQ(stats.stop_reason, "bound reached");
+      EXPECT_EQ(to_string(stats.stop), "bound reached");
       EXPECT_TRUE(validate(bounded, {.delaunay = true}).empty());
       EXPECT_GT(largest(free), max_area);
       EXPECT_LE(largest(bounded), max_area * (1.0 + 1e-12));  // (areas rounded two ways)
@@ -187,7 +187,7 @@ TEST(BrhTermination, GuardStopsASpikeOfOneDegreeAtHighAngles) {
       o.bundle_k = k;
       o.refine.max_steiner = 100000;
       const BrhStats stats = bundle_removal(m, o);
-      EXPECT_EQ(stats.stop_reason, kStopBeyondFeatureSize);
+      EXPECT_EQ(stats.stop.kind, StopKind::kBeyondFeatureSize);
       EXPECT_LT(stats.steiner_inserted + stats.segment_splits, 100000u);
       ASSERT_TRUE(validate(m, {.delaunay = true}).empty());
       const BundleResult exact = bundle_number(m, {.per_triangle = true});

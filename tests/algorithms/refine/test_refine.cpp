@@ -116,7 +116,7 @@ Refined refine_and_check(const Pslg& g, const RefineOptions& options, const Cons
   const long double area_before = test::domain_area(cdt);
   r.stats = refine(r.mesh, options);
   const Mesh& m = r.mesh;
-  EXPECT_FALSE(r.stats.stop_reason.empty());
+  EXPECT_FALSE(to_string(r.stats.stop).empty());
   ValidateOptions vo;
   vo.delaunay = true;
   const auto problems = validate(m, vo);
@@ -148,11 +148,11 @@ Refined refine_and_check(const Pslg& g, const RefineOptions& options, const Cons
   // The termination guard never stops a refinement at a bound where refinement terminates in
   // practice (33°, Triangle's documentation; measured: docs/algorithms/refine.md).
   if (options.min_angle_deg <= 33.0) {
-    EXPECT_NE(r.stats.stop_reason, kStopBeyondFeatureSize);
+    EXPECT_NE(r.stats.stop.kind, StopKind::kBeyondFeatureSize);
   }
   // The angle bound, except the triangles counted as left, which sit at small input angles.
-  if (options.min_angle_deg > 0.0 && r.stats.stop_reason != "steiner budget" &&
-      r.stats.stop_reason != "time budget" && r.stats.stop_reason != kStopBeyondFeatureSize) {
+  if (options.min_angle_deg > 0.0 && to_string(r.stats.stop) != "steiner budget" &&
+      to_string(r.stats.stop) != "time budget" && r.stats.stop.kind != StopKind::kBeyondFeatureSize) {
     const auto apices = small_angle_apices(covered);
     std::size_t below = 0;
     for (TriangleId t = 0; t < m.triangles.size(); ++t) {
@@ -165,9 +165,9 @@ Refined refine_and_check(const Pslg& g, const RefineOptions& options, const Cons
     }
     EXPECT_LE(below, r.stats.left_small_angle);
     if (r.stats.left_small_angle == 0) {
-      EXPECT_EQ(r.stats.stop_reason, "bound reached");
+      EXPECT_EQ(to_string(r.stats.stop), "bound reached");
     } else {
-      EXPECT_NE(r.stats.stop_reason.find("left near small input angles"), std::string::npos);
+      EXPECT_NE(to_string(r.stats.stop).find("left near small input angles"), std::string::npos);
     }
   }
   return r;
@@ -253,7 +253,7 @@ TEST(Refine, ZeroAngleLeavesTheCdtUnchanged) {
   RefineOptions o;
   o.min_angle_deg = 0.0;
   const RefineStats s = refine(m, o);
-  EXPECT_EQ(s.stop_reason, "bound reached");
+  EXPECT_EQ(to_string(s.stop), "bound reached");
   EXPECT_EQ(s.steiner_inserted + s.segment_splits, 0u);
   ASSERT_EQ(m.triangles.size(), before.triangles.size());
   for (TriangleId t = 0; t < m.triangles.size(); ++t) {
@@ -269,7 +269,7 @@ TEST(Refine, AreaBoundIsMet) {
   o.min_angle_deg = 20.0;
   o.max_area = 2e-4;
   const Refined r = refine_and_check(g, o);
-  EXPECT_EQ(r.stats.stop_reason, "bound reached");
+  EXPECT_EQ(to_string(r.stats.stop), "bound reached");
   for (TriangleId t = 0; t < r.mesh.triangles.size(); ++t) {
     if (!r.mesh.in_domain(t)) continue;
     const Triangle& T = r.mesh.triangles[t];
@@ -278,7 +278,7 @@ TEST(Refine, AreaBoundIsMet) {
   // Area alone (no angle bound) also terminates and meets it.
   o.min_angle_deg = 0.0;
   const Refined a = refine_and_check(g, o);
-  EXPECT_EQ(a.stats.stop_reason, "bound reached");
+  EXPECT_EQ(to_string(a.stats.stop), "bound reached");
 }
 
 TEST(Refine, SteinerBudgetStops) {
@@ -287,7 +287,7 @@ TEST(Refine, SteinerBudgetStops) {
   o.min_angle_deg = 30.0;
   o.max_steiner = 25;
   const Refined r = refine_and_check(g, o);
-  EXPECT_EQ(r.stats.stop_reason, "steiner budget");
+  EXPECT_EQ(to_string(r.stats.stop), "steiner budget");
   EXPECT_EQ(r.stats.steiner_inserted + r.stats.segment_splits, 25u);
 }
 
@@ -304,7 +304,7 @@ TEST(Refine, AreaBoundReservesNoMoreThanTheSteinerBudgetAllows) {
   o.max_area = 2.0;
   o.max_steiner = 32;
   const Refined r = refine_and_check(g, o);
-  EXPECT_EQ(r.stats.stop_reason, "steiner budget");
+  EXPECT_EQ(to_string(r.stats.stop), "steiner budget");
   EXPECT_LT(r.mesh.triangles.capacity(), 1000u);
 }
 
@@ -314,7 +314,7 @@ TEST(Refine, TimeBudgetStops) {
   o.min_angle_deg = 33.0;
   o.time_budget_seconds = 1e-9;
   const Refined r = refine_and_check(g, o);
-  EXPECT_EQ(r.stats.stop_reason, "time budget");
+  EXPECT_EQ(to_string(r.stats.stop), "time budget");
 }
 
 TEST(Refine, PluggableTestAndSteinerRule) {
@@ -369,7 +369,7 @@ void check_terminates(const Pslg& g, const ConstrainOptions& copt = {}) {
       o.rule = rule;
       o.max_steiner = 400000;  // a safety net for the test only: it must not be reached
       const Refined r = refine_and_check(g, o, copt);
-      EXPECT_NE(r.stats.stop_reason, "steiner budget");
+      EXPECT_NE(to_string(r.stats.stop), "steiner budget");
     }
   }
 }
@@ -446,7 +446,7 @@ void check_guard_stops(const Pslg& g, double bound) {
     o.rule = rule;
     o.max_steiner = 100000;  // the runaway would pass this within a second
     const Refined r = refine_and_check(g, o);
-    EXPECT_EQ(r.stats.stop_reason, kStopBeyondFeatureSize);
+    EXPECT_EQ(r.stats.stop.kind, StopKind::kBeyondFeatureSize);
     // Stopped, not finished: some triangle is still below the bound.
     std::size_t below = 0;
     for (TriangleId t = 0; t < r.mesh.triangles.size(); ++t) {
@@ -476,7 +476,7 @@ TEST(RefineTermination, GuardLeavesAreaRefinementAlone) {
   o.min_angle_deg = 33.0;
   o.max_area = 1e-4;
   const Refined r = refine_and_check(g, o);
-  EXPECT_EQ(r.stats.stop_reason, "bound reached");
+  EXPECT_EQ(to_string(r.stats.stop), "bound reached");
   EXPECT_GT(r.stats.steiner_inserted, 5000u);
 }
 
@@ -490,7 +490,7 @@ TEST(Refine, PointsOnACircle) {
     g.points.push_back({std::cos(t), std::sin(t)});
   }
   for_bounds_and_rules({20.0, 25.0, 30.0}, [&](const RefineOptions& o) {
-    EXPECT_EQ(refine_and_check(g, o).stats.stop_reason, "bound reached");
+    EXPECT_EQ(to_string(refine_and_check(g, o).stats.stop), "bound reached");
   });
 }
 

@@ -98,7 +98,7 @@ TEST(RefineSeeds, SeededPassFromAllBadTrianglesMeetsTheBound) {
   const RefineStats s = refine(m, second);
   EXPECT_GT(s.steiner_inserted, 0u);
   EXPECT_EQ(s.left_small_angle, 0u);
-  EXPECT_EQ(s.stop_reason, "bound reached");
+  EXPECT_EQ(to_string(s.stop), "bound reached");
   ValidateOptions vo;
   vo.delaunay = true;
   const auto problems = validate(m, vo);
