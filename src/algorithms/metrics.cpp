@@ -195,73 +195,98 @@ bool below_angle_bound(const Point& a, const Point& b, const Point& c, double bo
   return cos2 > bound_cos2;
 }
 
-std::vector<std::uint8_t> near_small_input_angles(const Mesh& mesh) {
-  const std::size_t slots = mesh.triangles.size();
-  std::vector<std::uint8_t> near(slots, 0);
-  const auto constraint = [&](Handle h) { return mesh.is_segment(h) || !mesh.in_domain(mesh.sym(h) >> 2); };
-  const auto split_point = [&](VertexId v) {
-    return v < mesh.vertex_kind.size() && mesh.vertex_kind[v] == VertexKind::kSteinerOnSegment;
-  };
-  // The two chain neighbours of every split point (a split point lies inside one input segment:
-  // exactly two subsegments meet there).
-  constexpr VertexId kNo = static_cast<VertexId>(-1);
-  std::vector<std::array<VertexId, 2>> along(mesh.points.size(), {kNo, kNo});
-  const auto link = [&](VertexId v, VertexId w) {
-    if (!split_point(v)) return;
+// ==== triangles near small input angles begin here ===============================================
+
+namespace {
+
+constexpr VertexId kNoNeighbour = static_cast<VertexId>(-1);
+
+// A constraint edge: a subsegment, or an edge of the domain's boundary.
+inline bool is_constraint(const Mesh& mesh, Handle h) {
+  return mesh.is_segment(h) || !mesh.in_domain(mesh.sym(h) >> 2);
+}
+
+// A split point: a Steiner vertex inside an input segment.
+inline bool is_split_point(const Mesh& mesh, VertexId v) {
+  return v < mesh.vertex_kind.size() && mesh.vertex_kind[v] == VertexKind::kSteinerOnSegment;
+}
+
+// The chains of subsegments through split points: the two chain neighbours of every split point (a
+// split point lies inside one input segment: exactly two subsegments meet there).
+struct SplitChains {
+  const Mesh& mesh;
+  std::vector<std::array<VertexId, 2>> along;
+
+  explicit SplitChains(const Mesh& m) : mesh(m), along(m.points.size(), {kNoNeighbour, kNoNeighbour}) {}
+
+  // Records w as a chain neighbour of v if v is a split point.
+  void link(VertexId v, VertexId w) {
+    if (!is_split_point(mesh, v)) return;
     auto& n = along[v];
     if (n[0] == w || n[1] == w) return;
-    (n[0] == kNo ? n[0] : n[1]) = w;
-  };
-  bool any_constraint = false;
-  for (TriangleId t = 0; t < slots; ++t) {
-    if (!mesh.in_domain(t)) continue;
-    for (unsigned e = 0; e < 3; ++e) {
-      const Handle h = make_handle(t, e);
-      if (!constraint(h)) continue;
-      any_constraint = true;
-      link(mesh.org(h), mesh.dest(h));
-      link(mesh.dest(h), mesh.org(h));
-    }
+    (n[0] == kNoNeighbour ? n[0] : n[1]) = w;
   }
-  if (!any_constraint) return near;
+  // Links the ends of every constraint edge of the domain; false if there is none.
+  bool link_constraints() {
+    bool any_constraint = false;
+    for (TriangleId t = 0; t < mesh.triangles.size(); ++t) {
+      if (!mesh.in_domain(t)) continue;
+      for (unsigned e = 0; e < 3; ++e) {
+        const Handle h = make_handle(t, e);
+        if (!is_constraint(mesh, h)) continue;
+        any_constraint = true;
+        link(mesh.org(h), mesh.dest(h));
+        link(mesh.dest(h), mesh.org(h));
+      }
+    }
+    return any_constraint;
+  }
   // Follows the chain of subsegments from `from` through `next` to its far end (the first vertex
   // that is not a split point), appending the vertices after `from` to `out`; returns the far end.
-  std::vector<VertexId> chain[2];
-  const auto follow = [&](VertexId from, VertexId next, std::vector<VertexId>& out) {
+  VertexId follow(VertexId from, VertexId next, std::vector<VertexId>& out) const {
     out.clear();
     VertexId previous = from, at = next;
     for (std::size_t steps = 0; steps <= mesh.points.size(); ++steps) {
       out.push_back(at);
-      if (!split_point(at)) break;
+      if (!is_split_point(mesh, at)) break;
       const auto& n = along[at];
       const VertexId ahead = n[0] == previous ? n[1] : n[0];
-      if (ahead == kNo) break;
+      if (ahead == kNoNeighbour) break;
       previous = at;
       at = ahead;
     }
     return out.back();
-  };
-  // (vertex, wedge · 2 + side) for the chain vertices of every small wedge.
-  std::vector<std::pair<VertexId, std::uint32_t>> labels;
+  }
+};
+
+// (vertex, wedge · 2 + side) for the chain vertices of every small wedge.
+using WedgeLabels = std::vector<std::pair<VertexId, std::uint32_t>>;
+
+// Marks the fan of every input angle under 60° (a wedge between two constraint chains at an input
+// vertex, measured between the chains' far ends) in `near`, and labels the chains' vertices.
+void mark_small_wedges(const Mesh& mesh, const SplitChains& chains, std::vector<std::uint8_t>& near,
+                       WedgeLabels& labels) {
+  const std::size_t slots = mesh.triangles.size();
+  std::vector<VertexId> chain[2];
   std::uint32_t wedges = 0;
   std::vector<TriangleId> fan;
   for (TriangleId t = 0; t < slots; ++t) {
     if (!mesh.in_domain(t)) continue;
     for (unsigned k = 0; k < 3; ++k) {
       const VertexId j = mesh.triangles[t].v[k];
-      if (split_point(j)) continue;
+      if (is_split_point(mesh, j)) continue;
       const Handle first = make_handle(t, prev3(k));  // j → v[k+1]: the wedge starts on its left
-      if (!constraint(first)) continue;
+      if (!is_constraint(mesh, first)) continue;
       // The fan of in-domain triangles around j, counter-clockwise from `first` to the next
       // constraint edge.
       fan.assign(1, t);
       Handle last = Mesh::lprev(first);  // v[k+2] → j
-      while (!constraint(last) && fan.size() <= slots) {
+      while (!is_constraint(mesh, last) && fan.size() <= slots) {
         last = Mesh::lprev(mesh.sym(last));
         fan.push_back(last >> 2);
       }
-      const VertexId a = follow(j, mesh.dest(first), chain[0]);
-      const VertexId b = follow(j, mesh.org(last), chain[1]);
+      const VertexId a = chains.follow(j, mesh.dest(first), chain[0]);
+      const VertexId b = chains.follow(j, mesh.org(last), chain[1]);
       const Point& pj = mesh.points[j];
       const double ux = mesh.points[a].x - pj.x, uy = mesh.points[a].y - pj.y;
       const double vx = mesh.points[b].x - pj.x, vy = mesh.points[b].y - pj.y;
@@ -275,18 +300,20 @@ std::vector<std::uint8_t> near_small_input_angles(const Mesh& mesh) {
       ++wedges;
     }
   }
-  if (labels.empty()) return near;
-  std::sort(labels.begin(), labels.end());
+}
+
+// Marks in `near` every triangle with a vertex on one side of a small wedge and another vertex on
+// the other side of the same wedge (labels sorted).
+void mark_across_wedges(const Mesh& mesh, const WedgeLabels& labels, std::vector<std::uint8_t>& near) {
   const auto labels_of = [&](VertexId v) {
     const auto lo = std::lower_bound(labels.begin(), labels.end(), std::pair<VertexId, std::uint32_t>{v, 0});
     auto hi = lo;
     while (hi != labels.end() && hi->first == v) ++hi;
     return std::pair{lo, hi};
   };
-  for (TriangleId t = 0; t < slots; ++t) {
+  for (TriangleId t = 0; t < mesh.triangles.size(); ++t) {
     if (near[t] || !mesh.in_domain(t)) continue;
     const auto& v = mesh.triangles[t].v;
-    // A vertex on one side of a wedge and another vertex on the other side of the same wedge.
     for (unsigned k = 0; k < 3 && !near[t]; ++k) {
       const auto [lo, hi] = labels_of(v[k]);
       for (auto it = lo; it != hi && !near[t]; ++it) {
@@ -304,8 +331,25 @@ std::vector<std::uint8_t> near_small_input_angles(const Mesh& mesh) {
       }
     }
   }
+}
+
+}  // namespace
+
+// The triangles in the fan of a small input angle or spanning one (see mark_small_wedges and
+// mark_across_wedges): the angle bound is exempt there.
+std::vector<std::uint8_t> near_small_input_angles(const Mesh& mesh) {
+  std::vector<std::uint8_t> near(mesh.triangles.size(), 0);
+  SplitChains chains(mesh);
+  if (!chains.link_constraints()) return near;
+  WedgeLabels labels;
+  mark_small_wedges(mesh, chains, near, labels);
+  if (labels.empty()) return near;
+  std::sort(labels.begin(), labels.end());
+  mark_across_wedges(mesh, labels, near);
   return near;
 }
+
+// ==== triangles near small input angles end here =================================================
 
 BoundCheck check_bounds(const Mesh& mesh, double min_angle_deg, double max_area) {
   BoundCheck r;

@@ -47,7 +47,7 @@ inline Expansion<16> orient2d_expansion(const Point& a, const Point& b, const Po
 
 }  // namespace
 
-// ---- the exact stages -----------------------------------------------------------------------------
+// ==== the exact stages begin here ================================================================
 //
 // incircle after the inline filter (stage A, geometry.hpp) is adaptive, after Shewchuk's paper
 // (§4.5): each stage either decides the sign with a proven error bound or passes on.
@@ -88,6 +88,7 @@ struct DoubleDouble {
   double hi, lo;
 };
 
+// hi + lo renormalised by an error-free Two-Sum.
 MWST_EXACT_INLINE DoubleDouble dd_normalised(double hi, double lo) {
   DoubleDouble r{0.0, 0.0};
   two_sum(hi, lo, r.hi, r.lo);
@@ -101,12 +102,14 @@ MWST_EXACT_INLINE DoubleDouble dd_mul(const DoubleDouble& u, const DoubleDouble&
   return dd_normalised(p, e + (u.hi * v.lo + u.lo * v.hi));
 }
 
+// u + v: Two-Sum of the high parts, the low parts added to the error term.
 MWST_EXACT_INLINE DoubleDouble dd_add(const DoubleDouble& u, const DoubleDouble& v) {
   double s = 0.0, t = 0.0;
   two_sum(u.hi, v.hi, s, t);
   return dd_normalised(s, t + (u.lo + v.lo));
 }
 
+// u − v = u + (−v).
 MWST_EXACT_INLINE DoubleDouble dd_sub(const DoubleDouble& u, const DoubleDouble& v) {
   return dd_add(u, DoubleDouble{-v.hi, -v.lo});
 }
@@ -139,6 +142,9 @@ MWST_EXACT_INLINE Expansion<32> lifted(double x, double y, const Expansion<4>& m
   return h;
 }
 
+// The exact sign of incircle(a, b, c, d), by the stages listed above. The stages stay in one
+// function: they share the six differences and their six tails, so splitting them would only add
+// a dozen parameters to each piece without naming anything the comments do not already name.
 MWST_EXACT_CLONES int incircle_sign_exact(const Point& a, const Point& b, const Point& c,
                                           const Point& d) {
   double adx = 0.0, ady = 0.0, bdx = 0.0, bdy = 0.0, cdx = 0.0, cdy = 0.0;
@@ -266,6 +272,8 @@ MWST_EXACT_CLONES int incircle_sign_exact(const Point& a, const Point& b, const 
   return sign_of(abterm + cterm);
 }
 
+// The exact sign of orient2d(a, b, c): four components when the differences are exact, else with
+// two-component differences.
 MWST_EXACT_CLONES int orient2d_sign_exact(const Point& a, const Point& b, const Point& c) {
   double acx = 0.0, acy = 0.0, bcx = 0.0, bcy = 0.0;
   double acxt = 0.0, acyt = 0.0, bcxt = 0.0, bcyt = 0.0;
@@ -281,12 +289,18 @@ MWST_EXACT_CLONES int orient2d_sign_exact(const Point& a, const Point& b, const 
 
 }  // namespace
 
+// ==== the exact stages end here ==================================================================
+
+// ==== the entry points begin here ================================================================
+
 namespace detail {
 
+// The exact stages behind the inline filters of geometry.hpp.
 int orient2d_exact(const Point& a, const Point& b, const Point& c) {
   return orient2d_sign_exact(a, b, c);
 }
 
+// The orient2d determinant, exactly, rounded to double (see the declaration above).
 double orient2d_value(const Point& a, const Point& b, const Point& c) {
   return estimate(orient2d_expansion(a, b, c));
 }
@@ -297,6 +311,7 @@ int incircle_exact(const Point& a, const Point& b, const Point& c, const Point& 
 
 }  // namespace detail
 
+// The sign of |ab|² − |cd|²: a floating-point filter, then the exact squared lengths.
 int compare_squared_lengths(const Point& a, const Point& b, const Point& c, const Point& d) {
   // Filter. Each computed squared length is l·(1+θ) with |θ| <= (1+ε)^4 - 1 (difference, square,
   // sum), both nonnegative; the final subtraction adds ε. The error of l1 - l2 is therefore below
@@ -318,6 +333,8 @@ int compare_squared_lengths(const Point& a, const Point& b, const Point& c, cons
   return sign_of(len1 - len2);
 }
 
+// +1 if p lies strictly inside the circle with diameter ab, 0 on it, −1 outside: the sign of
+// −(p−a)·(p−b), filtered, then exact.
 int in_diametral_circle(const Point& a, const Point& b, const Point& p) {
   // s = (p-a)·(p-b) = l + r with two products of rounded differences: the same error analysis as
   // orient2d's first stage (Shewchuk's ccwerrboundA applies to l + r as to l - r).
@@ -334,5 +351,7 @@ int in_diametral_circle(const Point& a, const Point& b, const Point& p) {
   const Expansion<2> epay = difference(p.y, a.y), epby = difference(p.y, b.y);
   return -sign_of(epax * epbx + epay * epby);
 }
+
+// ==== the entry points end here ==================================================================
 
 }  // namespace mwst

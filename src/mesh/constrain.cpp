@@ -29,6 +29,8 @@
 
 namespace mwst {
 
+// ==== the cavity retriangulation begins here =====================================================
+
 namespace {
 
 // Finds an edge with org a whose triangle the direction a→b enters, rotating around a.
@@ -102,6 +104,10 @@ void retriangulate(const Mesh& m, VertexId a, VertexId b, const std::vector<Vert
   }
 }
 
+// ==== the cavity retriangulation ends here =======================================================
+
+// ==== the exact crossing point begins here =======================================================
+
 // Rational numbers for the exact crossing point (GMP; every double is a dyadic rational).
 class Rational {
  public:
@@ -150,6 +156,7 @@ void exact_orient(const Point& c, const Point& d, const Point& p, Rational& out)
   mpq_sub(out.get(), out.get(), t.get());
 }
 
+// v with 17 significant digits (round-trips), for error messages.
 std::string coordinate_text(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.17g", v);
@@ -230,114 +237,107 @@ Point exact_crossing(const Point& a, const Point& b, const Point& c, const Point
   return {x, y};
 }
 
-namespace detail {
+// ==== the exact crossing point ends here =========================================================
 
-// What insert_segment_step found on the way from a towards b.
-struct SegmentStep {
-  enum class Kind { kDone, kVertex, kCrossing } kind = Kind::kDone;
-  VertexId vertex = kNone;  // kVertex: a vertex on the open segment where this piece ended
-  Handle crossed = kNone;   // kCrossing: a subsegment edge crossing ab
-  Handle hint = kNone;      // an edge whose org is the vertex where this piece ended
-  bool overlap = false;     // the piece was already a subsegment (a collinear overlap)
+// ==== inserting one segment begins here ==========================================================
+//
+// insert_segment_step's steps: find_wedge (the first crossed triangle), walk_cavity (the triangles
+// the segment crosses and the chains on either side), retriangulate_cavity (the two pseudo-
+// polygons), read_cavity_border (the border edges and their marks) and fill_cavity (the new
+// triangles into the old slots, linked to the border and to each other).
+
+namespace {
+
+// The cavity of a segment piece a→end: the triangles it crosses in walk order, the chains of
+// vertices left (upper) and right (lower) of it from a to end, and the chain edges, keyed in the
+// cavity's orientation, with the handles outside them.
+struct Cavity {
+  std::vector<TriangleId> triangles;
+  std::vector<VertexId> upper, lower;
+  std::vector<std::pair<std::uint64_t, Handle>> outer;
+  VertexId end = kNone;
 };
 
-// Inserts the part of segment a→b up to the first vertex on it (or b) as a constrained edge, or
-// reports the first subsegment it crosses without changing the mesh. `start` must have org a.
-SegmentStep insert_segment_step(Mesh& m, Handle start, VertexId b, std::int32_t marker) {
-  const VertexId a = m.org(start);
+// Walks from `first` = a→v1 (apex v2; v1 right of a→b, v2 left) across the triangles the open
+// segment a→b crosses, recording the cavity, up to b or the first vertex on the open segment
+// (cavity.end). Returns the first subsegment edge it would cross instead (the mesh is never
+// changed), or kNone.
+Handle walk_cavity(const Mesh& m, Handle first, VertexId b, Cavity& cavity) {
+  const VertexId a = m.org(first);
   const Point pa = m.points[a], pb = m.points[b];
-  bool collinear = false;
-  const Handle first = find_wedge(m, start, b, &collinear);
-  SegmentStep step;
-  if (collinear) {
-    const VertexId v = m.dest(first);
-    step.overlap = m.is_segment(first);
-    if (!step.overlap) m.set_segment(first, marker);  // an overlap keeps the first marker
-    step.kind = v == b ? SegmentStep::Kind::kDone : SegmentStep::Kind::kVertex;
-    step.vertex = v;
-    step.hint = m.sym(first);
-    return step;
-  }
-  // Walk across the triangles the open segment crosses, recording the cavity.
-  std::vector<TriangleId> cavity;
-  std::vector<VertexId> upper{a}, lower{a};       // left and right chains from a
-  std::vector<std::pair<std::uint64_t, Handle>> outer;  // chain edge (inside orientation) → outer handle
-  // First triangle (a, v1, v2): v1 right of ab (lower), v2 left (upper).
+  cavity.upper.push_back(a);
+  cavity.lower.push_back(a);
   Handle h = first;
   {
-    cavity.push_back(h >> 2);
+    cavity.triangles.push_back(h >> 2);
     const VertexId v1 = m.dest(h), v2 = m.apex(h);
-    lower.push_back(v1);
-    upper.push_back(v2);
-    outer.emplace_back(edge_key(a, v1), m.sym(h));
-    outer.emplace_back(edge_key(v2, a), m.sym(Mesh::lprev(h)));
+    cavity.lower.push_back(v1);
+    cavity.upper.push_back(v2);
+    cavity.outer.emplace_back(edge_key(a, v1), m.sym(h));
+    cavity.outer.emplace_back(edge_key(v2, a), m.sym(Mesh::lprev(h)));
     h = Mesh::lnext(h);  // v1→v2, the crossed edge
   }
-  VertexId end = kNone;
   for (;;) {
-    if (m.is_segment(h)) {
-      step.kind = SegmentStep::Kind::kCrossing;
-      step.crossed = h;
-      return step;  // nothing changed yet
-    }
+    if (m.is_segment(h)) return h;
     const Handle s = m.sym(h);  // v2→v1 in the next triangle
     const VertexId w = m.apex(s);
     if (w == kInfinite) throw InternalError("insert_segment: the segment leaves the convex hull");
-    cavity.push_back(s >> 2);
+    cavity.triangles.push_back(s >> 2);
     const VertexId vr = m.dest(s), vl = m.org(s);  // right (lower) and left (upper) ends
-    if (w == b) {
-      outer.emplace_back(edge_key(vr, b), m.sym(Mesh::lnext(s)));
-      outer.emplace_back(edge_key(b, vl), m.sym(Mesh::lprev(s)));
-      lower.push_back(b);
-      upper.push_back(b);
-      end = b;
-      break;
-    }
-    const int o = orient2d(pa, pb, m.points[w]);
+    // w == b, or w on the open segment: this piece ends at w.
+    const int o = w == b ? 0 : orient2d(pa, pb, m.points[w]);
     if (o == 0) {
-      // w lies on the open segment: this piece ends at w.
-      outer.emplace_back(edge_key(vr, w), m.sym(Mesh::lnext(s)));
-      outer.emplace_back(edge_key(w, vl), m.sym(Mesh::lprev(s)));
-      lower.push_back(w);
-      upper.push_back(w);
-      end = w;
-      break;
+      cavity.outer.emplace_back(edge_key(vr, w), m.sym(Mesh::lnext(s)));
+      cavity.outer.emplace_back(edge_key(w, vl), m.sym(Mesh::lprev(s)));
+      cavity.lower.push_back(w);
+      cavity.upper.push_back(w);
+      cavity.end = w;
+      return kNone;
     }
     if (o > 0) {
       // w is on the upper side: edge w→vl is an upper chain edge; cross vr→w next.
-      outer.emplace_back(edge_key(w, vl), m.sym(Mesh::lprev(s)));
-      upper.push_back(w);
+      cavity.outer.emplace_back(edge_key(w, vl), m.sym(Mesh::lprev(s)));
+      cavity.upper.push_back(w);
       h = Mesh::lnext(s);  // vr→w
     } else {
-      outer.emplace_back(edge_key(vr, w), m.sym(Mesh::lnext(s)));
-      lower.push_back(w);
+      cavity.outer.emplace_back(edge_key(vr, w), m.sym(Mesh::lnext(s)));
+      cavity.lower.push_back(w);
       h = Mesh::lprev(s);  // w→vl
     }
   }
-  // Retriangulate: upper polygon on base a→end (chain left of it), lower on base end→a.
-  std::vector<std::array<VertexId, 3>> tris;
-  tris.reserve(cavity.size());
-  const std::vector<VertexId> upper_chain(upper.begin() + 1, upper.end() - 1);
-  std::vector<VertexId> lower_chain(lower.begin() + 1, lower.end() - 1);
+}
+
+// The cavity's new triangles: the upper pseudo-polygon on base a→end (chain left of it), then the
+// lower one on base end→a, one triangle per old slot.
+void retriangulate_cavity(const Mesh& m, VertexId a, const Cavity& cavity,
+                          std::vector<std::array<VertexId, 3>>& tris) {
+  tris.reserve(cavity.triangles.size());
+  const std::vector<VertexId> upper_chain(cavity.upper.begin() + 1, cavity.upper.end() - 1);
+  std::vector<VertexId> lower_chain(cavity.lower.begin() + 1, cavity.lower.end() - 1);
   std::reverse(lower_chain.begin(), lower_chain.end());
-  retriangulate(m, a, end, upper_chain, tris);
-  retriangulate(m, end, a, lower_chain, tris);
-  if (tris.size() != cavity.size()) throw InternalError("insert_segment: cavity count mismatch");
-  // Read the outer edges' segment marks before the slots are rewritten.
-  struct Outer {
-    Handle handle;
-    bool segment;
-    std::int32_t marker;
-  };
-  std::unordered_map<std::uint64_t, Outer> outer_map;
-  outer_map.reserve(outer.size() * 2);
-  for (const auto& [key, oh] : outer) outer_map.emplace(key, Outer{oh, m.is_segment(oh), m.marker(oh)});
-  // A vertex whose whole star is crossed (it lies on one side, but the segment passes around it)
-  // hangs into the cavity by an edge whose two triangles are both in the cavity: the chain walks
-  // that edge out and back, so it was recorded in both directions. It is inside the cavity, not on
-  // its border: its new triangles are linked to each other below (and keep its segment mark).
-  std::vector<std::pair<std::uint64_t, std::int32_t>> inner_segments;
-  for (const auto& entry : outer) {
+  retriangulate(m, a, cavity.end, upper_chain, tris);
+  retriangulate(m, cavity.end, a, lower_chain, tris);
+  if (tris.size() != cavity.triangles.size()) throw InternalError("insert_segment: cavity count mismatch");
+}
+
+// A border edge of the cavity: the handle outside it and its segment mark.
+struct OuterEdge {
+  Handle handle;
+  bool segment;
+  std::int32_t marker;
+};
+using OuterEdges = std::unordered_map<std::uint64_t, OuterEdge>;
+using InnerSegments = std::vector<std::pair<std::uint64_t, std::int32_t>>;
+
+// Reads the border edges' segment marks before the slots are rewritten. A vertex whose whole star
+// is crossed (it lies on one side, but the segment passes around it) hangs into the cavity by an
+// edge whose two triangles are both in the cavity: the chain walks that edge out and back, so it
+// was recorded in both directions. It is inside the cavity, not on its border: it leaves the
+// border, and if it was a subsegment it goes to inner_segments (to be marked again).
+void read_cavity_border(const Mesh& m, const Cavity& cavity, OuterEdges& outer_map, InnerSegments& inner_segments) {
+  outer_map.reserve(cavity.outer.size() * 2);
+  for (const auto& [key, oh] : cavity.outer) outer_map.emplace(key, OuterEdge{oh, m.is_segment(oh), m.marker(oh)});
+  for (const auto& entry : cavity.outer) {
     const std::uint64_t reverse = (entry.first << 32) | (entry.first >> 32);
     const auto it = outer_map.find(reverse);
     if (it == outer_map.end()) continue;
@@ -348,17 +348,23 @@ SegmentStep insert_segment_step(Mesh& m, Handle start, VertexId b, std::int32_t 
     outer_map.erase(it);
     outer_map.erase(entry.first);
   }
-  // Reuse the cavity's slots.
+}
+
+// Writes tris into the cavity's slots and links every edge: a border edge to the handle outside it
+// (keeping its mark), an inner edge to its twin; then marks the hanging subsegments again. Returns
+// the new edge end→a.
+Handle fill_cavity(Mesh& m, VertexId a, const Cavity& cavity, const std::vector<std::array<VertexId, 3>>& tris,
+                   const OuterEdges& outer_map, const InnerSegments& inner_segments) {
   std::unordered_map<std::uint64_t, Handle> inner;
   inner.reserve(tris.size() * 4);
   Handle result_hint = kNone;
   for (std::size_t i = 0; i < tris.size(); ++i) {
-    const TriangleId t = cavity[i];
+    const TriangleId t = cavity.triangles[i];
     m.triangles[t].v = tris[i];
     m.flags[t] = static_cast<std::uint8_t>(m.flags[t] & kOutside);
   }
   for (std::size_t i = 0; i < tris.size(); ++i) {
-    const TriangleId t = cavity[i];
+    const TriangleId t = cavity.triangles[i];
     for (unsigned e = 0; e < 3; ++e) {
       const Handle he = make_handle(t, e);
       const VertexId u = m.org(he), v = m.dest(he);
@@ -377,27 +383,79 @@ SegmentStep insert_segment_step(Mesh& m, Handle start, VertexId b, std::int32_t 
       } else {
         inner.emplace(edge_key(u, v), he);
       }
-      if (u == end && v == a) result_hint = he;  // end→a: org is the piece's end
+      if (u == cavity.end && v == a) result_hint = he;  // end→a: org is the piece's end
     }
   }
   if (!inner.empty()) throw InternalError("insert_segment: unmatched cavity edge");
   for (const auto& [key, mark] : inner_segments) {
-    for (const TriangleId t : cavity) {
+    for (const TriangleId t : cavity.triangles) {
       for (unsigned e = 0; e < 3; ++e) {
         const Handle he = make_handle(t, e);
         if (undirected_key(m.org(he), m.dest(he)) == key) m.set_segment(he, mark);
       }
     }
   }
+  return result_hint;
+}
+
+}  // namespace
+
+namespace detail {
+
+// What insert_segment_step found on the way from a towards b.
+struct SegmentStep {
+  enum class Kind { kDone, kVertex, kCrossing } kind = Kind::kDone;
+  VertexId vertex = kNone;  // kVertex: a vertex on the open segment where this piece ended
+  Handle crossed = kNone;   // kCrossing: a subsegment edge crossing ab
+  Handle hint = kNone;      // an edge whose org is the vertex where this piece ended
+  bool overlap = false;     // the piece was already a subsegment (a collinear overlap)
+};
+
+// Inserts the part of segment a→b up to the first vertex on it (or b) as a constrained edge, or
+// reports the first subsegment it crosses without changing the mesh. `start` must have org a.
+SegmentStep insert_segment_step(Mesh& m, Handle start, VertexId b, std::int32_t marker) {
+  const VertexId a = m.org(start);
+  bool collinear = false;
+  const Handle first = find_wedge(m, start, b, &collinear);
+  SegmentStep step;
+  if (collinear) {
+    // The edge a→v lies along the segment: mark it.
+    const VertexId v = m.dest(first);
+    step.overlap = m.is_segment(first);
+    if (!step.overlap) m.set_segment(first, marker);  // an overlap keeps the first marker
+    step.kind = v == b ? SegmentStep::Kind::kDone : SegmentStep::Kind::kVertex;
+    step.vertex = v;
+    step.hint = m.sym(first);
+    return step;
+  }
+  Cavity cavity;
+  const Handle crossed = walk_cavity(m, first, b, cavity);
+  if (crossed != kNone) {
+    step.kind = SegmentStep::Kind::kCrossing;
+    step.crossed = crossed;
+    return step;  // nothing changed yet
+  }
+  std::vector<std::array<VertexId, 3>> tris;
+  retriangulate_cavity(m, a, cavity, tris);
+  OuterEdges outer_map;
+  InnerSegments inner_segments;
+  read_cavity_border(m, cavity, outer_map, inner_segments);
+  const Handle result_hint = fill_cavity(m, a, cavity, tris, outer_map, inner_segments);
   m.set_segment(result_hint, marker);
-  step.kind = end == b ? SegmentStep::Kind::kDone : SegmentStep::Kind::kVertex;
-  step.vertex = end;
+  step.kind = cavity.end == b ? SegmentStep::Kind::kDone : SegmentStep::Kind::kVertex;
+  step.vertex = cavity.end;
   step.hint = result_hint;
   return step;
 }
 
 }  // namespace detail
 
+// ==== inserting one segment ends here ============================================================
+
+// ==== inserting a graph begins here ==============================================================
+
+// Inserts segment a→b into a constrained Delaunay triangulation, piece by piece through the
+// vertices on it; a crossed subsegment is an internal error here (constrained_delaunay splits).
 void insert_segment(Mesh& m, VertexId a, VertexId b, std::int32_t marker) {
   Handle start = kNone;
   VertexId from = a;
@@ -424,6 +482,7 @@ class SegmentInserter {
                   ConstrainStats& stats)
       : m_(mesh), pslg_(pslg), options_(options), stats_(stats) {}
 
+  // Inserts input segment `id` (a→b), and the pieces its crossings leave, until none is pending.
   void insert(VertexId a, VertexId b, std::int32_t marker, std::uint32_t id) {
     pending_.push_back({a, b, marker, id});
     while (!pending_.empty()) {
@@ -440,12 +499,15 @@ class SegmentInserter {
     std::uint32_t id;  // index of the input segment it belongs to
   };
 
+  // "segment N (line L)", in the input's numbering.
   std::string describe(std::uint32_t id) const {
     std::string s = "segment " + std::to_string(id + static_cast<std::uint32_t>(pslg_.first_index));
     if (id < pslg_.segment_lines.size()) s += " (line " + std::to_string(pslg_.segment_lines[id]) + ")";
     return s;
   }
 
+  // Inserts piece p step by step through the vertices on it; a crossed subsegment hands over to
+  // resolve_crossing.
   void insert_piece(Piece p) {
     VertexId from = p.a;
     while (from != p.b) {
@@ -475,9 +537,35 @@ class SegmentInserter {
     }
   }
 
+  // Splits the piece p (now from `from`) and the subsegment `crossed` it crosses at their crossing
+  // point, or at an endpoint of either within rounding of it, and queues the pieces left.
   void resolve_crossing(const Piece& p, VertexId from, Handle crossed) {
     const VertexId c = m_.org(crossed), d = m_.dest(crossed);
     const std::uint32_t other_id = input_segment_of(undirected_key(c, d), p.id);
+    count_crossing(p, other_id);
+    const std::int32_t other_marker = m_.marker(crossed);
+    // The exact crossing rounded to doubles (possibly outside the supported range: see
+    // place_crossing_vertex).
+    const Point x = exact_crossing(m_.points[from], m_.points[p.b], m_.points[c], m_.points[d]);
+    const VertexId snap = crossing_snap(p, from, c, d, x);
+    if (snap == c || snap == d) {
+      // The piece passes (within rounding) through an end of the crossed subsegment: split the
+      // piece there and leave the subsegment alone.
+      --stats_.crossings;
+      ++stats_.snapped;
+      queue_piece(snap, p.b, p.marker, p.id);
+      queue_piece(from, snap, p.marker, p.id);
+      return;
+    }
+    const VertexId v = place_crossing_vertex(p, crossed, snap, x);
+    queue_piece(v, p.b, p.marker, p.id);
+    queue_piece(from, v, p.marker, p.id);
+    queue_piece(v, d, other_marker, other_id);
+    queue_piece(c, v, other_marker, other_id);
+  }
+
+  // Refuses a crossing under --strict (naming both segments) or past the crossing limits; counts it.
+  void count_crossing(const Piece& p, std::uint32_t other_id) {
     if (options_.strict) {
       throw InputError(pslg_.source, p.id < pslg_.segment_lines.size() ? pslg_.segment_lines[p.id] : 0,
                        describe(p.id) + " crosses " + describe(other_id));
@@ -487,21 +575,24 @@ class SegmentInserter {
     if (++stats_.crossings > crossing_limit() || ++resolutions_ > 4 * crossing_limit()) {
       throw InputError(pslg_.source, 0, "too many segment crossings to resolve");
     }
-    const std::int32_t other_marker = m_.marker(crossed);
-    // The exact crossing rounded to doubles (possibly outside the supported range: see below).
-    const Point x = exact_crossing(m_.points[from], m_.points[p.b], m_.points[c], m_.points[d]);
-    auto queue = [&](VertexId u, VertexId w, std::int32_t marker, std::uint32_t id) {
-      if (u != w) pending_.push_back({u, w, marker, id});
-    };
-    // An endpoint of either piece that lies within a few hundred ulps of the crossing point, or of
-    // the other piece's line (between its ends), is where the two cross: the crossing is resolved
-    // there, with no new vertex. Otherwise nearly coincident chains (a segment given twice,
-    // overlapping near-collinear segments) make each rounded crossing point cross the other chain
-    // again, one ulp further on; and where long segments cross at a tiny angle θ the rounded point
-    // is off by rounding/θ along them (6e9 long, θ ≈ 1e-9: hundreds of units), so that each new
-    // point made a new crossing with the chains it had just passed (7 points and 4 distinct
-    // segments of a fuzzed input took 2183 crossing points), while the points already made lie
-    // within rounding of those chains' lines.
+  }
+
+  // Queues the piece u→w unless it is empty.
+  void queue_piece(VertexId u, VertexId w, std::int32_t marker, std::uint32_t id) {
+    if (u != w) pending_.push_back({u, w, marker, id});
+  }
+
+  // The endpoint of the piece from→p.b or of the crossed subsegment c→d where the two cross, or
+  // kNone. An endpoint of either piece that lies within a few hundred ulps of the crossing point x,
+  // or of the other piece's line (between its ends), is where the two cross: the crossing is
+  // resolved there, with no new vertex. Otherwise nearly coincident chains (a segment given twice,
+  // overlapping near-collinear segments) make each rounded crossing point cross the other chain
+  // again, one ulp further on; and where long segments cross at a tiny angle θ the rounded point
+  // is off by rounding/θ along them (6e9 long, θ ≈ 1e-9: hundreds of units), so that each new
+  // point made a new crossing with the chains it had just passed (7 points and 4 distinct
+  // segments of a fuzzed input took 2183 crossing points), while the points already made lie
+  // within rounding of those chains' lines.
+  VertexId crossing_snap(const Piece& p, VertexId from, VertexId c, VertexId d, const Point& x) const {
     const Point& pf = m_.points[from];
     const Point& pb = m_.points[p.b];
     const Point& pc = m_.points[c];
@@ -527,16 +618,12 @@ class SegmentInserter {
         snap = w;
       }
     }
-    if (snap == c || snap == d) {
-      // The piece passes (within rounding) through an end of the crossed subsegment: split the
-      // piece there and leave the subsegment alone.
-      --stats_.crossings;
-      ++stats_.snapped;
-      queue(snap, p.b, p.marker, p.id);
-      queue(from, snap, p.marker, p.id);
-      return;
-    }
-    // Unmark cd; it is re-inserted in two pieces through the crossing vertex.
+    return snap;
+  }
+
+  // Unmarks the crossed subsegment (it is re-inserted in two pieces) and returns the vertex both
+  // continue through: `snap` (an end of the piece), an existing vertex at x, or a new one at x.
+  VertexId place_crossing_vertex(const Piece& p, Handle crossed, VertexId snap, const Point& x) {
     m_.clear_segment(crossed);
     VertexId v = snap;
     if (snap == kNone && !in_supported_range(x)) {
@@ -564,12 +651,10 @@ class SegmentInserter {
         ++stats_.snapped;
       }
     }
-    queue(v, p.b, p.marker, p.id);
-    queue(from, v, p.marker, p.id);
-    queue(v, d, other_marker, other_id);
-    queue(c, v, other_marker, other_id);
+    return v;
   }
 
+  // The input segment of the subsegment with undirected key `key` (under --strict), else otherwise.
   std::uint32_t input_segment_of(std::uint64_t key, std::uint32_t otherwise) const {
     for (auto it = subsegment_ids_.rbegin(); it != subsegment_ids_.rend(); ++it) {
       if (it->first == key) return it->second;
@@ -602,6 +687,8 @@ class SegmentInserter {
 
 }  // namespace
 
+// The constrained Delaunay triangulation of a graph: the Delaunay triangulation of its points,
+// then its segments inserted one by one in input order (SegmentInserter).
 Mesh constrained_delaunay(const Pslg& pslg, const ConstrainOptions& options, ConstrainStats* stats_out) {
   using Clock = std::chrono::steady_clock;
   ConstrainStats stats;
@@ -668,5 +755,7 @@ Mesh constrained_delaunay(const Pslg& pslg, const ConstrainOptions& options, Con
   if (stats_out) *stats_out = std::move(stats);
   return m;
 }
+
+// ==== inserting a graph ends here ================================================================
 
 }  // namespace mwst
