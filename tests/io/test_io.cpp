@@ -24,6 +24,8 @@
 #include "mwst/error.hpp"
 #include "mwst/io/triangle_files.hpp"
 
+#include "support/regression_files.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -757,7 +759,7 @@ TEST(IoData, EveryDataSetMatchesItsHeaderComment) {
 #ifdef MWST_REGRESSION_DIR
 // ---- reader corners kept as files (tests/regression/, each named after what it caught) ----------
 
-std::string regression_file(const std::string& name) { return std::string(MWST_REGRESSION_DIR) + "/" + name; }
+using mwst::test::regression_path;
 
 void expect_unit_square(const Pslg& p) {
   ASSERT_EQ(p.points.size(), 4u);
@@ -770,10 +772,10 @@ TEST(IoRegressionFiles, ByteOrderMarkIsSkipped) {
   // The files start with EF BB BF, as some editors save them; it was refused before the header.
   for (const char* name : {"bom_node.node", "bom_header_node.node"}) {
     SCOPED_TRACE(name);
-    ASSERT_EQ(read_text(regression_file(name)).substr(0, 3), "\xEF\xBB\xBF");
-    expect_unit_square(mwst::io::read_node(regression_file(name)));
+    ASSERT_EQ(read_text(regression_path(name)).substr(0, 3), "\xEF\xBB\xBF");
+    expect_unit_square(mwst::io::read_node(regression_path(name)));
   }
-  const Pslg poly = mwst::io::read_poly(regression_file("bom_poly.poly"));
+  const Pslg poly = mwst::io::read_poly(regression_path("bom_poly.poly"));
   expect_unit_square(poly);
   EXPECT_EQ(poly.segments.size(), 4u);
   EXPECT_EQ(poly.segment_lines, (std::vector<std::size_t>{8, 9, 10, 11}));
@@ -782,20 +784,20 @@ TEST(IoRegressionFiles, ByteOrderMarkIsSkipped) {
 TEST(IoRegressionFiles, LoneCrAndCrLfLineEndings) {
   // Lone-CR files read as one line before ("vertex count 4 is more than the rest of the file can
   // hold"); every line ending now ends a line, and errors name the right one.
-  const std::string cr_node = read_text(regression_file("cr_only_node.node"));
+  const std::string cr_node = read_text(regression_path("cr_only_node.node"));
   ASSERT_EQ(cr_node.find('\n'), std::string::npos);
-  expect_unit_square(mwst::io::read_node(regression_file("cr_only_node.node")));
+  expect_unit_square(mwst::io::read_node(regression_path("cr_only_node.node")));
   for (const char* name : {"cr_only_poly.poly", "crlf_poly.poly"}) {
     SCOPED_TRACE(name);
-    const Pslg p = mwst::io::read_poly(regression_file(name));
+    const Pslg p = mwst::io::read_poly(regression_path(name));
     expect_unit_square(p);
     EXPECT_EQ(p.segments.size(), 4u);
     EXPECT_EQ(p.segment_lines, (std::vector<std::size_t>{8, 9, 10, 11}));
   }
-  expect_error([] { mwst::io::read_node(regression_file("cr_only_error_line.node")); }, 6,
-               "vertex 3: missing y coordinate", regression_file("cr_only_error_line.node"));
-  expect_error([] { mwst::io::read_poly(regression_file("crlf_error_line.poly")); }, 10,
-               "segment 2 names vertex 5, which does not exist", regression_file("crlf_error_line.poly"));
+  expect_error([] { mwst::io::read_node(regression_path("cr_only_error_line.node")); }, 6,
+               "vertex 3: missing y coordinate", regression_path("cr_only_error_line.node"));
+  expect_error([] { mwst::io::read_poly(regression_path("crlf_error_line.poly")); }, 10,
+               "segment 2 names vertex 5, which does not exist", regression_path("crlf_error_line.poly"));
 }
 
 TEST(IoRegressionFiles, WordsAfterTheFieldsAreRefused) {
@@ -812,24 +814,24 @@ TEST(IoRegressionFiles, WordsAfterTheFieldsAreRefused) {
                         Case{"garbage_after_hole.poly", 13, "hole 1: unexpected 'here' after its fields"},
                         Case{"garbage_after_region.poly", 14, "region 1: unexpected 'big' after its fields"}}) {
     SCOPED_TRACE(c.name);
-    expect_error([&] { mwst::io::read_input(regression_file(c.name)); }, c.line, c.phrase, regression_file(c.name));
+    expect_error([&] { mwst::io::read_input(regression_path(c.name)); }, c.line, c.phrase, regression_path(c.name));
   }
-  const Pslg numbers = mwst::io::read_node(regression_file("numbers_after_vertex.node"));
+  const Pslg numbers = mwst::io::read_node(regression_path("numbers_after_vertex.node"));
   ASSERT_EQ(numbers.points.size(), 3u);
   EXPECT_EQ(numbers.points[2], (mwst::Point{0.0, 1.0}));
-  const std::string ele = regression_file("garbage_after_triangle.ele");
-  expect_error([] { mwst::io::read_mesh(regression_file("garbage_after_triangle")); }, 5,
+  const std::string ele = regression_path("garbage_after_triangle.ele");
+  expect_error([] { mwst::io::read_mesh(regression_path("garbage_after_triangle")); }, 5,
                "triangle 2: unexpected 'x' after its fields", ele);
 }
 
 TEST(IoRegressionFiles, MeshToRefineWithItsAreas) {
   // Triangle's -r input: a .node, a .ele naming its vertices, an .area with one bound per triangle.
-  Pslg square = mwst::io::read_node(regression_file("refine_square.node"));
-  mwst::io::read_triangles(square, regression_file("refine_square.ele"));
+  Pslg square = mwst::io::read_node(regression_path("refine_square.node"));
+  mwst::io::read_triangles(square, regression_path("refine_square.ele"));
   EXPECT_EQ(square.triangles, (std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3}));
-  mwst::io::read_triangle_areas(square, regression_file("refine_square.area"));
+  mwst::io::read_triangle_areas(square, regression_path("refine_square.area"));
   EXPECT_EQ(square.triangle_max_area, (std::vector<double>{0.1, -1.0}));
-  const std::string wrong_length = regression_file("refine_square_wrong_length.area");
+  const std::string wrong_length = regression_path("refine_square_wrong_length.area");
   expect_error([&] { mwst::io::read_triangle_areas(square, wrong_length); }, 2,
                "triangle count 3 differs from the mesh's 2 triangles", wrong_length);
   for (const auto& [name, line, phrase] :
@@ -838,13 +840,13 @@ TEST(IoRegressionFiles, MeshToRefineWithItsAreas) {
         std::tuple<const char*, std::size_t, const char*>{"refine_repeated_vertex.ele", 4,
                                                           "triangle 2 names vertex 3 twice"}}) {
     SCOPED_TRACE(name);
-    const std::string path = regression_file(name);
+    const std::string path = regression_path(name);
     expect_error([&] { mwst::io::read_triangles(square, path); }, line, phrase, path);
   }
 }
 
 TEST(IoRegressionFiles, MeshWithByteOrderMarkAndLoneCr) {
-  const mwst::io::MeshFiles m = mwst::io::read_mesh(regression_file("bom_cr_only_mesh"));
+  const mwst::io::MeshFiles m = mwst::io::read_mesh(regression_path("bom_cr_only_mesh"));
   ASSERT_EQ(m.points.size(), 4u);
   ASSERT_EQ(m.triangles.size(), 2u);
   EXPECT_EQ(m.triangles[1], (std::array<std::uint32_t, 3>{0, 2, 3}));
