@@ -321,10 +321,11 @@ TEST(IoNodeErrors, LinesAreCountedWhateverTheirEnding) {
   // A lone-CR file whose header promises more than it holds is reported as truncated where it
   // ends, not as a count the file cannot hold.
   node_error("3 2 0 0\r1 0 0\r2 1 0\r", 3, "expected 3 vertices, found 2");
-  // A lone CR last in the text ends the text too (found by fuzz_node: it was taken for a CR LF,
-  // and the scan went one byte past the end, so the rest of the file seemed endless).
-  node_error("2 2 0 0\r", 1, "vertex count 2 is more than the rest of the file can hold");
-  node_error("# c\r2 2 0 0 ve\r", 2, "vertex count 2 is more than the rest of the file can hold");
+  // A lone CR last in the text ends the text too (it was taken for a CR LF; two files).
+  for (const char* name : {"reader_lone_cr_last_taken_for_crlf.node", "reader_lone_cr_last_after_words.node"}) {
+    const std::string path = mwst::test::regression_path(name);
+    expect_error([&] { mwst::io::read_node(path); }, 7, "vertex count 2 is more than the rest of the file can hold", path);
+  }
 }
 
 TEST(IoNodeErrors, ByteOrderMarkOnlyAtTheStart) {
@@ -647,9 +648,9 @@ TEST(IoReadMesh, ValidatesIndices) {
 }
 
 // ---- hostile inputs ----------------------------------------------------------------------------
-// The fuzzers (fuzz/fuzz_node.cpp, fuzz/fuzz_poly.cpp) found no crash so far; these are the edge
-// cases met while writing and reviewing the reader (an endpoint of INT64_MIN once overflowed
-// `index - base`), kept here so that the sanitizer builds of the tests see them too.
+// The edge cases met while writing and reviewing the reader, kept here so that the sanitizer builds
+// of the tests see them too; the one that caught a bug (an endpoint of INT64_MIN overflowed
+// `index - base`) is tests/regression/reader_segment_endpoint_int64_min.poly, read below.
 
 // What reading a text gives: accepted with so many vertices and segments, or refused on a line
 // with a message containing a phrase.
@@ -684,8 +685,6 @@ TEST(IoFuzzRegressions, Inputs) {
     Outcome as_node, as_poly;
   };
   const std::vector<Case> cases = {
-      {"3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n1 0\n1 1 -9223372036854775808\n",
-       refused(5, "unexpected data after the last vertex"), refused(6, "names vertex -9223372036854775808")},
       {"1 2 0 0\n-9223372036854775808 0 0\n",
        refused(2, "the first vertex index must be 0 or 1, found -9223372036854775808"),
        refused(2, "the first vertex index must be 0 or 1, found -9223372036854775808")},
@@ -843,6 +842,13 @@ TEST(IoRegressionFiles, MeshToRefineWithItsAreas) {
     const std::string path = regression_path(name);
     expect_error([&] { mwst::io::read_triangles(square, path); }, line, phrase, path);
   }
+}
+
+// A segment endpoint of INT64_MIN overflowed `index - base` (read as a .node and as a .poly).
+TEST(IoRegressionFiles, SegmentEndpointOfInt64MinIsRefused) {
+  const std::string path = regression_path("reader_segment_endpoint_int64_min.poly");
+  expect_error([&] { mwst::io::read_node(path); }, 10, "unexpected data after the last vertex", path);
+  expect_error([&] { mwst::io::read_poly(path); }, 11, "names vertex -9223372036854775808", path);
 }
 
 TEST(IoRegressionFiles, MeshWithByteOrderMarkAndLoneCr) {
