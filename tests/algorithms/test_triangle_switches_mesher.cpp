@@ -24,6 +24,7 @@
 #include "mwst/algorithms/pipeline.hpp"
 #include "support/exact_checker.hpp"
 #include "support/generators.hpp"
+#include "support/regression_files.hpp"
 
 namespace {
 
@@ -456,7 +457,7 @@ TEST(ConformingDelaunay, DataSetsDtAndDr) {
 // the splitting.
 TEST(ConformingDelaunay, SmallInputAngles) {
   std::vector<Pslg> inputs;
-  inputs.push_back(io::read_input(std::string(MWST_TEST_DATA_DIR) + "/../regression/spike_1deg.poly"));
+  inputs.push_back(test::read_regression("spike_1deg.poly"));
   for (const double degrees : {1.0, 5.0}) {
     Pslg fan;
     fan.points.push_back({0, 0});

@@ -35,6 +35,7 @@
 #include "mwst/io/triangle_files.hpp"
 #include "mwst/algorithms/pipeline.hpp"
 #include "support/cli_sandbox.hpp"
+#include "support/regression_files.hpp"
 
 namespace {
 
@@ -504,7 +505,6 @@ TEST(Cli, MaxSteinerBoundsOpt) {
 
 // ---- limits that hold, stop reasons that are true (regression inputs in tests/regression/) --------
 
-std::string regression(const std::string& name) { return std::string(MWST_TEST_DATA_DIR) + "/../regression/" + name; }
 
 // The output files a triangulate run with prefix "u" and report "u.json" may write.
 bool wrote_nothing(const Sandbox& box) {
@@ -521,7 +521,7 @@ TEST(Cli, AreaBoundThatCannotFitIsRefusedUpFront) {
   Sandbox box;
   for (const std::string method : {"dr", "brh", "opt"}) {
     SCOPED_TRACE(method);
-    const Outcome r = box.run({"triangulate", regression("unit_square_area_runaway.poly"), "-o", "u", "--method",
+    const Outcome r = box.run({"triangulate", mwst::test::regression_path("unit_square_area_runaway.poly"), "-o", "u", "--method",
                                method, "--max-area", "1e-12", "--json", "u.json"});
     EXPECT_EQ(r.exit_code, 4) << describe(r);
     ASSERT_EQ(r.err_lines().size(), 1u) << describe(r);
@@ -531,7 +531,7 @@ TEST(Cli, AreaBoundThatCannotFitIsRefusedUpFront) {
     EXPECT_TRUE(wrote_nothing(box));
   }
   // With a budget that holds it, the same request at a larger area bound runs.
-  const Outcome ok = box.run({"triangulate", regression("unit_square_area_runaway.poly"), "-o", "u", "-q",
+  const Outcome ok = box.run({"triangulate", mwst::test::regression_path("unit_square_area_runaway.poly"), "-o", "u", "-q",
                               "--method", "dr", "--max-area", "1e-3", "--max-memory", "1G"});
   EXPECT_EQ(ok.exit_code, 0) << describe(ok);
 }
@@ -555,7 +555,7 @@ constexpr bool kAddressLimit = true;
 TEST(Cli, MaxMemoryStopsARunawayWithExitCode4AndNoFiles) {
   if (!kAddressLimit) GTEST_SKIP() << "sanitizer build: no address-space limit";
   Sandbox box;
-  const Outcome r = box.run({"triangulate", regression("unit_square_area_runaway.poly"), "-o", "u", "--method", "dr",
+  const Outcome r = box.run({"triangulate", mwst::test::regression_path("unit_square_area_runaway.poly"), "-o", "u", "--method", "dr",
                              "--max-area", "1e-5", "--max-memory", "40M", "--json", "u.json"});
   EXPECT_EQ(r.exit_code, 4) << describe(r);
   ASSERT_EQ(r.err_lines().size(), 1u) << describe(r);
@@ -585,7 +585,7 @@ TEST(Cli, StopReasonsAreTrue) {
   {  // A square of side 1e-50 and --max-area 1e-103: no Steiner point can be placed (the
      // coordinates fall below 1e-50); it said "2 triangles left near small input angles" of a
      // square whose angles are 45° and 90°.
-    const Outcome r = box.run({"triangulate", regression("tiny_square_area_underflow.poly"), "-o", "u", "--method",
+    const Outcome r = box.run({"triangulate", mwst::test::regression_path("tiny_square_area_underflow.poly"), "-o", "u", "--method",
                                "dr", "--max-area", "1e-103", "--json", "u.json"});
     ASSERT_EQ(r.exit_code, 0) << describe(r);
     const auto j = nlohmann::json::parse(box.get("u.json"));
@@ -594,7 +594,7 @@ TEST(Cli, StopReasonsAreTrue) {
     EXPECT_NE(r.err.find("mwst: warning: 2 triangles do not meet the bounds"), std::string::npos) << describe(r);
   }
   {  // opt with an area bound its steiner budget cannot reach: "steiner budget", not "local minimum".
-    const Outcome r = box.run({"triangulate", regression("unit_square_area_runaway.poly"), "-o", "u", "-q",
+    const Outcome r = box.run({"triangulate", mwst::test::regression_path("unit_square_area_runaway.poly"), "-o", "u", "-q",
                                "--method", "opt", "--max-area", "1e-2", "--max-steiner", "10", "--opt-trials", "0",
                                "--json", "u.json"});
     ASSERT_EQ(r.exit_code, 0) << describe(r);
@@ -605,7 +605,7 @@ TEST(Cli, StopReasonsAreTrue) {
   {  // dr --flip: the flips leave triangles below 20°; it said "bound reached". The number is the
      // files' count (smallest angle below 20° by atan2; none of them lies at an input angle
      // under 60°... or if one does, it is still below the bound after the flips).
-    const std::string input = regression("dr_flip_angles_below_bound.poly");
+    const std::string input = mwst::test::regression_path("dr_flip_angles_below_bound.poly");
     const Outcome r = box.run({"triangulate", input, "-o", "u", "-q", "--method", "dr", "--flip", "--json", "u.json"});
     ASSERT_EQ(r.exit_code, 0) << describe(r);
     const std::string stop = nlohmann::json::parse(box.get("u.json")).at("stop_reason").get<std::string>();
@@ -1182,7 +1182,7 @@ TEST(Cli, LibraryMessagesNameFieldsAndTheCliMapsThem) {
   options.max_area = 1e-12;
   options.memory_budget_bytes = 1e9;
   try {
-    (void)mwst::triangulate(mwst::io::read_input(regression("unit_square_area_runaway.poly")), options);
+    (void)mwst::triangulate(mwst::io::read_input(mwst::test::regression_path("unit_square_area_runaway.poly")), options);
     ADD_FAILURE() << "an area bound of 2e12 triangles was accepted";
   } catch (const mwst::ResourceError& e) {
     const std::string what = e.what();
@@ -1198,7 +1198,7 @@ TEST(Cli, LibraryMessagesNameFieldsAndTheCliMapsThem) {
   EXPECT_TRUE(mwst::method_reads_option(mwst::Method::kOpt, "opt_trials"));
   // The CLI: the refusal names the flags (exit 4, one line).
   Sandbox box;
-  const Outcome r = box.run({"triangulate", regression("unit_square_area_runaway.poly"), "-o", "u", "--method", "dr",
+  const Outcome r = box.run({"triangulate", mwst::test::regression_path("unit_square_area_runaway.poly"), "-o", "u", "--method", "dr",
                              "--max-area", "1e-12", "--max-memory", "1G"});
   EXPECT_EQ(r.exit_code, 4) << describe(r);
   EXPECT_EQ(r.err.rfind("mwst: --max-area 1e-12 on a domain of area 1 would make about 2e+12 triangles", 0), 0u)

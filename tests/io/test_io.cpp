@@ -24,6 +24,8 @@
 #include "mwst/error.hpp"
 #include "mwst/io/triangle_files.hpp"
 
+#include "support/regression_files.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -319,10 +321,11 @@ TEST(IoNodeErrors, LinesAreCountedWhateverTheirEnding) {
   // A lone-CR file whose header promises more than it holds is reported as truncated where it
   // ends, not as a count the file cannot hold.
   node_error("3 2 0 0\r1 0 0\r2 1 0\r", 3, "expected 3 vertices, found 2");
-  // A lone CR last in the text ends the text too (found by fuzz_node: it was taken for a CR LF,
-  // and the scan went one byte past the end, so the rest of the file seemed endless).
-  node_error("2 2 0 0\r", 1, "vertex count 2 is more than the rest of the file can hold");
-  node_error("# c\r2 2 0 0 ve\r", 2, "vertex count 2 is more than the rest of the file can hold");
+  // A lone CR last in the text ends the text too (it was taken for a CR LF; two files).
+  for (const char* name : {"reader_lone_cr_last_taken_for_crlf.node", "reader_lone_cr_last_after_words.node"}) {
+    const std::string path = mwst::test::regression_path(name);
+    expect_error([&] { mwst::io::read_node(path); }, 7, "vertex count 2 is more than the rest of the file can hold", path);
+  }
 }
 
 TEST(IoNodeErrors, ByteOrderMarkOnlyAtTheStart) {
@@ -645,9 +648,9 @@ TEST(IoReadMesh, ValidatesIndices) {
 }
 
 // ---- hostile inputs ----------------------------------------------------------------------------
-// The fuzzers (fuzz/fuzz_node.cpp, fuzz/fuzz_poly.cpp) found no crash so far; these are the edge
-// cases met while writing and reviewing the reader (an endpoint of INT64_MIN once overflowed
-// `index - base`), kept here so that the sanitizer builds of the tests see them too.
+// The edge cases met while writing and reviewing the reader, kept here so that the sanitizer builds
+// of the tests see them too; the one that caught a bug (an endpoint of INT64_MIN overflowed
+// `index - base`) is tests/regression/reader_segment_endpoint_int64_min.poly, read below.
 
 // What reading a text gives: accepted with so many vertices and segments, or refused on a line
 // with a message containing a phrase.
@@ -682,8 +685,6 @@ TEST(IoFuzzRegressions, Inputs) {
     Outcome as_node, as_poly;
   };
   const std::vector<Case> cases = {
-      {"3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n1 0\n1 1 -9223372036854775808\n",
-       refused(5, "unexpected data after the last vertex"), refused(6, "names vertex -9223372036854775808")},
       {"1 2 0 0\n-9223372036854775808 0 0\n",
        refused(2, "the first vertex index must be 0 or 1, found -9223372036854775808"),
        refused(2, "the first vertex index must be 0 or 1, found -9223372036854775808")},
@@ -757,7 +758,7 @@ TEST(IoData, EveryDataSetMatchesItsHeaderComment) {
 #ifdef MWST_REGRESSION_DIR
 // ---- reader corners kept as files (tests/regression/, each named after what it caught) ----------
 
-std::string regression_file(const std::string& name) { return std::string(MWST_REGRESSION_DIR) + "/" + name; }
+using mwst::test::regression_path;
 
 void expect_unit_square(const Pslg& p) {
   ASSERT_EQ(p.points.size(), 4u);
@@ -770,10 +771,10 @@ TEST(IoRegressionFiles, ByteOrderMarkIsSkipped) {
   // The files start with EF BB BF, as some editors save them; it was refused before the header.
   for (const char* name : {"bom_node.node", "bom_header_node.node"}) {
     SCOPED_TRACE(name);
-    ASSERT_EQ(read_text(regression_file(name)).substr(0, 3), "\xEF\xBB\xBF");
-    expect_unit_square(mwst::io::read_node(regression_file(name)));
+    ASSERT_EQ(read_text(regression_path(name)).substr(0, 3), "\xEF\xBB\xBF");
+    expect_unit_square(mwst::io::read_node(regression_path(name)));
   }
-  const Pslg poly = mwst::io::read_poly(regression_file("bom_poly.poly"));
+  const Pslg poly = mwst::io::read_poly(regression_path("bom_poly.poly"));
   expect_unit_square(poly);
   EXPECT_EQ(poly.segments.size(), 4u);
   EXPECT_EQ(poly.segment_lines, (std::vector<std::size_t>{8, 9, 10, 11}));
@@ -782,20 +783,20 @@ TEST(IoRegressionFiles, ByteOrderMarkIsSkipped) {
 TEST(IoRegressionFiles, LoneCrAndCrLfLineEndings) {
   // Lone-CR files read as one line before ("vertex count 4 is more than the rest of the file can
   // hold"); every line ending now ends a line, and errors name the right one.
-  const std::string cr_node = read_text(regression_file("cr_only_node.node"));
+  const std::string cr_node = read_text(regression_path("cr_only_node.node"));
   ASSERT_EQ(cr_node.find('\n'), std::string::npos);
-  expect_unit_square(mwst::io::read_node(regression_file("cr_only_node.node")));
+  expect_unit_square(mwst::io::read_node(regression_path("cr_only_node.node")));
   for (const char* name : {"cr_only_poly.poly", "crlf_poly.poly"}) {
     SCOPED_TRACE(name);
-    const Pslg p = mwst::io::read_poly(regression_file(name));
+    const Pslg p = mwst::io::read_poly(regression_path(name));
     expect_unit_square(p);
     EXPECT_EQ(p.segments.size(), 4u);
     EXPECT_EQ(p.segment_lines, (std::vector<std::size_t>{8, 9, 10, 11}));
   }
-  expect_error([] { mwst::io::read_node(regression_file("cr_only_error_line.node")); }, 6,
-               "vertex 3: missing y coordinate", regression_file("cr_only_error_line.node"));
-  expect_error([] { mwst::io::read_poly(regression_file("crlf_error_line.poly")); }, 10,
-               "segment 2 names vertex 5, which does not exist", regression_file("crlf_error_line.poly"));
+  expect_error([] { mwst::io::read_node(regression_path("cr_only_error_line.node")); }, 6,
+               "vertex 3: missing y coordinate", regression_path("cr_only_error_line.node"));
+  expect_error([] { mwst::io::read_poly(regression_path("crlf_error_line.poly")); }, 10,
+               "segment 2 names vertex 5, which does not exist", regression_path("crlf_error_line.poly"));
 }
 
 TEST(IoRegressionFiles, WordsAfterTheFieldsAreRefused) {
@@ -812,24 +813,24 @@ TEST(IoRegressionFiles, WordsAfterTheFieldsAreRefused) {
                         Case{"garbage_after_hole.poly", 13, "hole 1: unexpected 'here' after its fields"},
                         Case{"garbage_after_region.poly", 14, "region 1: unexpected 'big' after its fields"}}) {
     SCOPED_TRACE(c.name);
-    expect_error([&] { mwst::io::read_input(regression_file(c.name)); }, c.line, c.phrase, regression_file(c.name));
+    expect_error([&] { mwst::io::read_input(regression_path(c.name)); }, c.line, c.phrase, regression_path(c.name));
   }
-  const Pslg numbers = mwst::io::read_node(regression_file("numbers_after_vertex.node"));
+  const Pslg numbers = mwst::io::read_node(regression_path("numbers_after_vertex.node"));
   ASSERT_EQ(numbers.points.size(), 3u);
   EXPECT_EQ(numbers.points[2], (mwst::Point{0.0, 1.0}));
-  const std::string ele = regression_file("garbage_after_triangle.ele");
-  expect_error([] { mwst::io::read_mesh(regression_file("garbage_after_triangle")); }, 5,
+  const std::string ele = regression_path("garbage_after_triangle.ele");
+  expect_error([] { mwst::io::read_mesh(regression_path("garbage_after_triangle")); }, 5,
                "triangle 2: unexpected 'x' after its fields", ele);
 }
 
 TEST(IoRegressionFiles, MeshToRefineWithItsAreas) {
   // Triangle's -r input: a .node, a .ele naming its vertices, an .area with one bound per triangle.
-  Pslg square = mwst::io::read_node(regression_file("refine_square.node"));
-  mwst::io::read_triangles(square, regression_file("refine_square.ele"));
+  Pslg square = mwst::io::read_node(regression_path("refine_square.node"));
+  mwst::io::read_triangles(square, regression_path("refine_square.ele"));
   EXPECT_EQ(square.triangles, (std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3}));
-  mwst::io::read_triangle_areas(square, regression_file("refine_square.area"));
+  mwst::io::read_triangle_areas(square, regression_path("refine_square.area"));
   EXPECT_EQ(square.triangle_max_area, (std::vector<double>{0.1, -1.0}));
-  const std::string wrong_length = regression_file("refine_square_wrong_length.area");
+  const std::string wrong_length = regression_path("refine_square_wrong_length.area");
   expect_error([&] { mwst::io::read_triangle_areas(square, wrong_length); }, 2,
                "triangle count 3 differs from the mesh's 2 triangles", wrong_length);
   for (const auto& [name, line, phrase] :
@@ -838,13 +839,20 @@ TEST(IoRegressionFiles, MeshToRefineWithItsAreas) {
         std::tuple<const char*, std::size_t, const char*>{"refine_repeated_vertex.ele", 4,
                                                           "triangle 2 names vertex 3 twice"}}) {
     SCOPED_TRACE(name);
-    const std::string path = regression_file(name);
+    const std::string path = regression_path(name);
     expect_error([&] { mwst::io::read_triangles(square, path); }, line, phrase, path);
   }
 }
 
+// A segment endpoint of INT64_MIN overflowed `index - base` (read as a .node and as a .poly).
+TEST(IoRegressionFiles, SegmentEndpointOfInt64MinIsRefused) {
+  const std::string path = regression_path("reader_segment_endpoint_int64_min.poly");
+  expect_error([&] { mwst::io::read_node(path); }, 10, "unexpected data after the last vertex", path);
+  expect_error([&] { mwst::io::read_poly(path); }, 11, "names vertex -9223372036854775808", path);
+}
+
 TEST(IoRegressionFiles, MeshWithByteOrderMarkAndLoneCr) {
-  const mwst::io::MeshFiles m = mwst::io::read_mesh(regression_file("bom_cr_only_mesh"));
+  const mwst::io::MeshFiles m = mwst::io::read_mesh(regression_path("bom_cr_only_mesh"));
   ASSERT_EQ(m.points.size(), 4u);
   ASSERT_EQ(m.triangles.size(), 2u);
   EXPECT_EQ(m.triangles[1], (std::array<std::uint32_t, 3>{0, 2, 3}));

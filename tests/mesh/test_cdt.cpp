@@ -34,11 +34,14 @@
 #include "mwst/mesh/mesh.hpp"
 #include "support/exact_checker.hpp"
 #include "support/generators.hpp"
+#include "support/regression_files.hpp"
 
 namespace mwst {
 namespace {
 
 namespace fs = std::filesystem;
+using test::read_regression;
+using test::regression_path;
 using test::Tri;
 
 std::string joined(const std::vector<std::string>& lines) {
@@ -304,25 +307,12 @@ TEST(Cdt, ManySegmentsThroughOnePoint) {
   EXPECT_EQ(test::subsegments(c.mesh).size(), 8u);
 }
 
-// Long segments crossing at tiny angles at large coordinates (found by fuzz_triangulate, reduced to
-// 7 points): three segments about 6e9 long between clusters near (2^32, 2^32) and (2^33, 2^33),
-// one of them given five times, cross at angles near 1e-9, where a rounded crossing point is off
-// by hundreds of units along the segments. Resolving a crossing at an existing vertex only when
-// the point lay within a few hundred ulps of it, the insertion made 2183 crossing points for these
-// 4 distinct segments, each new one crossing a chain it had just passed (and a 96-segment input of
-// the same kind passed a million crossings and was refused). A crossing whose subsegment ends
-// within rounding of the other piece's line is resolved at that end: at most one point per pair
-// of distinct segments. (The crossing points on the short segment are off it by rounding at 8.6e9,
-// far beyond check_cdt's tolerance relative to its length of 28: the production checker, whose
-// tolerance is relative to the coordinates, judges them; before, `mwst triangulate --convex-hull`
-// wrote a mesh in which `mwst check` found 483 subsegments on no input segment.)
+// Long segments crossing at tiny angles at large coordinates made 2183 crossing points for 4
+// distinct segments; now at most one per pair. (The crossing points on the short segment are off
+// it by rounding at 8.6e9, far beyond check_cdt's tolerance relative to its length of 28: the
+// production checker, whose tolerance is relative to the coordinates, judges them.)
 TEST(Cdt, LongSegmentsCrossingAtTinyAnglesMakeFewPoints) {
-  Pslg g;
-  g.is_poly = true;
-  g.points = {{8590196736.0, 8590196736.0},   {8590196736.25, 8590196764.5}, {8590196763.75, 8590196764.5},
-              {8590196744.0, 8590196749.5},   {4295229467.75, 4295229468.5}, {4295229453.25, 4295229454.25},
-              {4295229451.5, 4295229453.0}};
-  g.segments = {{1, 0, 1}, {3, 4, 1}, {5, 2, 1}, {2, 6, 1}, {5, 2, 1}, {5, 2, 1}, {5, 2, 1}, {5, 2, 1}};
+  const Pslg g = read_regression("cdt_tiny_angle_crossings_breed_points.poly");
   for (const bool convex_hull : {true, false}) {
     SCOPED_TRACE(convex_hull ? "convex hull" : "carved");
     const Cdt c = run(g, {.strict = false, .convex_hull = convex_hull});
@@ -665,19 +655,13 @@ TEST(Cdt, RandomSmallIntegerGraphsWithCrossings) {
 // ---- regressions ------------------------------------------------------------------------------------
 
 TEST(CdtRegression, SegmentPassingAroundAVertexWhoseWholeStarItCrosses) {
-  // The segment (5,18)–(20,0) crosses all three triangles around (13,10) without passing through
-  // it: the cavity's upper chain visits (17,20) twice ((17,20), (13,10), (17,20)), so the edge
-  // (17,20)–(13,10) has both its triangles in the cavity. Before the fix its two sides were linked
-  // as if they were outside the cavity: a corrupt mesh (or "unmatched cavity edge") was returned.
-  Pslg g;
-  g.is_poly = true;
-  g.points = {{5, 18}, {20, 0}, {5, 8}, {17, 20}, {6, 16}, {14, 7}, {13, 10}};
-  g.segments = {{0, 1, 1}};
+  // A segment's cavity whose upper chain visits a vertex twice, so one edge has both its triangles
+  // in the cavity; its sides were linked as if outside it (a corrupt mesh).
+  const Pslg g = read_regression("cdt_segment_around_vertex_crossing_its_star.poly");
   const Cdt c = run(g, {.strict = true, .convex_hull = true});
   check_cdt(g, c.mesh, 0.0);
-  // The same configuration as a hole boundary inside a square, with a segment on the dangling edge.
-  Pslg h = g;
-  h.segments.push_back({3, 6, 2});
+  // The same, with a segment on the dangling edge.
+  const Pslg h = read_regression("cdt_segment_around_vertex_crossing_its_star_dangling.poly");
   const Cdt d = run(h, {.strict = true, .convex_hull = true});
   check_cdt(h, d.mesh, 0.0);
 }
@@ -687,29 +671,20 @@ TEST(CdtRegression, SegmentPassingAroundAVertexWhoseWholeStarItCrosses) {
 // Lawson pass.
 
 TEST(CdtCrossingRegression, CrossingResolutionLeavesAnEdgeNotLocallyDelaunay) {
-  // Three mutually crossing segments on integer points; the second crossing point is rounded off
-  // the subsegment it splits, the old subsegment is un-marked, and the edge 7–1 (Steiner 7) is left
-  // not locally Delaunay.
-  Pslg g;
-  g.is_poly = true;
-  g.points = {{4, 4}, {1, 0}, {2, 9}, {8, 3}, {0, 1}, {8, 7}, {8, 10}};
-  g.segments = {{2, 3, 1}, {5, 4, 2}, {1, 6, 3}};
+  // Three mutually crossing segments: a crossing point rounded off the subsegment it splits left an
+  // edge not locally Delaunay.
+  const Pslg g = read_regression("cdt_crossing_leaves_edge_not_delaunay.poly");
   const Cdt c = run(g, {.strict = false, .convex_hull = true});
   check_cdt(g, c.mesh, 1e-12);
   EXPECT_EQ(c.stats.crossings, 3u);
 }
 
-// Segment (10,0)–(6,7) given twice (once reversed) crosses (10,2)–(5,5). The rounded crossing
-// points of the two copies differ by an ulp, and each new piece crosses the other copy's chain
-// again: Steiner points creep up one ulp at a time (8.2608695652173907, 3.04347826086956xx) until
-// the crossing budget (about 2^20) is exhausted — in practice a hang. Runs in a child process with
-// a 10-second alarm so that the suite cannot hang; exits 0 when the result is right.
+// A segment given twice crossing another: Steiner points crept up one ulp at a time, in practice
+// a hang. Runs in a child process with a 10-second alarm so that the suite cannot hang; exits 0
+// when the result is right.
 [[noreturn]] void triangulate_repeated_crossed_segment() {
   alarm(10);
-  Pslg g;
-  g.is_poly = true;
-  g.points = {{6, 7}, {10, 2}, {10, 0}, {5, 5}};
-  g.segments = {{1, 3, 1}, {2, 0, 2}, {0, 2, 3}};
+  const Pslg g = read_regression("cdt_repeated_segment_crossing_another.poly");
   ConstrainStats stats;
   const Mesh m = constrained_delaunay(g, {.strict = false, .convex_hull = true}, &stats);
   std::exit(validate(m, {.delaunay = true}).empty() && stats.crossings <= 2 ? 0 : 1);
@@ -789,7 +764,7 @@ TEST(CdtCrossing, CrossingVertexIsTheExactIntersectionRounded) {
 // of the segments' length off both; no double in the range is within rounding of the crossing, so
 // the input is refused, naming the segment and the point.
 TEST(CdtCrossingRegression, CrossingBelowTheCoordinateRangeIsRefusedNotSnapped) {
-  const std::string path = std::string(MWST_TEST_DATA_DIR) + "/../regression/crossing_snapped_far_off_segment.poly";
+  const std::string path = regression_path("crossing_snapped_far_off_segment.poly");
   const Pslg g = io::read_input(path);
   try {
     constrained_delaunay(g, {});

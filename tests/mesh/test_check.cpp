@@ -15,6 +15,7 @@
 #include "mwst/error.hpp"
 #include "mwst/io/triangle_files.hpp"
 #include "support/exact_checker.hpp"
+#include "support/regression_files.hpp"
 
 namespace mwst {
 namespace {
@@ -82,7 +83,7 @@ TEST(Check, PlantedSteinerPointOffItsSegmentIsRefused) {
 // The checker refuses it: the input itself is refused now (its crossing has no representable
 // rounding), and the segments are no chains within rounding.
 TEST(Check, SnappedCrossingOfTheRegressionInputIsRefused) {
-  const std::string path = std::string(MWST_TEST_DATA_DIR) + "/../regression/crossing_snapped_far_off_segment.poly";
+  const std::string path = test::regression_path("crossing_snapped_far_off_segment.poly");
   const Pslg g = io::read_input(path);
   std::vector<Point> points = g.points;
   points.push_back({0, -1.0365853658536586e-50});

@@ -22,6 +22,7 @@
 #include "algorithms/optimize/testing.hpp"
 
 #include "support/exact_checker.hpp"
+#include "support/regression_files.hpp"
 
 namespace mwst {
 namespace {
@@ -518,7 +519,7 @@ namespace {
 // independently: the input's closest pair of points bounds that edge from below, and every edge
 // and every vertex-to-subsegment distance of the result is measured directly.
 TEST(OptimizeRegression, NearCollinearChainKeepsSteinerPointsSeparated) {
-  const std::string path = std::string(MWST_TEST_DATA_DIR) + "/../regression/opt_nearcollinear_chain.poly";
+  const std::string path = test::regression_path("opt_nearcollinear_chain.poly");
   const Pslg g = io::read_input(path);
   TriangulateOptions o;
   o.method = Method::kOpt;

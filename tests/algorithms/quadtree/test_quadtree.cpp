@@ -37,6 +37,7 @@
 #include "algorithms/quadtree/testing.hpp"
 #include "support/exact_checker.hpp"
 #include "support/generators.hpp"
+#include "support/regression_files.hpp"
 
 namespace mwst {
 namespace {
@@ -778,24 +779,16 @@ TEST(Quadtree, CollapsedCellsFallBackToAMeshOfTheHull) {
   check_output(far, r, /*expect_no_fallback=*/false);
 }
 
-// The convex hull of three points, two of them some 50 ulps apart, is a sliver thinner than the
-// rounding of the crossings and snapped corners QTR puts on its long sides: they would move the
-// boundary by 1-9 % of the domain's area, and the independent check could not tell which side of
-// a side such a point is on. QTR falls back to the Delaunay triangulation of the input alone.
-// (Found by fuzz_triangulate's record that places a point a few ulps from an earlier one.)
+// A hull sliver thinner than the rounding of QTR's points on its sides falls back to the Delaunay
+// triangulation of the input alone (two cases).
 TEST(Quadtree, SliversThinnerThanRoundingFallBackToTheInputAlone) {
-  // (83 and 7 ulps from (12.5, 12.5); 103 and 27 ulps from (-26.5, -27.25).)
-  const std::array<std::array<Point, 2>, 2> slivers = {
-      {{{{12.5, 12.5}, {12.500000000000147, 12.500000000000012}}},
-       {{{-26.5, -27.25}, {-26.500000000000366, -27.250000000000096}}}}};
-  for (std::size_t k = 0; k < slivers.size(); ++k) {
+  for (const char* file : {"qtr_sliver_thinner_than_rounding_a.node", "qtr_sliver_thinner_than_rounding_b.node"}) {
+    const Pslg g = test::read_regression(file);
     for (const bool hull : {false, true}) {
-      Pslg g;
-      g.points = {slivers[k][0], slivers[k][1], {0.0, 0.0}};
       QuadtreeOptions options;
       options.convex_hull = hull;
       const Result r = run(g, options);
-      SCOPED_TRACE("sliver " + std::to_string(k) + (hull ? ", --convex-hull" : ""));
+      SCOPED_TRACE(std::string(file) + (hull ? ", --convex-hull" : ""));
       EXPECT_TRUE(r.stats.fallback);
       EXPECT_EQ(r.stats.fallback_reason,
                 "the domain is a sliver thinner than the rounding of points on its segments");
@@ -805,14 +798,10 @@ TEST(Quadtree, SliversThinnerThanRoundingFallBackToTheInputAlone) {
   }
 }
 
-// Found by fuzz_triangulate: two clusters of three points 3.4e15 apart, each a few units wide. The
-// two long hull edges run 10–30 apart over their whole length, and BEG's tree must separate them
-// all along: about 1e14 leaves. The route hung (over a minute before the fuzzer gave up, and then
-// out of memory); now it stops at the leaf limit (1024 per feature, at least 2^20) and falls back.
+// A strip 3.4e15 long and 10-30 wide needs about 1e14 leaves: the route stops at the leaf limit
+// and falls back (it hung).
 TEST(Quadtree, AStripTooLongForItsWidthFallsBackAtTheLeafLimit) {
-  Pslg g;
-  g.points = {{-2392537302040607.5, -2392537302040607.5}, {-2392537302040607.5, -2392537302040575.0},
-              {-2392537302040580.0, -2392537302040580.0}, {2.25, 15.75}, {0.0, 1.25}, {0.0, 0.0}};
+  const Pslg g = test::read_regression("qtr_strip_too_long_for_its_width.node");
   const Result r = run(g, {});
   EXPECT_TRUE(r.stats.fallback);
   EXPECT_EQ(r.stats.fallback_reason,
@@ -844,21 +833,10 @@ TEST(Quadtree, MaxLeavesIsTheMostLeavesTheTreeMayHave) {
   check_output(g, fewer, /*expect_no_fallback=*/false);
 }
 
-// Found by fuzz_triangulate, reduced to 9 points and 6 crossing segments, two of the points 1e-13
-// apart: the route fails (two vertices at the same place on a segment) and falls back with the
-// tree's free corners. The fallback took those corners as input points of a new CDT, whose
-// rounded crossings then differed from the input's: the mesh covered 17.0 where the domain is
-// 15.04 (edges on the domain boundary with triangles on both sides). Now the corners are inserted
-// into the input's own carved CDT, strictly inside its triangles.
+// The fallback's free corners go into the input's own carved CDT, not a new CDT whose rounded
+// crossings differ from the input's (the mesh covered more than the domain).
 TEST(Quadtree, FallbackCornersKeepTheInputsDomain) {
-  Pslg g;
-  g.is_poly = true;
-  g.points = {{-26.5625, -27.3125}, {-26.562500000000366, -27.312499999999602}, {11.4375, 12.6875},
-              {13.1875, 13.4375}, {12.4375, 13.4375}, {13.6875, 13.6875}, {12.1875, 7.9375},
-              {13.4375, 12.9375}, {12.9375, 7.9375}};
-  g.point_markers.assign(g.points.size(), 0);
-  g.segments = {{1, 3, 0}, {1, 4, 0}, {2, 5, 0}, {8, 4, 0}, {5, 6, 0}, {6, 7, 0}};
-  g.holes = {{13.0625, 12.0625}};
+  const Pslg g = test::read_regression("qtr_fallback_corners_left_the_domain.poly");
   const Result r = run(g, {});
   ASSERT_TRUE(r.stats.fallback);
   const Mesh cdt = constrained_delaunay(g, ConstrainOptions{});
@@ -1008,7 +986,7 @@ TEST(Quadtree, FeaturesBelowTheDeepestLevelFallBackToAValidMesh) {
 // bounding box of (±1e50, ±1e50)) has corners beyond 1e50. They are not in the domain, and are no
 // longer written; the mesh reads back and passes the checker.
 TEST(QuadtreeRegression, UnusedCornersBeyondTheRangeAreNotWritten) {
-  const std::string path = std::string(MWST_TEST_DATA_DIR) + "/../regression/qtr_unused_corner_beyond_range_big1e50.node";
+  const std::string path = test::regression_path("qtr_unused_corner_beyond_range_big1e50.node");
   const Pslg g = io::read_input(path);
   const Result r = run(g);
   check_output(g, r);
@@ -1022,7 +1000,7 @@ TEST(QuadtreeRegression, UnusedCornersBeyondTheRangeAreNotWritten) {
 // The quadtree's grid there is finer than the range (a corner at x = 1.34e-51 was written); the
 // input falls back to its constrained Delaunay triangulation, which stays in the range.
 TEST(QuadtreeRegression, CornersBelowTheRangeFallBackInsteadOfBeingWritten) {
-  const std::string path = std::string(MWST_TEST_DATA_DIR) + "/../regression/qtr_corner_below_range_tiny_square.poly";
+  const std::string path = test::regression_path("qtr_corner_below_range_tiny_square.poly");
   const Pslg g = io::read_input(path);
   const Result r = run(g);
   check_output(g, r, /*expect_no_fallback=*/false);
@@ -1050,7 +1028,7 @@ TEST(QuadtreeRegression, CornersBelowTheRangeFallBackInsteadOfBeingWritten) {
 // crossing rounded (exact_crossing, as the CDT places crossings) lies outside the range: qtr falls
 // back to the CDT, which reads back and passes the checker.
 TEST(QuadtreeRegression, CrossingsBelowTheRangeFallBackInsteadOfBeingSnapped) {
-  const Pslg g = io::read_input(std::string(MWST_REGRESSION_DIR) + "/qtr_crossing_below_range.poly");
+  const Pslg g = test::read_regression("qtr_crossing_below_range.poly");
   const Result r = run(g);
   check_output(g, r, /*expect_no_fallback=*/false);
   EXPECT_TRUE(r.stats.fallback);

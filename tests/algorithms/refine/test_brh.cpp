@@ -15,6 +15,7 @@
 #include "mwst/algorithms/metrics.hpp"
 #include "mwst/algorithms/pipeline.hpp"
 #include "support/mesh_queries.hpp"
+#include "support/regression_files.hpp"
 
 namespace mwst {
 namespace {
@@ -177,7 +178,7 @@ TEST(Brh, LargeKLeavesTheDelaunayTriangulation) {
 // reason, long before a Steiner budget far below the runaway's size, with a valid mesh and skinny
 // triangles still in K-bundles (it stopped, not finished).
 TEST(BrhTermination, GuardStopsASpikeOfOneDegreeAtHighAngles) {
-  const Pslg g = io::read_input(std::string(MWST_REGRESSION_DIR) + "/spike_1deg.poly");
+  const Pslg g = test::read_regression("spike_1deg.poly");
   for (const double angle : {38.0, 50.0}) {
     for (const std::size_t k : {std::size_t{3}, std::size_t{4}}) {
       SCOPED_TRACE("A=" + std::to_string(angle) + " K=" + std::to_string(k));

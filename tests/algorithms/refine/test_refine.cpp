@@ -24,6 +24,7 @@
 #include "mwst/algorithms/refine.hpp"
 #include "support/exact_checker.hpp"
 #include "support/generators.hpp"
+#include "support/regression_files.hpp"
 
 namespace {
 
@@ -291,14 +292,10 @@ TEST(Refine, SteinerBudgetStops) {
   EXPECT_EQ(r.stats.steiner_inserted + r.stats.segment_splits, 25u);
 }
 
-// Found by fuzz_triangulate (ASan's allocation limit): with --max-area the triangle arrays are
-// reserved for the expected final size, 1.7 × area / max_area, regardless of --max-steiner: on a
-// domain of area 5.6e14 with max_area 2 and a budget of 32 Steiner points that was 4e8 triangles
-// (9.8 GB; at 1e10 triangles a failed allocation). Now the budget bounds the reservation.
+// An area bound on a huge domain reserved triangle arrays for 4e8 triangles despite a budget of
+// 32 Steiner points; the budget bounds the reservation.
 TEST(Refine, AreaBoundReservesNoMoreThanTheSteinerBudgetAllows) {
-  Pslg g;
-  g.points = {{0.0, 0.0}, {29.0, 0.0}, {33554457.25, 33554458.25}, {33554432.0, 33554460.75}};
-  g.point_markers.assign(g.points.size(), 0);
+  const Pslg g = test::read_regression("dr_area_bound_reserved_beyond_steiner_budget.node");
   RefineOptions o;
   o.min_angle_deg = 30.0;
   o.max_area = 2.0;
@@ -434,9 +431,6 @@ TEST(RefineTermination, ThinSliverPolygon) {
 // Above about 34° refinement need not terminate (issue 36: a polygon with a 1° spike at 38° grew to
 // 10 GB, a unit square at 50° to 5.2 GB in 30 s). The termination guard stops it with its own stop
 // reason, long before a Steiner budget far below those sizes, with a valid mesh (refine_and_check).
-std::string regression_file(const std::string& name) {
-  return std::string(MWST_TEST_DATA_DIR) + "/../regression/" + name;
-}
 
 void check_guard_stops(const Pslg& g, double bound) {
   for (SteinerRule rule : {SteinerRule::kOffCenter, SteinerRule::kCircumcenter}) {
@@ -457,13 +451,13 @@ void check_guard_stops(const Pslg& g, double bound) {
 }
 
 TEST(RefineTermination, GuardStopsASpikeOfOneDegreeAt38Degrees) {
-  const Pslg g = io::read_input(regression_file("spike_1deg.poly"));
+  const Pslg g = test::read_regression("spike_1deg.poly");
   check_guard_stops(g, 38.0);
   check_guard_stops(g, 59.0);
 }
 
 TEST(RefineTermination, GuardStopsAUnitSquareAt50Degrees) {
-  const Pslg g = io::read_input(regression_file("unit_square.poly"));
+  const Pslg g = test::read_regression("unit_square.poly");
   check_guard_stops(g, 50.0);
 }
 
@@ -471,7 +465,7 @@ TEST(RefineTermination, GuardStopsAUnitSquareAt50Degrees) {
 // feature: refining the unit square to triangles of area 1e-4 (edges of 0.01, a hundredth of its
 // smallest feature) at 33° reaches the bound.
 TEST(RefineTermination, GuardLeavesAreaRefinementAlone) {
-  const Pslg g = io::read_input(regression_file("unit_square.poly"));
+  const Pslg g = test::read_regression("unit_square.poly");
   RefineOptions o;
   o.min_angle_deg = 33.0;
   o.max_area = 1e-4;

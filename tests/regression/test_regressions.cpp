@@ -1,0 +1,228 @@
+// tests/regression/test_regressions.cpp — inputs found by fuzz/fuzz_triangulate.cpp (libFuzzer over
+// the whole pipeline of mwst/algorithms/pipeline.hpp: DT, DR, BRH, QTR and OPT of Boyacı, Erten,
+// Üngör, "Triangulations Loosing Bundles and Weight", and the weight-reducing flips), each kept as a
+// regression test. Every input is a file beside this one, named after what it caught; its header
+// comment says which run found it, what went wrong and where it was fixed (README.md here). Every
+// case runs triangulate() the way the harness does and demands what the harness demands: an
+// InputError, or a mesh that passes validate() (mwst/mesh/mesh.hpp) and the independent checker
+// check_triangulation() (mwst/mesh/check.hpp) on the triangles and subsegments write_mesh() would
+// write.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "mwst/mesh/check.hpp"
+#include "mwst/mesh/delaunay.hpp"
+#include "mwst/error.hpp"
+#include "mwst/io/triangle_files.hpp"
+#include "mwst/mesh/mesh.hpp"
+#include "mwst/algorithms/pipeline.hpp"
+#include "mwst/mesh/pslg.hpp"
+
+#include "support/exact_checker.hpp"
+#include "support/regression_files.hpp"
+
+namespace {
+
+using namespace mwst;
+using mwst::test::check_mesh;
+using mwst::test::read_regression;
+
+// The mesh passes validate() and the independent checker.
+void expect_checked(const Pslg& pslg, const Mesh& mesh) {
+  const std::vector<std::string> problems = validate(mesh);
+  EXPECT_TRUE(problems.empty()) << problems.front();
+  const CheckResult check = check_mesh(pslg, mesh);
+  EXPECT_TRUE(check.ok()) << (check.messages.empty() ? "" : check.messages.front());
+}
+
+// Runs the method; an InputError is an answer, anything else must give a checked mesh.
+void expect_valid_or_input_error(const Pslg& pslg, const TriangulateOptions& options) {
+  Mesh mesh;
+  try {
+    triangulate(pslg, options, &mesh);
+  } catch (const InputError&) {
+    return;
+  }
+  expect_checked(pslg, mesh);
+}
+
+// EFH flipped QTR's split boundary segment into a sliver with two subsegment sides (Texas.poly cut).
+TEST(FuzzRegressions, QtrConvexHullFlipKeepsSegmentsStraight) {
+  const Pslg texas = read_regression("qtr_hull_flip_sliver_along_segment.poly");
+  TriangulateOptions options;
+  options.method = Method::kQtr;
+  options.convex_hull = true;
+  options.flip = true;
+  expect_valid_or_input_error(texas, options);
+}
+
+// OPT's kick insertion read vertices across a reallocation (ASan; Kuzmin2K.poly cut).
+TEST(FuzzRegressions, OptKickInsertionSurvivesVertexReallocation) {
+  const Pslg kuzmin = read_regression("opt_kick_insert_use_after_free.poly");
+  TriangulateOptions options;
+  options.method = Method::kOpt;
+  options.flip = true;
+  options.strict = true;
+  options.min_angle_deg = 5.0;
+  options.max_area = 7.0;
+  options.max_steiner = 23;
+  // The fault was in the kicks, which run before the iterated local search: a few trials keep the
+  // search exercised at a fraction of its default cost (which is large under the sanitizers).
+  options.opt_trials = 20;
+  expect_valid_or_input_error(kuzmin, options);
+}
+
+// OPT's polygon MWT cut an ear along a hull segment at its Steiner point (Florida.poly cut).
+TEST(FuzzRegressions, OptConvexHullKeepsSegmentsStraight) {
+  const Pslg florida = read_regression("opt_hull_mwt_ear_along_segment.poly");
+  TriangulateOptions options;
+  options.method = Method::kOpt;
+  options.convex_hull = true;
+  expect_valid_or_input_error(florida, options);
+}
+
+// DR split the long sides of a hull sliver thinner than rounding, off their lines (two cases).
+TEST(FuzzRegressions, DrDoesNotSplitTheSidesOfASliverThinnerThanRounding) {
+  struct Case {
+    const char* file;
+    double min_angle, max_area;
+    bool flip;
+  };
+  for (const Case& c : {Case{"dr_sliver_thinner_than_rounding_flip.node", 0.0, 5.0, true},
+                        Case{"dr_sliver_thinner_than_rounding_20deg.node", 20.0, 0.0, false}}) {
+    const Pslg pslg = read_regression(c.file);
+    TriangulateOptions options;
+    options.method = Method::kDr;
+    options.convex_hull = true;
+    options.min_angle_deg = c.min_angle;
+    options.max_area = c.max_area;
+    options.flip = c.flip;
+    options.max_steiner = 32;
+    SCOPED_TRACE(c.file);
+    expect_valid_or_input_error(pslg, options);
+  }
+}
+
+// The checker walked from one long side of a wedge 5.6e14 long onto the other (QTR's mesh was right).
+TEST(FuzzRegressions, CheckerTellsApartTheSidesOfAWedgeThinnerThanItsTolerance) {
+  const Pslg pslg = read_regression("check_wedge_thinner_than_tolerance.node");
+  TriangulateOptions options;
+  options.method = Method::kQtr;
+  options.flip = true;
+  Mesh mesh;
+  triangulate(pslg, options, &mesh);
+  EXPECT_GT(mesh.points.size(), 3u);  // Steiner points on the long sides: the case the checker met
+  expect_checked(pslg, mesh);
+}
+
+// OPT's segment kicks removed a crossing point left between two collinear subsegments.
+TEST(FuzzRegressions, OptKeepsCrossingPointsOnAStraightChain) {
+  const Pslg pslg = read_regression("opt_crossing_point_on_straight_chain.poly");
+  TriangulateOptions options;
+  options.method = Method::kOpt;
+  options.opt_trials = 0;
+  Mesh mesh;
+  triangulate(pslg, options, &mesh);
+  expect_checked(pslg, mesh);
+}
+
+// The checker took the carved domain for a hull mesh's when they differ by less than its tolerance.
+TEST(FuzzRegressions, CheckerTellsTheHullFromACarvedDomainASliverSmaller) {
+  const Pslg pslg = read_regression("check_hull_or_carved_domain_notch.poly");
+  for (const bool hull : {false, true}) {
+    TriangulateOptions options;
+    options.method = Method::kDt;
+    options.convex_hull = hull;
+    Mesh mesh;
+    triangulate(pslg, options, &mesh);
+    EXPECT_EQ(mesh.domain_triangle_count(), hull ? 4u : 3u);
+    const CheckResult check = check_mesh(pslg, mesh);
+    EXPECT_TRUE(check.ok()) << (check.messages.empty() ? "" : check.messages.front());
+    EXPECT_EQ(check.convex_hull, hull);
+    // Still strict: without one of its triangles the mesh covers neither domain.
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    for (TriangleId t = 0; t < mesh.triangles.size(); ++t) {
+      if (mesh.in_domain(t)) triangles.push_back(mesh.triangles[t].v);
+    }
+    for (std::size_t drop = 0; drop < triangles.size(); ++drop) {
+      std::vector<std::array<std::uint32_t, 3>> fewer = triangles;
+      fewer.erase(fewer.begin() + static_cast<std::ptrdiff_t>(drop));
+      // (The hull mesh without its sliver triangle, the one on the notch, is the carved mesh.)
+      std::array<std::uint32_t, 3> corners = triangles[drop];
+      std::sort(corners.begin(), corners.end());
+      const bool sliver = hull && corners == std::array<std::uint32_t, 3>{2, 3, 4};
+      EXPECT_EQ(check_triangulation(pslg, mesh.points, fewer, {}).ok(), sliver) << "without triangle " << drop;
+    }
+  }
+}
+
+// The checker ordered a cluster of Steiner points on a long hull edge by a rounded parameter.
+TEST(FuzzRegressions, CheckerOrdersAClusterOfPointsOnALongEdge) {
+  const Pslg pslg = read_regression("check_cluster_of_points_on_long_edge.poly");
+  TriangulateOptions options;
+  options.method = Method::kOpt;
+  options.flip = true;
+  options.convex_hull = true;
+  options.steiner = SteinerRule::kCircumcenter;
+  options.min_angle_deg = 20.0;
+  options.max_steiner = 34;
+  options.opt_trials = 1;
+  Mesh mesh;
+  triangulate(pslg, options, &mesh);
+  expect_checked(pslg, mesh);
+}
+
+// An OPT slide along a needle-shaped hull's edge turned the hull reflex.
+TEST(FuzzRegressions, OptKeepsTheConvexHullOfANeedleConvex) {
+  const Pslg pslg = read_regression("opt_slide_makes_needle_hull_reflex.poly");
+  TriangulateOptions options;
+  options.method = Method::kOpt;
+  options.flip = true;
+  options.convex_hull = true;
+  options.steiner = SteinerRule::kCircumcenter;
+  options.min_angle_deg = 0.0;
+  options.max_area = 7.0;
+  options.max_steiner = 27;
+  options.opt_trials = 3;
+  Mesh mesh;
+  triangulate(pslg, options, &mesh);
+  expect_checked(pslg, mesh);
+}
+
+// QTR ignored a hole seed lying exactly on a segment's line that the CDT carved from.
+TEST(FuzzRegressions, QuadtreeCarvesTheHoleTheCdtCarvesFromASeedOnASegmentLine) {
+  const Pslg pslg = read_regression("qtr_hole_seed_on_segment_line.poly");
+  for (const bool hull : {false, true}) {
+    SCOPED_TRACE(hull);
+    TriangulateOptions options;
+    options.method = Method::kQtr;
+    options.convex_hull = hull;
+    Mesh mesh;
+    triangulate(pslg, options, &mesh);
+    expect_checked(pslg, mesh);
+    ConstrainOptions constrain;
+    constrain.convex_hull = hull;
+    const Mesh cdt = constrained_delaunay(pslg, constrain);
+    EXPECT_NEAR(mesh.domain_area(), cdt.domain_area(), 1e-9 * cdt.domain_area());
+  }
+}
+
+// Rounded crossings that breed crossings without end are refused with one InputError, early
+// (src/mesh/constrain.cpp, crossing_limit()).
+TEST(FuzzRegressions, RoundedCrossingsThatBreedCrossingsAreRefused) {
+  const Pslg pslg = read_regression("cdt_rounded_crossings_breed_crossings.poly");
+  ASSERT_EQ(pslg.segments.size(), 96u);
+  try {
+    constrained_delaunay(pslg);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("too many segment crossings to resolve"), std::string::npos) << error.what();
+  }
+}
+
+}  // namespace
