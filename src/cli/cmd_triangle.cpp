@@ -25,6 +25,7 @@
 #include "mwst/io/triangle_files.hpp"
 #include "mwst/algorithms/pipeline.hpp"
 #include "mwst/io/triangle_switches.hpp"
+#include "mesh/keys.hpp"
 
 namespace mwst::cli {
 
@@ -125,17 +126,14 @@ void print_statistics(const TriangleInput& in, const MeshArrays& mesh, const Tri
   if (in.pslg.is_poly || switches.options.convex_hull) {
     // Subsegments on the exterior boundary are counted there; the rest are interior boundaries.
     const std::size_t subsegments = mesh.segment_count();
-    const auto key = [](std::uint32_t a, std::uint32_t b) {
-      return a < b ? (std::uint64_t{a} << 32) | b : (std::uint64_t{b} << 32) | a;
-    };
     std::unordered_set<std::uint64_t> segment_keys;
-    for (std::size_t s = 0; s < subsegments; ++s) segment_keys.insert(key(mesh.segments[2 * s], mesh.segments[2 * s + 1]));
+    for (std::size_t s = 0; s < subsegments; ++s) segment_keys.insert(undirected_key(mesh.segments[2 * s], mesh.segments[2 * s + 1]));
     std::size_t exterior_subsegments = 0;
     for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
       for (unsigned k = 0; k < 3; ++k) {
         if (mesh.neighbours[3 * t + k] >= 0) continue;
         const std::uint32_t a = mesh.triangles[3 * t + (k + 1) % 3], b = mesh.triangles[3 * t + (k + 2) % 3];
-        exterior_subsegments += segment_keys.count(key(a, b));
+        exterior_subsegments += segment_keys.count(undirected_key(a, b));
       }
     }
     std::cout << "  Mesh interior boundary edges: " << subsegments - exterior_subsegments << '\n'

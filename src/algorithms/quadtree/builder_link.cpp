@@ -15,6 +15,7 @@
 
 #include "algorithms/quadtree/builder.hpp"
 #include "algorithms/quadtree/cells.hpp"
+#include "mesh/keys.hpp"
 
 namespace mwst::qtr {
 
@@ -407,7 +408,7 @@ void Builder::mark_segments(Mesh& mesh) {
       mesh.segment_marker[3 * (t >> 2) + (t & 3)] = marker;
     }
     const VertexId u = mesh.org(h), w = mesh.dest(h);
-    seen.emplace_back((std::uint64_t{std::min(u, w)} << 32) | std::max(u, w), s);
+    seen.emplace_back(undirected_key(u, w), s);
   }
   std::sort(seen.begin(), seen.end());
   seen.erase(std::unique(seen.begin(), seen.end()), seen.end());

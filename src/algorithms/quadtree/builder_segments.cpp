@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "algorithms/quadtree/builder.hpp"
+#include "mesh/keys.hpp"
 
 namespace mwst::qtr {
 
@@ -135,7 +136,7 @@ void Builder::add_crossing_points(const std::vector<std::uint32_t>& near) {
   std::unordered_map<std::uint64_t, std::vector<std::pair<std::uint32_t, std::uint32_t>>> made;
   for_each_crossed_edge(near, [&](std::uint32_t k, unsigned slot, std::uint32_t u, std::uint32_t w, std::uint32_t s,
                                   const Point& a, const Point& b) {
-    const std::uint64_t key = (std::uint64_t{std::min(u, w)} << 32) | std::max(u, w);
+    const std::uint64_t key = undirected_key(u, w);
     auto& list = made[key];
     std::uint32_t x = kNone;
     for (const auto& [seg, vertex] : list) {

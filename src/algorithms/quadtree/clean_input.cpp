@@ -13,6 +13,7 @@
 
 #include "algorithms/quadtree/route.hpp"
 #include "mwst/error.hpp"
+#include "mesh/keys.hpp"
 
 namespace mwst::qtr {
 
@@ -61,7 +62,7 @@ CleanInput clean_graph(const Pslg& pslg, const QuadtreeOptions& options, Quadtre
       const Handle h = make_handle(t, e);
       if (!cdt.is_segment(h)) continue;
       const VertexId u = cdt.org(h), w = cdt.dest(h);
-      const std::uint64_t key = (std::uint64_t{std::min(u, w)} << 32) | std::max(u, w);
+      const std::uint64_t key = undirected_key(u, w);
       seen.emplace_back(key, cdt.marker(h));
     }
   }
@@ -97,7 +98,7 @@ CleanInput clean_graph(const Pslg& pslg, const QuadtreeOptions& options, Quadtre
   // The domain is the convex hull when asked or when no segment survived (all of zero length).
   if (options.convex_hull || in.segments.empty()) {
     for (const auto& [a, b] : hull) {
-      const std::uint64_t key = (std::uint64_t{std::min(a, b)} << 32) | std::max(a, b);
+      const std::uint64_t key = undirected_key(a, b);
       const auto it = std::lower_bound(seen.begin(), seen.end(), std::make_pair(key, std::int32_t{0}),
                                        [](const auto& x, const auto& y) { return x.first < y.first; });
       if (it != seen.end() && it->first == key) continue;

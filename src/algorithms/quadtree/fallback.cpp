@@ -11,6 +11,7 @@
 #include "algorithms/quadtree/route.hpp"
 #include "mwst/error.hpp"
 #include "mwst/mesh/delaunay.hpp"
+#include "mesh/keys.hpp"
 
 namespace mwst::qtr {
 
@@ -73,7 +74,6 @@ VertexId out_of_range_vertex(const Mesh& m, const std::vector<char>& kept) {
 
 namespace {
 
-std::uint64_t directed_key(VertexId u, VertexId v) { return (static_cast<std::uint64_t>(u) << 32) | v; }
 
 // The kept mesh's parts that stay as they are: new vertex ids, the domain's triangles in their new
 // slots, its boundary edges (new ids, domain on the left), and the vertices of the new CDT.
@@ -156,15 +156,15 @@ std::vector<char> cdt_inside_domain(const OuterCdt& outer, const KeptDomain& d) 
     if (c.is_dead(t) || c.is_ghost(t)) continue;
     for (unsigned e = 0; e < 3; ++e) {
       const Handle h = make_handle(t, e);
-      cdt_edge.emplace(directed_key(outer.new_of(c.org(h)), outer.new_of(c.dest(h))), h);
+      cdt_edge.emplace(edge_key(outer.new_of(c.org(h)), outer.new_of(c.dest(h))), h);
     }
   }
   std::unordered_set<std::uint64_t> boundary_keys;
-  for (const auto& [u, v] : d.boundary) boundary_keys.insert(directed_key(std::min(u, v), std::max(u, v)));
+  for (const auto& [u, v] : d.boundary) boundary_keys.insert(undirected_key(u, v));
   std::vector<char> inside(c.triangles.size(), 0);
   std::vector<TriangleId> stack;
   for (const auto& [u, v] : d.boundary) {
-    const auto it = cdt_edge.find(directed_key(u, v));
+    const auto it = cdt_edge.find(edge_key(u, v));
     if (it == cdt_edge.end()) throw InternalError("drop_unused_vertices: a boundary edge is not in the triangulation");
     const TriangleId t = triangle_of(it->second);
     if (!inside[t]) {
@@ -178,7 +178,7 @@ std::vector<char> cdt_inside_domain(const OuterCdt& outer, const KeptDomain& d) 
     for (unsigned e = 0; e < 3; ++e) {
       const Handle h = make_handle(t, e);
       const VertexId a = outer.new_of(c.org(h)), b = outer.new_of(c.dest(h));
-      if (boundary_keys.count(directed_key(std::min(a, b), std::max(a, b))) != 0) continue;
+      if (boundary_keys.count(undirected_key(a, b)) != 0) continue;
       const TriangleId u = triangle_of(c.sym(h));
       if (inside[u] || c.is_ghost(u) || c.is_dead(u)) continue;
       inside[u] = 1;
@@ -221,7 +221,7 @@ std::unordered_map<std::uint64_t, Handle> place_outer_triangles(const OuterCdt& 
         T.n[e] = make_handle(cdt_slot[triangle_of(s)], edge_of(s));
       } else {
         T.n[e] = kNone;  // across a boundary edge: linked from the domain's side (place_domain_triangles())
-        outer_edge.emplace(directed_key(outer.new_of(c.org(h)), outer.new_of(c.dest(h))), make_handle(cdt_slot[t], e));
+        outer_edge.emplace(edge_key(outer.new_of(c.org(h)), outer.new_of(c.dest(h))), make_handle(cdt_slot[t], e));
       }
     }
   }
@@ -247,7 +247,7 @@ void place_domain_triangles(const Mesh& m, const KeptDomain& d,
         T.n[e] = make_handle(d.new_slot[triangle_of(s)], edge_of(s));
         continue;
       }
-      const auto it = outer_edge.find(directed_key(d.new_id[m.dest(h)], d.new_id[m.org(h)]));
+      const auto it = outer_edge.find(edge_key(d.new_id[m.dest(h)], d.new_id[m.org(h)]));
       if (it == outer_edge.end()) throw InternalError("drop_unused_vertices: a boundary edge has no outer triangle");
       T.n[e] = it->second;
       out.triangles[triangle_of(it->second)].n[edge_of(it->second)] = make_handle(nt, e);
