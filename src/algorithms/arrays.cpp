@@ -95,43 +95,64 @@ void spread_region_attributes(const Mesh& mesh, const std::vector<Region>& regio
   }
 }
 
-}  // namespace
 
-MeshArrays to_arrays(const Mesh& mesh, const std::vector<Region>& regions) {
-  MeshArrays out;
-  const std::size_t slots = mesh.triangle_slots();
+constexpr std::uint8_t kSegmentEdges = kSegmentEdge0 * 7;  // the three subsegment bits of Mesh::flags
+
+// What the vertex kinds ask of to_arrays: a Steiner point (kept or removed) needs the subsegment
+// ends for its array kind; removed Steiner points, if any, make the kept vertices renumbered.
+struct VertexCensus {
+  bool has_steiner = false;
+  std::size_t removed_count = 0;
+};
+
+// Counts the kinds of the mesh's vertices (VertexCensus).
+VertexCensus census_of_vertices(const Mesh& mesh) {
+  VertexCensus census;
   const std::size_t point_count = mesh.points.size();
-  constexpr std::uint8_t kSegmentEdges = kSegmentEdge0 * 7;  // the three subsegment bits
-
-  bool has_steiner = false;     // a Steiner point (kept or removed): its array kind needs segment_ends
-  std::size_t removed_count = 0;  // removed Steiner points: if any, the kept vertices are renumbered
   for (VertexId v = 0; v < point_count; ++v) {
     const VertexKind kind = mesh.vertex_kind[v];
-    has_steiner |= kind != VertexKind::kInput && kind != VertexKind::kDuplicate;
-    removed_count += kind == VertexKind::kRemoved;
+    census.has_steiner |= kind != VertexKind::kInput && kind != VertexKind::kDuplicate;
+    census.removed_count += kind == VertexKind::kRemoved;
   }
-  const bool has_removed = removed_count != 0;
+  return census;
+}
 
-  // Subsegment ends per vertex: each subsegment has a live triangle on either side, and each side
-  // counts the origin of its directed edge, so both ends are counted once. Only Steiner points'
-  // kinds read it.
-  std::vector<std::uint32_t> segment_ends;
-  if (has_steiner) {
-    segment_ends.assign(point_count, 0);
-    for (TriangleId t = 0; t < slots; ++t) {
-      if ((mesh.flags[t] & kSegmentEdges) == 0 || mesh.is_dead(t)) continue;
-      for (unsigned e = 0; e < 3; ++e) {
-        const Handle h = make_handle(t, e);
-        if (mesh.is_segment(h)) ++segment_ends[mesh.org(h)];
-      }
+// Subsegment ends per vertex: each subsegment has a live triangle on either side, and each side
+// counts the origin of its directed edge, so both ends are counted once.
+std::vector<std::uint32_t> subsegment_ends(const Mesh& mesh) {
+  const std::size_t slots = mesh.triangle_slots();
+  std::vector<std::uint32_t> segment_ends(mesh.points.size(), 0);
+  for (TriangleId t = 0; t < slots; ++t) {
+    if ((mesh.flags[t] & kSegmentEdges) == 0 || mesh.is_dead(t)) continue;
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle h = make_handle(t, e);
+      if (mesh.is_segment(h)) ++segment_ends[mesh.org(h)];
     }
   }
+  return segment_ends;
+}
 
-  // Vertices: all but removed Steiner points, in order (input points keep their indices). Without
-  // a removed point every vertex keeps its index and no renumbering table is needed.
+// The array kind of a kept vertex of `kind`; a Steiner point's follows from the subsegment ends at
+// it: none (free), at most two (on a segment), more (a crossing of segments).
+inline ArrayVertexKind array_kind_of(VertexKind kind, const std::vector<std::uint32_t>& segment_ends, VertexId v) {
+  if (kind == VertexKind::kDuplicate) return ArrayVertexKind::kDuplicate;
+  if (kind == VertexKind::kInput) return ArrayVertexKind::kInput;
+  return segment_ends[v] == 0   ? ArrayVertexKind::kSteiner
+         : segment_ends[v] <= 2 ? ArrayVertexKind::kSegmentSteiner
+                                : ArrayVertexKind::kCrossing;
+}
+
+// Copies the vertices into `out`: all but removed Steiner points, in order (input points keep
+// their indices), with their array kinds and markers. Returns the array index of each mesh vertex
+// (kNone for a removed one); without a removed point every vertex keeps its index and the table
+// stays empty.
+std::vector<std::uint32_t> copy_kept_vertices(const Mesh& mesh, const VertexCensus& census,
+                                              const std::vector<std::uint32_t>& segment_ends, MeshArrays& out) {
+  const std::size_t point_count = mesh.points.size();
+  const bool has_removed = census.removed_count != 0;
   std::vector<std::uint32_t> index_of_vertex;
   if (has_removed) index_of_vertex.assign(point_count, kNone);
-  const std::size_t kept = point_count - removed_count;
+  const std::size_t kept = point_count - census.removed_count;
   out.vertices.resize(2 * kept);
   out.vertex_kinds.resize(kept);
   out.vertex_markers.assign(kept, 0);
@@ -139,33 +160,44 @@ MeshArrays to_arrays(const Mesh& mesh, const std::vector<Region>& regions) {
   for (VertexId v = 0; v < point_count; ++v) {
     const VertexKind kind = mesh.vertex_kind[v];
     if (kind == VertexKind::kRemoved) continue;
-    ArrayVertexKind array_kind = ArrayVertexKind::kInput;
-    if (kind == VertexKind::kDuplicate) {
-      array_kind = ArrayVertexKind::kDuplicate;
-    } else if (kind != VertexKind::kInput) {
-      array_kind = segment_ends[v] == 0   ? ArrayVertexKind::kSteiner
-                   : segment_ends[v] <= 2 ? ArrayVertexKind::kSegmentSteiner
-                                          : ArrayVertexKind::kCrossing;
-    }
     if (has_removed) index_of_vertex[v] = static_cast<std::uint32_t>(next);
     out.vertices[2 * next] = mesh.points[v].x;
     out.vertices[2 * next + 1] = mesh.points[v].y;
-    out.vertex_kinds[next] = array_kind;
+    out.vertex_kinds[next] = array_kind_of(kind, segment_ends, v);
     if (v < mesh.vertex_marker.size()) out.vertex_markers[next] = mesh.vertex_marker[v];
     ++next;
   }
-  const auto array_vertex = [&](VertexId v) -> std::uint32_t {
+  return index_of_vertex;
+}
+
+// The array index of mesh vertex v (copy_kept_vertices' table, or v itself when none was removed).
+struct ArrayVertex {
+  const std::vector<std::uint32_t>& index_of_vertex;
+  bool has_removed;
+  std::uint32_t operator()(VertexId v) const {
     if (!has_removed) return v;
     if (index_of_vertex[v] == kNone) throw InternalError("to_arrays: a domain triangle uses a removed vertex");
     return index_of_vertex[v];
-  };
+  }
+};
 
-  // Triangles of the domain, in slot order.
+// The array index of each triangle slot: the domain triangles numbered in slot order, kNoTriangle
+// elsewhere. Sets `count` to the number of domain triangles.
+std::vector<std::int32_t> number_domain_triangles(const Mesh& mesh, std::size_t& count) {
+  const std::size_t slots = mesh.triangle_slots();
   std::vector<std::int32_t> index_of_slot(slots, kNoTriangle);
-  std::size_t count = 0;
+  count = 0;
   for (TriangleId t = 0; t < slots; ++t) {
     if (mesh.in_domain(t)) index_of_slot[t] = static_cast<std::int32_t>(count++);
   }
+  return index_of_slot;
+}
+
+// Copies the `count` domain triangles into `out`: corners, neighbours and the subsegments (each
+// once, from the lower-numbered domain triangle beside it) with their markers.
+void copy_domain_triangles(const Mesh& mesh, const std::vector<std::int32_t>& index_of_slot, std::size_t count,
+                           const ArrayVertex& array_vertex, MeshArrays& out) {
+  const std::size_t slots = mesh.triangle_slots();
   out.triangles.resize(3 * count);
   out.neighbours.resize(3 * count);
   std::uint32_t* corners = out.triangles.data();
@@ -178,7 +210,6 @@ MeshArrays to_arrays(const Mesh& mesh, const std::vector<Region>& regions) {
       // Edge i of t is opposite corner i; its neighbour is the triangle of sym (-1 outside).
       *neighbours++ = index_of_slot[triangle_of(triangle.n[i])];
     }
-    // Subsegments, each once: from the lower-numbered domain triangle beside it.
     if ((mesh.flags[t] & kSegmentEdges) == 0) continue;
     for (unsigned e = 0; e < 3; ++e) {
       const Handle h = make_handle(t, e);
@@ -190,7 +221,20 @@ MeshArrays to_arrays(const Mesh& mesh, const std::vector<Region>& regions) {
       out.segment_markers.push_back(mesh.marker(h));
     }
   }
+}
 
+}  // namespace
+
+// The steps: census_of_vertices, subsegment_ends (only for Steiner points' kinds),
+// copy_kept_vertices, number_domain_triangles, copy_domain_triangles, spread_region_attributes.
+MeshArrays to_arrays(const Mesh& mesh, const std::vector<Region>& regions) {
+  MeshArrays out;
+  const VertexCensus census = census_of_vertices(mesh);
+  const std::vector<std::uint32_t> segment_ends = census.has_steiner ? subsegment_ends(mesh) : std::vector<std::uint32_t>();
+  const std::vector<std::uint32_t> index_of_vertex = copy_kept_vertices(mesh, census, segment_ends, out);
+  std::size_t count = 0;
+  const std::vector<std::int32_t> index_of_slot = number_domain_triangles(mesh, count);
+  copy_domain_triangles(mesh, index_of_slot, count, ArrayVertex{index_of_vertex, census.removed_count != 0}, out);
   if (!regions.empty()) spread_region_attributes(mesh, regions, index_of_slot, out);
   return out;
 }

@@ -55,6 +55,57 @@ Grids default_grids() {
   return g;
 }
 
+// Says on the progress line which data sets were found in `data_dir`.
+void announce_data_sets(experiments::Progress& progress, const Study& study, const std::string& data_dir) {
+  std::string names;
+  for (const DataSet& d : study.data_sets) names += (names.empty() ? "" : " ") + d.name;
+  progress.line(std::to_string(study.data_sets.size()) + " data sets from " + data_dir + ": " + names);
+}
+
+// Creates the output directory `out` (and its parents), or fails naming it.
+void create_output_directory(const std::string& out) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec || !fs::is_directory(out)) {
+    throw InputError(out, 0, "cannot create the output directory" + (ec ? ": " + ec.message() : std::string()));
+  }
+}
+
+// Plans and runs the sweep; records each data set's DT interior weight (the 100 of Table 1).
+void run_sweep(Study& study, bool for_finals, bool figure3, std::size_t workers, experiments::Progress& progress) {
+  plan_sweep(study, for_finals, figure3);
+  study.sweep = run_all(study.data_sets, study.sweep_specs, workers, progress, "sweep");
+  study.dt_interior.assign(study.data_sets.size(), std::nullopt);
+  for (std::size_t i = 0; i < study.sweep_specs.size(); ++i) {
+    const RunSpec& s = study.sweep_specs[i];
+    if (s.options.method == Method::kDt && study.sweep[i].ok) {
+      study.dt_interior[s.data_set] = study.sweep[i].report.weight_interior;
+    }
+  }
+}
+
+// Prints the section "Ours beside the paper" of table1.md (among `files`) on stdout.
+void print_paper_comparison(const std::vector<OutputFile>& files) {
+  const std::string& md = files.front().name == "table1.csv" ? files[1].content : files.front().content;
+  const std::size_t begin = md.find("## Ours beside the paper");
+  const std::size_t end = md.find("\n## ", begin + 1);
+  if (begin != std::string::npos) std::cout << md.substr(begin, end == std::string::npos ? end : end - begin) << '\n';
+}
+
+// Prints the study's warnings; fails if any run ended in an internal error.
+void report_problems(const Study& study, const std::string& out) {
+  bool internal = false;
+  for (const RunResult& r : study.sweep) internal = internal || r.internal_error;
+  for (const RunResult& r : study.finals) internal = internal || r.internal_error;
+  for (const std::string& w : study.warnings) warn(w);
+  if (internal) {
+    throw InternalError("some runs failed with an internal error (see the warnings above and " + out + "/runs.csv)");
+  }
+}
+
+// The steps: the sweep (run_sweep), the final runs of the chosen settings, the files of each
+// target written at once, figure 3's plots by gnuplot, the comparison with the paper.
 int run_experiment(const ExperimentArgs& a) {
   const bool table1 = a.target == "table1" || a.target == "all";
   const bool figure3 = a.target == "figure3" || a.target == "all";
@@ -67,29 +118,10 @@ int run_experiment(const ExperimentArgs& a) {
   study.grids = default_grids();
   study.opt_trials = a.opt_trials;
   study.data_sets = find_data_sets(a.data);
-  {
-    std::string names;
-    for (const DataSet& d : study.data_sets) names += (names.empty() ? "" : " ") + d.name;
-    progress.line(std::to_string(study.data_sets.size()) + " data sets from " + a.data + ": " + names);
-  }
-  {
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    fs::create_directories(a.out, ec);
-    if (ec || !fs::is_directory(a.out)) {
-      throw InputError(a.out, 0, "cannot create the output directory" + (ec ? ": " + ec.message() : std::string()));
-    }
-  }
+  announce_data_sets(progress, study, a.data);
+  create_output_directory(a.out);
 
-  plan_sweep(study, table1 || figure4, figure3);
-  study.sweep = run_all(study.data_sets, study.sweep_specs, workers, progress, "sweep");
-  study.dt_interior.assign(study.data_sets.size(), std::nullopt);
-  for (std::size_t i = 0; i < study.sweep_specs.size(); ++i) {
-    const RunSpec& s = study.sweep_specs[i];
-    if (s.options.method == Method::kDt && study.sweep[i].ok) {
-      study.dt_interior[s.data_set] = study.sweep[i].report.weight_interior;
-    }
-  }
+  run_sweep(study, table1 || figure4, figure3, workers, progress);
   if (table1 || figure4) {
     choose_and_plan_finals(study, figure4);
     study.finals = run_all(study.data_sets, study.final_specs, workers, progress, "final runs (with bundle numbers)");
@@ -123,20 +155,8 @@ int run_experiment(const ExperimentArgs& a) {
   }
   progress.line("wrote " + std::to_string(written) + " files to " + a.out + "/");
 
-  if (table1) {
-    // The comparison with the paper on stdout.
-    const std::string& md = files.front().name == "table1.csv" ? files[1].content : files.front().content;
-    const std::size_t begin = md.find("## Ours beside the paper");
-    const std::size_t end = md.find("\n## ", begin + 1);
-    if (begin != std::string::npos) std::cout << md.substr(begin, end == std::string::npos ? end : end - begin) << '\n';
-  }
-  bool internal = false;
-  for (const RunResult& r : study.sweep) internal = internal || r.internal_error;
-  for (const RunResult& r : study.finals) internal = internal || r.internal_error;
-  for (const std::string& w : study.warnings) warn(w);
-  if (internal) {
-    throw InternalError("some runs failed with an internal error (see the warnings above and " + a.out + "/runs.csv)");
-  }
+  if (table1) print_paper_comparison(files);  // on stdout
+  report_problems(study, a.out);
   return kExitOk;
 }
 

@@ -187,6 +187,37 @@ void print_run(const TriangleInput& in, const MeshArrays& mesh, const TriangleSw
   print_statistics(in, mesh, switches);
 }
 
+// Refuses (before any work) an output name PREFIX.ext that would replace one of the inputs.
+void refuse_replacing_inputs(const TriangleInput& in, const std::string& prefix) {
+  for (const std::string& input : in.paths) {
+    for (const char* ext : {".node", ".ele", ".poly", ".edge", ".neigh", ".v.node", ".v.edge"}) {
+      refuse_overwrite(input, prefix + ext);
+    }
+  }
+}
+
+// Triangulates the input as flat arrays, with a progress line unless `quiet`; the library's
+// errors and warnings name option fields, and are said here in the switches the user gave.
+MeshArrays triangulate_with_progress(const TriangleInput& in, TriangulateOptions& options, bool quiet) {
+  MeshArrays mesh;
+  {
+    ProgressLine progress(!quiet);
+    options.progress = progress.callback();
+    try {
+      mesh = triangulate_arrays(in.pslg, options);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(with_flag_names(e.what(), Spelling::kTriangle));
+    } catch (const ResourceError& e) {
+      throw ResourceError(with_flag_names(e.what(), Spelling::kTriangle));
+    }
+    progress.finish();
+  }
+  for (std::string& w : mesh.report.warnings) w = with_flag_names(w, Spelling::kTriangle);
+  return mesh;
+}
+
+// The steps: the switches and the input's name, the options checked, the input read, the output
+// names checked, triangulate_with_progress, the files formatted and written at once, the summary.
 int run_triangle(const std::vector<std::string>& arguments) {
   std::vector<std::string> switch_arguments, inputs;
   for (const std::string& argument : arguments) {
@@ -229,29 +260,8 @@ int run_triangle(const std::vector<std::string>& arguments) {
   const auto is_input = [&](const std::string& path) {
     return std::find(in.paths.begin(), in.paths.end(), path) != in.paths.end();
   };
-  if (!switches.no_iteration_numbers) {
-    for (const std::string& input : in.paths) {
-      for (const char* ext : {".node", ".ele", ".poly", ".edge", ".neigh", ".v.node", ".v.edge"}) {
-        refuse_overwrite(input, prefix + ext);
-      }
-    }
-  }
-
-  MeshArrays mesh;
-  {
-    ProgressLine progress(!quiet);
-    options.progress = progress.callback();
-    try {
-      mesh = triangulate_arrays(in.pslg, options);
-    } catch (const std::invalid_argument& e) {
-      throw UsageError(with_flag_names(e.what(), Spelling::kTriangle));
-    } catch (const ResourceError& e) {
-      throw ResourceError(with_flag_names(e.what(), Spelling::kTriangle));
-    }
-    progress.finish();
-  }
-  // The library's warnings name option fields; the user gave switches.
-  for (std::string& w : mesh.report.warnings) w = with_flag_names(w, Spelling::kTriangle);
+  if (!switches.no_iteration_numbers) refuse_replacing_inputs(in, prefix);
+  const MeshArrays mesh = triangulate_with_progress(in, options, quiet);
 
   OutputFiles out;
   std::vector<std::string> not_written;

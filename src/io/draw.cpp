@@ -165,112 +165,131 @@ std::vector<std::string> wrap(const std::string& text, std::size_t max_chars) {
   return lines;
 }
 
+// The triangles, filled in batches (the seams between batches lie under the stroked edges).
+void fill_triangles(cairo_t* cr, const Picture& pic, const Transform& tf) {
+  cairo_set_fill_rule(cr, CAIRO_FILL_RULE_WINDING);
+  cairo_set_source_rgb(cr, 0.91, 0.94, 0.98);
+  std::size_t in_path = 0;
+  for (const auto& tri : pic.triangles) {
+    if (++in_path == kStrokeBatch) {
+      cairo_fill(cr);
+      in_path = 1;
+    }
+    if (tri[0] >= pic.points.size() || tri[1] >= pic.points.size() || tri[2] >= pic.points.size()) continue;
+    const Point& a = pic.points[tri[0]];
+    const Point& b = pic.points[tri[1]];
+    const Point& c = pic.points[tri[2]];
+    cairo_move_to(cr, tf.x(a), tf.y(a));
+    cairo_line_to(cr, tf.x(b), tf.y(b));
+    cairo_line_to(cr, tf.x(c), tf.y(c));
+    cairo_close_path(cr);
+  }
+  cairo_fill(cr);
+}
+
+// The distinct edges of the triangles (lower vertex first, sorted), each once.
+std::vector<std::pair<std::uint32_t, std::uint32_t>> distinct_edges(const Picture& pic) {
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
+  edges.reserve(3 * pic.triangles.size());
+  for (const auto& tri : pic.triangles) {
+    for (int i = 0; i < 3; ++i) {
+      const std::uint32_t a = tri[static_cast<std::size_t>(i)];
+      const std::uint32_t b = tri[static_cast<std::size_t>((i + 1) % 3)];
+      if (a >= pic.points.size() || b >= pic.points.size()) continue;
+      edges.emplace_back(std::min(a, b), std::max(a, b));
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  return edges;
+}
+
+// Strokes the distinct edges thin, each once, in batches; when `shortest` is not empty, records
+// there the shortest edge drawn at each point (pixels).
+void stroke_edges(cairo_t* cr, const Picture& pic, const Transform& tf, double edge_width,
+                  std::vector<double>& shortest) {
+  const std::vector<std::pair<std::uint32_t, std::uint32_t>> edges = distinct_edges(pic);
+  cairo_set_source_rgb(cr, 0.25, 0.35, 0.55);
+  cairo_set_line_width(cr, edge_width);
+  cairo_set_line_cap(cr, CAIRO_LINE_CAP_BUTT);  // round caps on thin lines cost much, show nothing
+  std::size_t in_path = 0;
+  for (const auto& [a, b] : edges) {
+    if (++in_path == kStrokeBatch) {
+      cairo_stroke(cr);
+      in_path = 1;
+    }
+    const double ax = tf.x(pic.points[a]), ay = tf.y(pic.points[a]);
+    const double bx = tf.x(pic.points[b]), by = tf.y(pic.points[b]);
+    cairo_move_to(cr, ax, ay);
+    cairo_line_to(cr, bx, by);
+    if (!shortest.empty()) {
+      const double len = std::hypot(bx - ax, by - ay);
+      shortest[a] = std::min(shortest[a], len);
+      shortest[b] = std::min(shortest[b], len);
+    }
+  }
+  cairo_stroke(cr);
+}
+
+// The input segments and the domain boundary, bold, in one path.
+void stroke_bold_segments(cairo_t* cr, const Picture& pic, const Transform& tf, double bold_width) {
+  for (const auto& s : pic.bold_segments) {
+    cairo_move_to(cr, tf.x(s[0]), tf.y(s[0]));
+    cairo_line_to(cr, tf.x(s[1]), tf.y(s[1]));
+  }
+  cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
+  cairo_set_line_width(cr, bold_width);
+  cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+  cairo_stroke(cr);
+}
+
+// The Steiner points: disks of radius `marker_radius`, but no wider than a third of the shortest
+// edge at the point (and at least a quarter of `marker_radius`), filled in batches.
+void fill_steiner_disks(cairo_t* cr, const Picture& pic, const Transform& tf, const std::vector<double>& shortest,
+                        double marker_radius) {
+  cairo_set_source_rgb(cr, 0.85, 0.1, 0.1);
+  std::size_t in_path = 0;
+  for (const std::uint32_t v : pic.marked) {
+    if (v >= pic.points.size()) continue;
+    if (++in_path == kStrokeBatch) {
+      cairo_fill(cr);
+      in_path = 1;
+    }
+    const double r = std::clamp(shortest[v] / 3.0, 0.25 * marker_radius, marker_radius);
+    cairo_new_sub_path(cr);
+    cairo_arc(cr, tf.x(pic.points[v]), tf.y(pic.points[v]), r, 0.0, 2.0 * std::numbers::pi);
+  }
+  cairo_fill(cr);
+}
+
+// A note (e.g. why a method gave no mesh), wrapped and centred in the panel (x0, y0, w, h).
+void draw_note(cairo_t* cr, const std::string& note, double x0, double y0, double w, double h, double size) {
+  const auto max_chars = static_cast<std::size_t>(std::max(10.0, 1.8 * w / size));
+  const std::vector<std::string> lines = wrap(note, max_chars);
+  const double line_height = 1.3 * size;
+  double y = y0 + 0.5 * h - 0.5 * line_height * static_cast<double>(lines.size()) + size;
+  cairo_set_source_rgb(cr, 0.45, 0.1, 0.1);
+  for (const std::string& line : lines) {
+    centred_text(cr, line, x0 + 0.5 * w, y, size, w, false);
+    y += line_height;
+  }
+}
+
+// Draws one picture fitted into the panel (x0, y0, w, h): triangles, edges, bold segments,
+// Steiner point disks, note.
 void draw_panel(cairo_t* cr, const Picture& pic, double x0, double y0, double w, double h,
                 const DrawOptions& o) {
   const Box box = bounding_box(pic);
   const Transform tf(box, x0, y0, w, h);
-
   // Shortest drawn edge at each point (pixels), for the size of the Steiner point disks.
   std::vector<double> shortest(pic.marked.empty() ? 0 : pic.points.size(), std::numeric_limits<double>::infinity());
-
-  // Triangles, filled in batches (the seams between batches lie under the stroked edges).
   if (!pic.triangles.empty()) {
-    cairo_set_fill_rule(cr, CAIRO_FILL_RULE_WINDING);
-    cairo_set_source_rgb(cr, 0.91, 0.94, 0.98);
-    std::size_t in_path = 0;
-    for (const auto& tri : pic.triangles) {
-      if (++in_path == kStrokeBatch) {
-        cairo_fill(cr);
-        in_path = 1;
-      }
-      if (tri[0] >= pic.points.size() || tri[1] >= pic.points.size() || tri[2] >= pic.points.size()) continue;
-      const Point& a = pic.points[tri[0]];
-      const Point& b = pic.points[tri[1]];
-      const Point& c = pic.points[tri[2]];
-      cairo_move_to(cr, tf.x(a), tf.y(a));
-      cairo_line_to(cr, tf.x(b), tf.y(b));
-      cairo_line_to(cr, tf.x(c), tf.y(c));
-      cairo_close_path(cr);
-    }
-    cairo_fill(cr);
-
-    // Distinct edges, each stroked once.
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
-    edges.reserve(3 * pic.triangles.size());
-    for (const auto& tri : pic.triangles) {
-      for (int i = 0; i < 3; ++i) {
-        const std::uint32_t a = tri[static_cast<std::size_t>(i)];
-        const std::uint32_t b = tri[static_cast<std::size_t>((i + 1) % 3)];
-        if (a >= pic.points.size() || b >= pic.points.size()) continue;
-        edges.emplace_back(std::min(a, b), std::max(a, b));
-      }
-    }
-    std::sort(edges.begin(), edges.end());
-    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-    cairo_set_source_rgb(cr, 0.25, 0.35, 0.55);
-    cairo_set_line_width(cr, o.edge_width);
-    cairo_set_line_cap(cr, CAIRO_LINE_CAP_BUTT);  // round caps on thin lines cost much, show nothing
-    in_path = 0;
-    for (const auto& [a, b] : edges) {
-      if (++in_path == kStrokeBatch) {
-        cairo_stroke(cr);
-        in_path = 1;
-      }
-      const double ax = tf.x(pic.points[a]), ay = tf.y(pic.points[a]);
-      const double bx = tf.x(pic.points[b]), by = tf.y(pic.points[b]);
-      cairo_move_to(cr, ax, ay);
-      cairo_line_to(cr, bx, by);
-      if (!shortest.empty()) {
-        const double len = std::hypot(bx - ax, by - ay);
-        shortest[a] = std::min(shortest[a], len);
-        shortest[b] = std::min(shortest[b], len);
-      }
-    }
-    cairo_stroke(cr);
+    fill_triangles(cr, pic, tf);
+    stroke_edges(cr, pic, tf, o.edge_width, shortest);
   }
-
-  // Input segments and the domain boundary.
-  if (!pic.bold_segments.empty()) {
-    for (const auto& s : pic.bold_segments) {
-      cairo_move_to(cr, tf.x(s[0]), tf.y(s[0]));
-      cairo_line_to(cr, tf.x(s[1]), tf.y(s[1]));
-    }
-    cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
-    cairo_set_line_width(cr, o.bold_width);
-    cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
-    cairo_stroke(cr);
-  }
-
-  // Steiner points: disks no wider than a third of the shortest edge at the point.
-  if (!pic.marked.empty() && o.marker_radius > 0.0) {
-    cairo_set_source_rgb(cr, 0.85, 0.1, 0.1);
-    std::size_t in_path = 0;
-    for (const std::uint32_t v : pic.marked) {
-      if (v >= pic.points.size()) continue;
-      if (++in_path == kStrokeBatch) {
-        cairo_fill(cr);
-        in_path = 1;
-      }
-      const double r = std::clamp(shortest[v] / 3.0, 0.25 * o.marker_radius, o.marker_radius);
-      cairo_new_sub_path(cr);
-      cairo_arc(cr, tf.x(pic.points[v]), tf.y(pic.points[v]), r, 0.0, 2.0 * std::numbers::pi);
-    }
-    cairo_fill(cr);
-  }
-
-  // A note (e.g. why a method gave no mesh), centred in the panel.
-  if (!pic.note.empty()) {
-    const double size = o.font_size;
-    const auto max_chars = static_cast<std::size_t>(std::max(10.0, 1.8 * w / size));
-    const std::vector<std::string> lines = wrap(pic.note, max_chars);
-    const double line_height = 1.3 * size;
-    double y = y0 + 0.5 * h - 0.5 * line_height * static_cast<double>(lines.size()) + size;
-    cairo_set_source_rgb(cr, 0.45, 0.1, 0.1);
-    for (const std::string& line : lines) {
-      centred_text(cr, line, x0 + 0.5 * w, y, size, w, false);
-      y += line_height;
-    }
-  }
+  if (!pic.bold_segments.empty()) stroke_bold_segments(cr, pic, tf, o.bold_width);
+  if (!pic.marked.empty() && o.marker_radius > 0.0) fill_steiner_disks(cr, pic, tf, shortest, o.marker_radius);
+  if (!pic.note.empty()) draw_note(cr, pic.note, x0, y0, w, h, o.font_size);
 }
 
 void check_cairo(cairo_status_t status, const char* what) {
@@ -310,6 +329,121 @@ struct SurfaceDeleter {
 struct ContextDeleter {
   void operator()(cairo_t* c) const { cairo_destroy(c); }
 };
+
+// The page: every panel gets the same cell (a margin around it, a title band above the drawing
+// when any panel has a title), its shape following the tallest drawing (aspect clamped); the
+// cells fill rows of `columns` below the caption band.
+struct PageLayout {
+  double draw_w = 0.0, draw_h = 0.0;  // the drawing area of a panel
+  double margin = 0.0, title_band = 0.0, caption_band = 0.0;
+  double cell_w = 0.0, cell_h = 0.0;
+  std::size_t columns = 1;
+  double width = 0.0, height = 0.0;  // of the whole page, whole pixels (points)
+};
+
+// Lays out `panels` (not empty) with the sizes of `o`.
+PageLayout page_layout(const std::vector<Picture>& panels, const DrawOptions& o) {
+  PageLayout page;
+  double aspect = 0.0;
+  for (const Picture& pic : panels) aspect = std::max(aspect, aspect_of(bounding_box(pic)));
+  page.draw_w = aspect <= 1.0 ? o.panel_size : o.panel_size / aspect;
+  page.draw_h = aspect <= 1.0 ? o.panel_size * aspect : o.panel_size;
+  bool any_title = false;
+  for (const Picture& pic : panels) any_title = any_title || !pic.title.empty();
+  page.margin = std::max(8.0, 0.8 * o.font_size);
+  page.title_band = any_title ? 1.8 * o.font_size : 0.0;
+  page.caption_band = o.caption.empty() ? 0.0 : 2.2 * o.font_size;
+  page.cell_w = page.draw_w + 2.0 * page.margin;
+  page.cell_h = page.draw_h + page.title_band + 2.0 * page.margin;
+  page.columns = o.columns == 0 ? panels.size() : std::min(o.columns, panels.size());
+  const std::size_t rows = (panels.size() + page.columns - 1) / page.columns;
+  page.width = std::ceil(page.cell_w * static_cast<double>(page.columns));
+  page.height = std::ceil(page.caption_band + page.cell_h * static_cast<double>(rows));
+  return page;
+}
+
+// A cairo surface of `format` and the page's size: an image for PNG; for SVG and PDF a stream
+// surface appending to `bytes`.
+std::unique_ptr<cairo_surface_t, SurfaceDeleter> create_surface(PictureFormat format, double width, double height,
+                                                                std::string& bytes) {
+  std::unique_ptr<cairo_surface_t, SurfaceDeleter> surface;
+  switch (format) {
+    case PictureFormat::kPng:
+      if (width > 32767.0 || height > 32767.0) throw InputError("", 0, "the picture would be too large for PNG");
+      surface.reset(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, static_cast<int>(width), static_cast<int>(height)));
+      break;
+    case PictureFormat::kSvg:
+      surface.reset(cairo_svg_surface_create_for_stream(append_to_string, &bytes, width, height));
+      break;
+    case PictureFormat::kPdf:
+      surface.reset(cairo_pdf_surface_create_for_stream(append_to_string, &bytes, width, height));
+      cairo_pdf_surface_set_metadata(surface.get(), CAIRO_PDF_METADATA_CREATOR, "mwst");
+      // The reproducible-builds convention: SOURCE_DATE_EPOCH, when set, is the creation date, so
+      // that the same drawing gives the same bytes (otherwise cairo writes the current time).
+      if (const std::optional<std::string> date = source_date_epoch()) {
+        cairo_pdf_surface_set_metadata(surface.get(), CAIRO_PDF_METADATA_CREATE_DATE, date->c_str());
+      }
+      break;
+  }
+  check_cairo(cairo_surface_status(surface.get()), "creating the surface");
+  return surface;
+}
+
+// Every font option explicit: cairo resolves its toy font face once per process with the options
+// of the first surface that uses it, so leaving them to the surface would make the text of a PNG
+// depend on whether a PDF was drawn before it (on another thread, say).
+void set_font_options(cairo_t* cr) {
+  cairo_font_options_t* font = cairo_font_options_create();
+  cairo_font_options_set_antialias(font, CAIRO_ANTIALIAS_GRAY);
+  cairo_font_options_set_subpixel_order(font, CAIRO_SUBPIXEL_ORDER_RGB);
+  cairo_font_options_set_hint_style(font, CAIRO_HINT_STYLE_NONE);
+  cairo_font_options_set_hint_metrics(font, CAIRO_HINT_METRICS_OFF);
+  cairo_set_font_options(cr, font);
+  cairo_font_options_destroy(font);
+}
+
+// Draws the page onto `surface`: white background, the caption, then each panel's title and
+// drawing in its cell.
+void draw_page(cairo_surface_t* surface, const std::vector<Picture>& panels, const PageLayout& page,
+               const DrawOptions& o) {
+  std::unique_ptr<cairo_t, ContextDeleter> context(cairo_create(surface));
+  cairo_t* cr = context.get();
+  check_cairo(cairo_status(cr), "creating the context");
+  set_font_options(cr);
+  cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
+  cairo_paint(cr);
+  if (!o.caption.empty()) {
+    cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
+    centred_text(cr, o.caption, 0.5 * page.width, 1.5 * o.font_size, 1.2 * o.font_size, page.width - 2.0 * page.margin,
+                 true);
+  }
+  for (std::size_t i = 0; i < panels.size(); ++i) {
+    const double x0 = page.cell_w * static_cast<double>(i % page.columns);
+    const double y0 = page.caption_band + page.cell_h * static_cast<double>(i / page.columns);
+    const Picture& pic = panels[i];
+    if (!pic.title.empty()) {
+      cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
+      centred_text(cr, pic.title, x0 + 0.5 * page.cell_w, y0 + page.margin + 1.1 * o.font_size, o.font_size,
+                   page.draw_w, false);
+    }
+    cairo_save(cr);
+    draw_panel(cr, pic, x0 + page.margin, y0 + page.margin + page.title_band, page.draw_w, page.draw_h, o);
+    cairo_restore(cr);
+  }
+  check_cairo(cairo_status(cr), "drawing");
+}
+
+// Completes the document: a PNG is encoded into `bytes`; SVG and PDF are finished (their stream
+// already appends to `bytes`).
+void finish_surface(cairo_surface_t* surface, PictureFormat format, std::string& bytes) {
+  if (format == PictureFormat::kPng) {
+    cairo_surface_flush(surface);
+    check_cairo(cairo_surface_write_to_png_stream(surface, append_to_string, &bytes), "encoding PNG");
+  } else {
+    cairo_surface_finish(surface);
+    check_cairo(cairo_surface_status(surface), "finishing the document");
+  }
+}
 
 }  // namespace
 
@@ -393,93 +527,17 @@ PictureFormat picture_format(const std::string& path) {
                                 "': the name must end in .png, .svg or .pdf");
 }
 
+// The steps: page_layout, create_surface, draw_page (draw_panel per picture), finish_surface.
 std::string render_pictures(const std::vector<Picture>& panels, PictureFormat format, const DrawOptions& o) {
   if (panels.empty()) throw InputError("", 0, "nothing to draw");
   if (!(o.panel_size > 0.0) || !std::isfinite(o.panel_size)) {
     throw InputError("", 0, "the panel size must be a positive number");
   }
-
-  // Every panel gets the same cell; its shape follows the tallest drawing (aspect clamped).
-  double aspect = 0.0;
-  for (const Picture& pic : panels) aspect = std::max(aspect, aspect_of(bounding_box(pic)));
-  const double draw_w = aspect <= 1.0 ? o.panel_size : o.panel_size / aspect;
-  const double draw_h = aspect <= 1.0 ? o.panel_size * aspect : o.panel_size;
-  bool any_title = false;
-  for (const Picture& pic : panels) any_title = any_title || !pic.title.empty();
-  const double margin = std::max(8.0, 0.8 * o.font_size);
-  const double title_band = any_title ? 1.8 * o.font_size : 0.0;
-  const double caption_band = o.caption.empty() ? 0.0 : 2.2 * o.font_size;
-  const double cell_w = draw_w + 2.0 * margin;
-  const double cell_h = draw_h + title_band + 2.0 * margin;
-  const std::size_t columns = o.columns == 0 ? panels.size() : std::min(o.columns, panels.size());
-  const std::size_t rows = (panels.size() + columns - 1) / columns;
-  const double width = std::ceil(cell_w * static_cast<double>(columns));
-  const double height = std::ceil(caption_band + cell_h * static_cast<double>(rows));
-
+  const PageLayout page = page_layout(panels, o);
   std::string bytes;
-  std::unique_ptr<cairo_surface_t, SurfaceDeleter> surface;
-  switch (format) {
-    case PictureFormat::kPng:
-      if (width > 32767.0 || height > 32767.0) throw InputError("", 0, "the picture would be too large for PNG");
-      surface.reset(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, static_cast<int>(width), static_cast<int>(height)));
-      break;
-    case PictureFormat::kSvg:
-      surface.reset(cairo_svg_surface_create_for_stream(append_to_string, &bytes, width, height));
-      break;
-    case PictureFormat::kPdf:
-      surface.reset(cairo_pdf_surface_create_for_stream(append_to_string, &bytes, width, height));
-      cairo_pdf_surface_set_metadata(surface.get(), CAIRO_PDF_METADATA_CREATOR, "mwst");
-      // The reproducible-builds convention: SOURCE_DATE_EPOCH, when set, is the creation date, so
-      // that the same drawing gives the same bytes (otherwise cairo writes the current time).
-      if (const std::optional<std::string> date = source_date_epoch()) {
-        cairo_pdf_surface_set_metadata(surface.get(), CAIRO_PDF_METADATA_CREATE_DATE, date->c_str());
-      }
-      break;
-  }
-  check_cairo(cairo_surface_status(surface.get()), "creating the surface");
-  {
-    std::unique_ptr<cairo_t, ContextDeleter> context(cairo_create(surface.get()));
-    cairo_t* cr = context.get();
-    check_cairo(cairo_status(cr), "creating the context");
-    // Every font option explicit: cairo resolves its toy font face once per process with the
-    // options of the first surface that uses it, so leaving them to the surface would make the
-    // text of a PNG depend on whether a PDF was drawn before it (on another thread, say).
-    {
-      cairo_font_options_t* font = cairo_font_options_create();
-      cairo_font_options_set_antialias(font, CAIRO_ANTIALIAS_GRAY);
-      cairo_font_options_set_subpixel_order(font, CAIRO_SUBPIXEL_ORDER_RGB);
-      cairo_font_options_set_hint_style(font, CAIRO_HINT_STYLE_NONE);
-      cairo_font_options_set_hint_metrics(font, CAIRO_HINT_METRICS_OFF);
-      cairo_set_font_options(cr, font);
-      cairo_font_options_destroy(font);
-    }
-    cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
-    cairo_paint(cr);
-    if (!o.caption.empty()) {
-      cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
-      centred_text(cr, o.caption, 0.5 * width, 1.5 * o.font_size, 1.2 * o.font_size, width - 2.0 * margin, true);
-    }
-    for (std::size_t i = 0; i < panels.size(); ++i) {
-      const double x0 = cell_w * static_cast<double>(i % columns);
-      const double y0 = caption_band + cell_h * static_cast<double>(i / columns);
-      const Picture& pic = panels[i];
-      if (!pic.title.empty()) {
-        cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
-        centred_text(cr, pic.title, x0 + 0.5 * cell_w, y0 + margin + 1.1 * o.font_size, o.font_size, draw_w, false);
-      }
-      cairo_save(cr);
-      draw_panel(cr, pic, x0 + margin, y0 + margin + title_band, draw_w, draw_h, o);
-      cairo_restore(cr);
-    }
-    check_cairo(cairo_status(cr), "drawing");
-  }
-  if (format == PictureFormat::kPng) {
-    cairo_surface_flush(surface.get());
-    check_cairo(cairo_surface_write_to_png_stream(surface.get(), append_to_string, &bytes), "encoding PNG");
-  } else {
-    cairo_surface_finish(surface.get());
-    check_cairo(cairo_surface_status(surface.get()), "finishing the document");
-  }
+  const std::unique_ptr<cairo_surface_t, SurfaceDeleter> surface = create_surface(format, page.width, page.height, bytes);
+  draw_page(surface.get(), panels, page, o);
+  finish_surface(surface.get(), format, bytes);
   return bytes;
 }
 

@@ -18,8 +18,9 @@
 #include "mwst/geometry/geometry.hpp"
 
 namespace mwst::io::detail {
-// ---- scanning ----------------------------------------------------------------------------------
+// ---- characters and messages begin here ---------------------------------------------------------
 
+// The blanks between fields (a line ending is not one: the Scanner splits lines first).
 inline bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
 
 // A token quoted for a message: at most 32 characters, control and non-ASCII bytes escaped.
@@ -41,6 +42,7 @@ inline std::string quote(std::string_view token) {
   return s + "'";
 }
 
+// The supported coordinate range (geometry.hpp's in_supported_range), for messages.
 inline std::string coordinate_range_text() { return "0 or a magnitude between 1e-50 and 1e50"; }
 
 // What is being read, for messages: "vertex 7", "segment 3", "the header".
@@ -59,6 +61,13 @@ inline std::string_view without_byte_order_mark(std::string_view text) {
   return text.substr(0, kMark.size()) == kMark ? text.substr(kMark.size()) : text;
 }
 
+// ---- characters and messages end here -----------------------------------------------------------
+
+// ---- the Scanner begins here --------------------------------------------------------------------
+
+// The scanner of one text named `name` (for messages): next_line() moves to the next line with
+// data, the field readers below take its fields in order, and every problem is an InputError
+// naming the file and the line.
 class Scanner {
  public:
   Scanner(std::string_view text, const std::string& name)
@@ -95,6 +104,7 @@ class Scanner {
     return false;
   }
 
+  // The number of the current line (1 before the first), for messages.
   std::size_t line() const { return line_ == 0 ? 1 : line_; }
   // For splitting a section between two threads: where the next unscanned line starts; a scanner
   // of the rest of the text from the line start p (its lines counted from 0); and taking over the
@@ -123,6 +133,7 @@ class Scanner {
     return cur_ < cur_end_ && *cur_ != '#';
   }
 
+  // Fails with an InputError naming the file, the current line and `message`.
   [[noreturn]] void fail(const std::string& message) const { throw InputError(name_, line(), message); }
 
   // ---- fields (each skips leading blanks; a missing required field is an error) ----
@@ -211,8 +222,12 @@ class Scanner {
   }
 
  private:
+  // ---- the slow paths and the messages ----
+
+  // What parse_double found: a number, no number, or a number outside double's range.
   enum class Status { kOk, kMalformed, kOutOfRange };
 
+  // Whether a number's text ends at p: at the end of the line, a blank or a '#'.
   bool delimited(const char* p) const { return p == cur_end_ || is_blank(*p) || *p == '#'; }
 
   // The current token (up to the next blank or '#'), for messages.
@@ -234,6 +249,7 @@ class Scanner {
     }
   }
 
+  // The messages of a field that is missing, not a number, or outside the supported range.
   [[noreturn, gnu::cold, gnu::noinline]] void missing(const Item& item, const char* field) const {
     fail(item.text() + ": missing " + field);
   }
@@ -317,11 +333,11 @@ class Scanner {
   const char* next_cr_;            // the same for '\r'
   const char* cur_ = nullptr;      // position in the current line
   const char* cur_end_ = nullptr;  // end of the current line (its line ending or the end of the text)
-  const char* after_ = nullptr;
+  const char* after_ = nullptr;    // the end of the number parse_double read
   std::size_t line_ = 0;           // number of the current line (1-based)
   const std::string& name_;
 };
 
-// Reads the header line of a section; `what` names the section for the end-of-file message.
+// ---- the Scanner ends here ----------------------------------------------------------------------
 
 }  // namespace mwst::io::detail

@@ -39,7 +39,7 @@
 namespace mwst::io {
 namespace {
 
-// ---- files -------------------------------------------------------------------------------------
+// ---- reading files begins here ------------------------------------------------------------------
 
 // A file's bytes, whole: a private read-only mapping of a large regular file, or malloc'ed storage
 // filled by read(2) (uninitialised: no memset before reading).
@@ -68,10 +68,12 @@ struct FileBytes {
   std::size_t mapped_ = 0;  // length of the mapping; 0: data_ is malloc'ed (or null)
 };
 
+// Frees malloc'ed storage (the buffer read_whole_file fills).
 struct FreeDeleter {
   void operator()(char* p) const { std::free(p); }
 };
 
+// The text of an errno value, for messages.
 std::string errno_message(int err) { return std::error_code(err, std::generic_category()).message(); }
 
 // Files at least this large are mapped rather than read. Reading copies every byte into fresh
@@ -142,6 +144,7 @@ FileBytes read_whole_file(const std::string& path, bool* missing = nullptr) {
   return out;
 }
 
+// Whether `path` names an existing file.
 bool file_exists(const std::string& path) {
   struct stat st {};
   return ::stat(path.c_str(), &st) == 0;
@@ -160,22 +163,31 @@ std::string sibling_with_extension(const std::string& path, std::string_view ext
   return stem;
 }
 
+// Whether the name `s` ends in `suffix` (an extension).
 bool ends_with(std::string_view s, std::string_view suffix) {
   return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
 }
 
+// ---- reading files ends here --------------------------------------------------------------------
+
+// ---- records and indices begin here -------------------------------------------------------------
+
 // The line scanner and its helpers (quote, coordinate_range_text, Item): io/text_scanner.hpp.
 using namespace detail;
 
+// Moves to the next line with data (a header or record); `what` names it for the end-of-file
+// message.
 void expect_line(Scanner& s, const std::string& what) {
   if (!s.next_line()) s.fail("unexpected end of file: expected " + what);
 }
 
+// Fails: the file ended after `found` of the `expected` records `what`.
 [[noreturn]] void truncated(const Scanner& s, std::size_t expected, std::size_t found, const char* what) {
   s.fail("unexpected end of file: expected " + std::to_string(expected) + " " + what + ", found " +
          std::to_string(found));
 }
 
+// The valid vertex numbers of `count` vertices numbered from `base`, for messages.
 std::string index_range_text(std::size_t count, int base) {
   if (count == 0) return "there are no vertices";
   return "vertices are numbered " + std::to_string(base) + " to " +
@@ -210,8 +222,10 @@ std::int64_t record_index(Scanner& s, const char* kind, std::size_t ordinal, int
   return index;
 }
 
-// Reads a vertex section (header line already current): "N dim nattr nmarkers" then N vertices.
-// Returns the count from the header; with count 0 nothing more is read.
+// ---- records and indices end here ---------------------------------------------------------------
+
+// ---- vertex sections begin here -----------------------------------------------------------------
+
 // One vertex record (ordinal i): index, x, y, then attributes (tolerated, ignored; missing ones
 // count as 0, as in Triangle) and the marker.
 void read_vertex_record(Scanner& s, std::size_t i, int& base, std::int64_t nattr, std::int64_t nmarkers,
@@ -290,6 +304,8 @@ bool read_vertex_records_in_halves(Scanner& s, std::size_t n, std::int64_t nattr
   return true;
 }
 
+// Reads a vertex section (header line already current): "N dim nattr nmarkers" then N vertices.
+// Returns the count from the header; with count 0 nothing more is read.
 std::size_t read_vertex_section(Scanner& s, Pslg& out) {
   const Item header{"header"};
   const std::int64_t declared = s.integer(header, "vertex count");
@@ -328,6 +344,10 @@ std::size_t read_vertex_section(Scanner& s, Pslg& out) {
   out.first_index = base;
   return n;
 }
+
+// ---- vertex sections end here -------------------------------------------------------------------
+
+// ---- the file parsers begin here ----------------------------------------------------------------
 
 // Parses a .node file's text.
 Pslg parse_node_text(std::string_view text, const std::string& name) {
@@ -508,32 +528,41 @@ std::vector<double> parse_area_text(std::string_view text, const std::string& na
   return areas;
 }
 
+// ---- the file parsers end here ------------------------------------------------------------------
+
 }  // namespace
 
-// ---- public API --------------------------------------------------------------------------------
+// ---- the public readers begin here --------------------------------------------------------------
 
+
+// A .node file's text, `name` naming it in messages.
 Pslg parse_node(std::string_view text, const std::string& name) { return parse_node_text(text, name); }
 
+// A .poly file's text (with a vertex count of 0, the vertices of the .node beside `name`).
 Pslg parse_poly(std::string_view text, const std::string& name) {
   return parse_poly_text(text, name, nullptr);
 }
 
+// The file `path`, a .node.
 Pslg read_node(const std::string& path) {
   const FileBytes bytes = read_whole_file(path);
   return parse_node_text(bytes.view(), path);
 }
 
+// The file `path`, a .poly (vertices from the .node beside it when it lists none).
 Pslg read_poly(const std::string& path) {
   const FileBytes bytes = read_whole_file(path);
   return parse_poly_text(bytes.view(), path, nullptr);
 }
 
+// A .node or .poly input, by its extension.
 Pslg read_input(const std::string& path) {
   if (ends_with(path, ".node")) return read_node(path);
   if (ends_with(path, ".poly")) return read_poly(path);
   throw InputError(path, 0, "unknown input type: expected a .node or .poly file");
 }
 
+// A .ele file's text as flat corner indices (0-based); a triangle naming a vertex twice is refused.
 std::vector<std::uint32_t> parse_ele(std::string_view text, const std::string& name, std::size_t points, int base) {
   const std::vector<std::array<std::uint32_t, 3>> triangles = parse_ele_text(text, name, points, base, true);
   std::vector<std::uint32_t> flat;
@@ -542,21 +571,26 @@ std::vector<std::uint32_t> parse_ele(std::string_view text, const std::string& n
   return flat;
 }
 
+// A .area file's text: the maximum area of each of `triangles` triangles.
 std::vector<double> parse_area(std::string_view text, const std::string& name, std::size_t triangles) {
   return parse_area_text(text, name, triangles);
 }
 
+// Adds the triangles of `ele_path` to `pslg` (a mesh to refine), dropping earlier area bounds.
 void read_triangles(Pslg& pslg, const std::string& ele_path) {
   const FileBytes bytes = read_whole_file(ele_path);
   pslg.triangles = parse_ele(bytes.view(), ele_path, pslg.points.size(), pslg.first_index);
   pslg.triangle_max_area.clear();
 }
 
+// Adds the per-triangle area bounds of `area_path` to `pslg` (after read_triangles).
 void read_triangle_areas(Pslg& pslg, const std::string& area_path) {
   const FileBytes bytes = read_whole_file(area_path);
   pslg.triangle_max_area = parse_area_text(bytes.view(), area_path, pslg.triangles.size() / 3);
 }
 
+// The mesh PREFIX.node + PREFIX.ele, with the segments of PREFIX.poly if there is one (its own
+// vertices, if it lists any, must be those of the .node).
 MeshFiles read_mesh(const std::string& prefix) {
   MeshFiles out;
   const std::string node_path = prefix + ".node";
@@ -579,5 +613,7 @@ MeshFiles read_mesh(const std::string& prefix) {
   out.points = std::move(nodes.points);
   return out;
 }
+
+// ---- the public readers end here ----------------------------------------------------------------
 
 }  // namespace mwst::io
