@@ -140,7 +140,7 @@ mwst::Pslg pslg_of(const DoubleArray& vertices, const std::optional<IndexArray>&
   if (regions) {
     const std::size_t r = rows(*regions, 4, "regions");
     const double* row = regions->data();
-    for (std::size_t i = 0; i < r; ++i, row += 4) pslg.regions.push_back({{row[0], row[1]}, row[2], row[3]});
+    for (std::size_t i = 0; i < r; ++i, row += 4) pslg.regions.push_back({{row[0], row[1]}, row[2], row[3], 0});
   }
   pslg.first_index = 0;
   return pslg;

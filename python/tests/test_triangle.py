@@ -276,3 +276,12 @@ def test_markers_carried_as_triangle_carries_them():
     expected = np.where(outer, 5, np.where(inner, 7, 0))
     np.testing.assert_array_equal(out["vertex_markers"][:, 0], expected)
     assert (expected == 0).any() and len(out["vertices"]) > 8
+
+
+@pytest.mark.parametrize("opts", ["pA", "pq25a", "p"])
+def test_a_region_seed_outside_the_domain_is_an_input_error(opts):
+    # The seed (2, 2) lies in the hole of the square: refused whatever the switches (Triangle
+    # ignores such a region).
+    tri = dict(pslg(), regions=np.array([[2.0, 2.0, 1.0, 0.5]]))
+    with pytest.raises(mwst.InputError, match=r"region 1: its seed \(2, 2\) lies outside the domain"):
+        tr.triangulate(tri, opts)

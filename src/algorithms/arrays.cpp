@@ -44,20 +44,18 @@ TriangleId domain_triangle_at(const Mesh& mesh, const Location& where) {
 }  // namespace
 
 std::vector<std::int32_t> region_of_triangles(const Mesh& mesh, const std::vector<Region>& regions,
-                                              std::vector<std::string>* warnings, const char* what) {
+                                              const std::string& source) {
   std::vector<std::int32_t> region(mesh.triangle_slots(), -1);
   std::vector<TriangleId> stack;
   for (std::size_t r = 0; r < regions.size(); ++r) {
     const Point& seed = regions[r].seed;
     const TriangleId start = in_supported_range(seed) ? domain_triangle_at(mesh, mesh.locate(seed)) : kNone;
     if (start == kNone) {
-      if (warnings) {
-        std::ostringstream warning;
-        warning.precision(17);
-        warning << "region seed " << r + 1 << " (" << seed.x << ", " << seed.y << ") lies outside the domain: " << what;
-        warnings->push_back(warning.str());
-      }
-      continue;
+      std::ostringstream message;
+      message.precision(17);
+      message << "region " << r + 1 << ": its seed (" << seed.x << ", " << seed.y
+              << ") lies outside the domain (outside the segments, or in a hole)";
+      throw InputError(source, regions[r].line, message.str());
     }
     // Each region spreads from the triangle holding its seed to every domain triangle reachable
     // without crossing a subsegment, overwriting an earlier region there.
@@ -84,10 +82,10 @@ std::vector<std::int32_t> region_of_triangles(const Mesh& mesh, const std::vecto
 namespace {
 
 // Triangle's regional attributes (region_of_triangles), 0 where no region reaches.
-void spread_region_attributes(const Mesh& mesh, const std::vector<Region>& regions,
+void spread_region_attributes(const Mesh& mesh, const std::vector<Region>& regions, const std::string& source,
                               const std::vector<std::int32_t>& index_of_slot, MeshArrays& out) {
   out.triangle_attributes.assign(out.triangle_count(), 0.0);
-  const std::vector<std::int32_t> region = region_of_triangles(mesh, regions, &out.report.warnings);
+  const std::vector<std::int32_t> region = region_of_triangles(mesh, regions, source);
   for (TriangleId t = 0; t < mesh.triangle_slots(); ++t) {
     if (index_of_slot[t] == kNoTriangle || region[t] < 0) continue;
     out.triangle_attributes[static_cast<std::size_t>(index_of_slot[t])] =
@@ -227,7 +225,7 @@ void copy_domain_triangles(const Mesh& mesh, const std::vector<std::int32_t>& in
 
 // The steps: census_of_vertices, subsegment_ends (only for Steiner points' kinds),
 // copy_kept_vertices, number_domain_triangles, copy_domain_triangles, spread_region_attributes.
-MeshArrays to_arrays(const Mesh& mesh, const std::vector<Region>& regions) {
+MeshArrays to_arrays(const Mesh& mesh, const std::vector<Region>& regions, const std::string& source) {
   MeshArrays out;
   const VertexCensus census = census_of_vertices(mesh);
   const std::vector<std::uint32_t> segment_ends = census.has_steiner ? subsegment_ends(mesh) : std::vector<std::uint32_t>();
@@ -235,14 +233,14 @@ MeshArrays to_arrays(const Mesh& mesh, const std::vector<Region>& regions) {
   std::size_t count = 0;
   const std::vector<std::int32_t> index_of_slot = number_domain_triangles(mesh, count);
   copy_domain_triangles(mesh, index_of_slot, count, ArrayVertex{index_of_vertex, census.removed_count != 0}, out);
-  if (!regions.empty()) spread_region_attributes(mesh, regions, index_of_slot, out);
+  if (!regions.empty()) spread_region_attributes(mesh, regions, source, index_of_slot, out);
   return out;
 }
 
 MeshArrays triangulate_arrays(const Pslg& pslg, const TriangulateOptions& options, Mesh* mesh) {
   Mesh result;
   Report report = triangulate(pslg, options, &result);
-  MeshArrays out = to_arrays(result, pslg.regions);
+  MeshArrays out = to_arrays(result, pslg.regions, pslg.source);
   for (std::string& warning : out.report.warnings) report.warnings.push_back(std::move(warning));
   out.report = std::move(report);
   if (mesh) *mesh = std::move(result);

@@ -452,6 +452,7 @@ Pslg parse_poly_text(std::string_view text, const std::string& name, const Pslg*
       region.seed.y = s.coordinate(item, "y coordinate");
       region.attribute = s.real(item, "regional attribute");
       if (s.has_field()) region.max_area = s.real(item, "maximum area");
+      region.line = s.line();
       s.end_of_record(item);
       out.regions.push_back(region);
     }

@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "mwst/error.hpp"
 #include "mwst/mesh/check.hpp"
 #include "mwst/geometry/geometry.hpp"
 #include "mwst/io/triangle_files.hpp"
@@ -268,11 +269,11 @@ constexpr const char* kTwoRooms =
     "10 2 0 0\n1 0 0\n2 2 0\n3 4 0\n4 4 2\n5 2 2\n6 0 2\n7 2.8 0.8\n8 3.2 0.8\n9 3.2 1.2\n10 2.8 1.2\n"
     "11 0\n1 1 2\n2 2 3\n3 3 4\n4 4 5\n5 5 6\n6 6 1\n7 2 5\n8 7 8\n9 8 9\n10 9 10\n11 10 7\n"
     "1\n1 3 1\n"
-    "4\n1 0.5 0.5 1.5 0\n2 3.5 1.5 2 0\n3 2.5 0.2 3 0\n4 9 9 4 0\n";
+    "3\n1 0.5 0.5 1.5 0\n2 3.5 1.5 2 0\n3 2.5 0.2 3 0\n";
 
 TEST(Arrays, RegionalAttributesSpreadUpToSegments) {
   const mwst::Pslg input = mwst::io::parse_poly(kTwoRooms, "rooms.poly");
-  ASSERT_EQ(input.regions.size(), 4u);
+  ASSERT_EQ(input.regions.size(), 3u);
   Mesh mesh;
   const MeshArrays a = mwst::triangulate_arrays(input, options_for(mwst::Method::kDr, 25.0), &mesh);
   expect_arrays_match_mesh(input, a, mesh);
@@ -283,10 +284,31 @@ TEST(Arrays, RegionalAttributesSpreadUpToSegments) {
     const double cx = (p.x + q.x + r.x) / 3.0;
     EXPECT_EQ(a.triangle_attributes[t], cx < 2.0 ? 1.5 : 3.0) << "triangle " << t << " centroid x " << cx;
   }
-  // Region 4's seed (9, 9) is outside the domain: skipped with a warning naming it.
-  const auto warned = std::find_if(a.report.warnings.begin(), a.report.warnings.end(),
-                                   [](const std::string& w) { return w.find("region seed 4 (9, 9)") != std::string::npos; });
-  EXPECT_NE(warned, a.report.warnings.end());
+}
+
+// A region whose seed lies outside the domain is bad input: an InputError naming the file, the
+// region's line and the seed, whatever the method (the attributes are spread for every one).
+TEST(Arrays, RegionSeedOutsideTheDomainIsAnInputError) {
+  const std::string text = std::string(kTwoRooms).replace(std::string(kTwoRooms).rfind("3\n1 0.5"), 1, "4") +
+                           "4 9 9 4 0\n";
+  const mwst::Pslg input = mwst::io::parse_poly(text, "rooms.poly");
+  ASSERT_EQ(input.regions.size(), 4u);
+  EXPECT_EQ(input.regions[3].line, 30u);
+  for (const mwst::Method method : {mwst::Method::kDt, mwst::Method::kDr}) {
+    try {
+      (void)mwst::triangulate_arrays(input, options_for(method, 25.0));
+      ADD_FAILURE() << "accepted with method " << mwst::method_name(method);
+    } catch (const mwst::InputError& e) {
+      EXPECT_EQ(e.located(), "rooms.poly:30: region 4: its seed (9, 9) lies outside the domain (outside the segments, "
+                             "or in a hole)");
+    }
+  }
+  // In the hole (3, 1) too.
+  const std::string in_hole = std::string(kTwoRooms).replace(std::string(kTwoRooms).rfind("3\n1 0.5"), 1, "4") +
+                              "4 3 1 4 0\n";
+  EXPECT_THROW((void)mwst::triangulate_arrays(mwst::io::parse_poly(in_hole, "rooms.poly"),
+                                              options_for(mwst::Method::kDt, 0.0)),
+               mwst::InputError);
 }
 
 // to_arrays on a mesh with Steiner points taken out again (VertexKind::kRemoved): they are left out

@@ -113,16 +113,22 @@ TEST(RegionalAreaLimits, LimitsDriveTheMesh) {
   EXPECT_LT(left, 10u);
 }
 
-TEST(RegionalAreaLimits, SeedOutsideTheDomainIsAWarningAndOtherMethodsRefuse) {
+TEST(RegionalAreaLimits, SeedOutsideTheDomainIsAnInputErrorAndOtherMethodsRefuse) {
   Pslg g = two_regions(0.5, 3.0);
-  g.regions.push_back({{20, 20}, 0.0, 0.01});
+  g.source = "rooms.poly";
+  g.regions.push_back({{20, 20}, 0.0, 0.01, 17});
   TriangulateOptions o;
   o.method = Method::kDr;
   o.regional_area_limits = true;
-  const Report r = triangulate(g, o);
-  EXPECT_TRUE(std::any_of(r.warnings.begin(), r.warnings.end(), [](const std::string& w) {
-    return w.find("region seed 3") != std::string::npos && w.find("area limit is not applied") != std::string::npos;
-  })) << joined(r.warnings);
+  try {
+    triangulate(g, o);
+    ADD_FAILURE() << "a region seed outside the domain was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "rooms.poly");
+    EXPECT_EQ(e.line(), 17u);
+    EXPECT_NE(std::string(e.what()).find("region 3: its seed (20, 20) lies outside the domain"), std::string::npos)
+        << e.what();
+  }
   for (const Method method : {Method::kDt, Method::kQtr, Method::kOpt}) {
     o.method = method;
     EXPECT_THROW(triangulate(g, o), std::invalid_argument) << method_name(method);

@@ -106,6 +106,23 @@ TEST(CliTriangle, NoIterationNumberNeverReplacesAnInput) {
   EXPECT_NE(r.out.find("NOT writing a .poly file."), std::string::npos) << describe(r);
 }
 
+// A region seed outside the domain (here beyond the square, line 13) is bad input, with any switches
+// (Triangle ignores such a region; mwst refuses it): one line naming
+// the file, the line and the region, exit 1, and no output file.
+TEST(CliTriangle, RegionSeedOutsideTheDomainIsOneLineExitOneAndNoFiles) {
+  Sandbox box;
+  const std::string poly = kSquarePoly.substr(0, kSquarePoly.size() - 2) + "0\n1\n1 9 9 2.5 0.5\n";
+  box.put("sq.poly", poly);
+  for (const char* switches : {"-pA", "-pq25a", "-p"}) {
+    const Outcome r = box.run({"triangle", switches, "sq.poly"});
+    EXPECT_EQ(r.exit_code, 1) << switches << "\n" << describe(r);
+    ASSERT_EQ(r.err_lines().size(), 1u) << switches << "\n" << describe(r);
+    EXPECT_EQ(r.err_lines()[0], "mwst: sq.poly:13: region 1: its seed (9, 9) lies outside the domain (outside the "
+                                "segments, or in a hole)") << describe(r);
+    EXPECT_EQ(box.entries(), (std::set<std::string>{"sq.poly"})) << switches;
+  }
+}
+
 TEST(CliTriangle, HelpAndUsage) {
   Sandbox box;
   for (const char* help : {"-h", "--help", "-pqh"}) {

@@ -53,18 +53,17 @@ struct MeshArrays {
 
 // Triangle's regions: for each triangle slot of `mesh`, the index of the region whose seed reaches
 // it without crossing a subsegment (regions applied in order, a later one winning), or -1 (outside
-// the domain, or reached by no seed). A seed outside the domain is skipped with a warning
-// ("region seed N (x, y) lies outside the domain: ...") appended to `warnings` when not null;
-// `what` completes that warning (what is not applied).
+// the domain, or reached by no seed). A seed outside the domain (outside the segments, or in a
+// hole) is bad input: an InputError naming `source` and the region's line.
 MWST_API std::vector<std::int32_t> region_of_triangles(const Mesh& mesh, const std::vector<Region>& regions,
-                                                       std::vector<std::string>* warnings,
-                                                       const char* what = "its attribute is not applied");
+                                                       const std::string& source);
 
 // The domain triangles of `mesh` as flat arrays. Vertices removed from the mesh
 // (VertexKind::kRemoved) are left out and the rest numbered in order. `regions` (a Pslg's) give
-// triangle_attributes; a region seed outside the domain is skipped with a warning in
-// report.warnings.
-MWST_API MeshArrays to_arrays(const Mesh& mesh, const std::vector<Region>& regions = {});
+// triangle_attributes; a region seed outside the domain is an InputError naming `source` (the
+// input's file) and the region's line (region_of_triangles).
+MWST_API MeshArrays to_arrays(const Mesh& mesh, const std::vector<Region>& regions = {},
+                              const std::string& source = {});
 
 // triangulate(pslg, options) (mwst/algorithms/pipeline.hpp) and to_arrays of its mesh, with its report. If
 // `mesh` is not null the mesh itself is moved there too.

@@ -22,6 +22,7 @@ struct Region {
   Point seed;
   double attribute = 0.0;
   double max_area = -1.0;
+  std::size_t line = 0;  // its line in the .poly (0: not read from a file)
 };
 
 struct Pslg {

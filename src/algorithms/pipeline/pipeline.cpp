@@ -175,10 +175,9 @@ std::size_t non_delaunay_edges(const Mesh& mesh) {
 
 // Triangle's -a without a number: each region's max_area bounds the domain triangles its seed
 // reaches (region_of_triangles: a later region wins); kept in Mesh::area_bound, which refinement
-// hands down to the triangles it makes.
-void apply_regional_area_limits(Mesh& mesh, const Pslg& pslg, Report& report) {
-  const std::vector<std::int32_t> region =
-      region_of_triangles(mesh, pslg.regions, &report.warnings, "its area limit is not applied");
+// hands down to the triangles it makes. A seed outside the domain is an InputError.
+void apply_regional_area_limits(Mesh& mesh, const Pslg& pslg) {
+  const std::vector<std::int32_t> region = region_of_triangles(mesh, pslg.regions, pslg.source);
   if (mesh.area_bound.empty()) mesh.area_bound.assign(mesh.triangle_slots(), -1.0);
   for (TriangleId t = 0; t < mesh.triangle_slots(); ++t) {
     if (region[t] >= 0) mesh.area_bound[t] = pslg.regions[static_cast<std::size_t>(region[t])].max_area;
@@ -459,14 +458,14 @@ Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* ou
       break;
     case Method::kDr:
       mesh = start_mesh();
-      if (options.regional_area_limits) apply_regional_area_limits(mesh, pslg, report);
+      if (options.regional_area_limits) apply_regional_area_limits(mesh, pslg);
       check_memory_for_area_bound(mesh, options);
       announce(options, start, "refine", phase_number++, phases);
       refine_phase(mesh, options, start, report);
       break;
     case Method::kBrh:
       mesh = start_mesh();
-      if (options.regional_area_limits) apply_regional_area_limits(mesh, pslg, report);
+      if (options.regional_area_limits) apply_regional_area_limits(mesh, pslg);
       check_memory_for_area_bound(mesh, options);
       announce(options, start, "brh", phase_number++, phases);
       brh_phase(mesh, options, start, report);
