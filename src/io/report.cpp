@@ -49,6 +49,10 @@ nlohmann::json to_json(const Report& r) {
       {"strict", o.strict},
       {"bundle", o.bundle},
   };
+  if (o.method == Method::kOpt) {
+    // opt's moves lower the weight whatever the angles: the bound holds for its starts only.
+    parameters["min_angle_bounds"] = "the dr and brh starting meshes only, not the result";
+  }
   if (o.method == Method::kBrh) {
     parameters["bundle_k"] = o.bundle_k != 0 ? o.bundle_k : default_bundle_k(o.min_angle_deg);
   }

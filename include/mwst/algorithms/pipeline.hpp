@@ -78,7 +78,9 @@ inline constexpr std::size_t kDefaultOptTrials = std::numeric_limits<std::size_t
 
 struct TriangulateOptions {
   Method method = Method::kDt;
-  double min_angle_deg = 20.0;                 // DR / BRH angle bound α; 0 = none
+  double min_angle_deg = 20.0;                 // DR / BRH angle bound α; 0 = none. opt: the bound of its
+                                               // dr and brh starting meshes only, not of its result (the
+                                               // report's parameters say so: "min_angle_bounds")
   SteinerRule steiner = SteinerRule::kOffCenter;
   std::size_t bundle_k = 0;                    // BRH: 0 = default_bundle_k(min_angle_deg)
   bool flip = false;                           // weight-reducing flips (EFH) after the method

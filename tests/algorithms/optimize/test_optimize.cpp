@@ -625,5 +625,24 @@ TEST(OptimizePieces, DisjointCopiesWeighTheirSum) {
   EXPECT_EQ(measure(m4).steiner, 4 * measure(m1).steiner);
 }
 
+
+// Issue 34: opt's moves keep no angle bound, so its report says that min_angle_deg bounded only
+// its starting meshes, and its measured minimum angle may well be below it; the other methods'
+// reports carry no such note.
+TEST(Optimize, ReportSaysTheAngleBoundHoldsForTheStartsOnly) {
+  const Pslg g = io::read_input(std::string(MWST_DATA_DIR) + "/Plate.poly");
+  TriangulateOptions o;
+  o.method = Method::kOpt;
+  o.min_angle_deg = 25.0;
+  o.opt_trials = 0;
+  const nlohmann::json opt = to_json(triangulate(g, o));
+  ASSERT_TRUE(opt["parameters"].contains("min_angle_bounds"));
+  EXPECT_NE(opt["parameters"]["min_angle_bounds"].get<std::string>().find("starting meshes only"), std::string::npos);
+  EXPECT_EQ(opt["parameters"]["min_angle"].get<double>(), 25.0);
+  for (const Method m : {Method::kDt, Method::kDr, Method::kBrh, Method::kQtr}) {
+    o.method = m;
+    EXPECT_FALSE(to_json(triangulate(g, o))["parameters"].contains("min_angle_bounds"));
+  }
+}
 }  // namespace
 }  // namespace mwst
