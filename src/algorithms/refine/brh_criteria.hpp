@@ -156,10 +156,20 @@ class LocalBundleTest {
     if (cache_.size() < m.triangle_slots()) cache_.resize(m.triangle_slots() + m.triangle_slots() / 4 + 64);
     Cached& c = cache_[t];
     if (c.epoch == epoch_ && c.v == m.triangles[t].v) return c.value == 2;
-    bool found = disk_count(m, t) >= k_;
-    for (unsigned e = 0; e < 3 && !found; ++e) {
+    // The disks of t and of its live finite neighbours. A disk's count is its cached one if it has
+    // one, else a flood's, whichever disk is asked first, so asking the cached ones first (a star's
+    // triangles share neighbours) changes no answer, only saves floods.
+    std::array<TriangleId, 4> disks{t, kNone, kNone, kNone};
+    for (unsigned e = 0; e < 3; ++e) {
       const TriangleId n = triangle_of(m.triangles[t].n[e]);
-      if (!m.is_ghost(n) && !m.is_dead(n)) found = disk_count(m, n) >= k_;
+      if (!m.is_ghost(n) && !m.is_dead(n)) disks[e + 1] = n;
+    }
+    bool found = false;
+    for (const TriangleId d : disks) {
+      if (d != kNone && !found) found = cached_count(m, d) >= k_;
+    }
+    for (const TriangleId d : disks) {
+      if (d != kNone && !found) found = disk_count(m, d) >= k_;
     }
     c.v = m.triangles[t].v;
     c.value = found ? 2 : 1;
@@ -185,8 +195,17 @@ class LocalBundleTest {
     return true;
   }
 
+  static std::uint64_t mesh_version(const Mesh& m) { return std::uint64_t{m.points.size()} << 32 | m.triangles.size(); }
+
+  // disk_count's remembered value, or 0 if it has none.
+  std::uint32_t cached_count(const Mesh& m, TriangleId c) const {
+    if (c >= disk_cache_.size()) return 0;
+    const DiskCount& d = disk_cache_[c];
+    return d.version == mesh_version(m) && d.v == m.triangles[c].v ? d.count : 0;
+  }
+
   std::uint32_t disk_count(const Mesh& m, TriangleId c) {
-    const std::uint64_t version = std::uint64_t{m.points.size()} << 32 | m.triangles.size();
+    const std::uint64_t version = mesh_version(m);
     if (disk_cache_.size() < m.triangle_slots()) disk_cache_.resize(m.triangle_slots() + m.triangle_slots() / 4 + 64);
     DiskCount& d = disk_cache_[c];
     if (d.version == version && d.v == m.triangles[c].v) return d.count;
