@@ -110,29 +110,66 @@ class FloodSet {
 // holds t; a neighbour's holds the shared edge's interior, hence points of t), so t is then in a
 // K-bundle (up to the floating-point edge crossings of the flood). Results are cached per slot
 // and corner triple until clear().
+//
+// When every segment of the mesh is a convex hull edge (point sets), the mesh is the Delaunay
+// triangulation of its vertices and every circumdisk is vertex-empty (the empty circle property),
+// so a flood stops as soon as it has counted K in-domain triangles: the answer is yes, at a cost
+// of O(K) visits, however many triangles the disk meets. Otherwise (interior segments, holes) a
+// vertex hidden behind a segment may lie in the disk, and the flood must see the whole disk; it
+// gives up past cap_ visits (unknown: the exact test decides). So a query costs O(K) visits.
 class LocalBundleTest {
  public:
+  // What the floods cost: the visits (triangles popped) of each, and how they ended. An internal
+  // hook for the tests (a flood's visits are bounded by O(K)), not a timing.
+  struct Stats {
+    std::uint64_t floods = 0;          // circumdisk floods run (cache misses)
+    std::uint64_t visits = 0;          // triangles popped, over all floods
+    std::uint64_t max_visits = 0;      // the most one flood popped
+    std::uint64_t stopped_at_k = 0;    // Delaunay floods that stopped on reaching K
+    std::uint64_t capped = 0;          // floods that gave up past cap_ visits
+  };
+
   // A flood pops at most cap_ + 1 triangles, so it adds at most 3 (cap_ + 1) + 1 triangles and
   // as many vertices plus the three corners to its sets.
   explicit LocalBundleTest(std::uint32_t k)
       : k_(k), cap_(8 * static_cast<std::size_t>(k) + 64), seen_triangles_(3 * cap_ + 8), seen_vertices_(3 * cap_ + 8) {}
 
-  // Forgets every cached result (a new epoch: no sweep over the cache).
+  // Forgets every cached result (a new epoch: no sweep over the cache), and whether the mesh is
+  // Delaunay (looked up again by the first query of the epoch: a pass only splits segments, so
+  // it cannot make a segment that is not a hull edge).
   void clear() {
     if (++epoch_ == 0) {
       std::fill(cache_.begin(), cache_.end(), Cached{});
       epoch_ = 1;
     }
+    delaunay_known_ = false;
   }
 
+  const Stats& stats() const { return stats_; }
+  std::size_t cap() const { return cap_; }
+
   bool in_bundle(const Mesh& m, TriangleId t) {
+    if (!delaunay_known_) {
+      delaunay_ = only_hull_segments(m);
+      delaunay_known_ = true;
+    }
     if (cache_.size() < m.triangle_slots()) cache_.resize(m.triangle_slots() + m.triangle_slots() / 4 + 64);
     Cached& c = cache_[t];
     if (c.epoch == epoch_ && c.v == m.triangles[t].v) return c.value == 2;
-    bool found = disk_count(m, t) >= k_;
-    for (unsigned e = 0; e < 3 && !found; ++e) {
+    // The disks of t and of its live finite neighbours. A disk's count is its cached one if it has
+    // one, else a flood's, whichever disk is asked first, so asking the cached ones first (a star's
+    // triangles share neighbours) changes no answer, only saves floods.
+    std::array<TriangleId, 4> disks{t, kNone, kNone, kNone};
+    for (unsigned e = 0; e < 3; ++e) {
       const TriangleId n = triangle_of(m.triangles[t].n[e]);
-      if (!m.is_ghost(n) && !m.is_dead(n)) found = disk_count(m, n) >= k_;
+      if (!m.is_ghost(n) && !m.is_dead(n)) disks[e + 1] = n;
+    }
+    bool found = false;
+    for (const TriangleId d : disks) {
+      if (d != kNone && !found) found = cached_count(m, d) >= k_;
+    }
+    for (const TriangleId d : disks) {
+      if (d != kNone && !found) found = disk_count(m, d) >= k_;
     }
     c.v = m.triangles[t].v;
     c.value = found ? 2 : 1;
@@ -145,8 +182,30 @@ class LocalBundleTest {
   // vertices, so the mesh is the same while its vertex and slot counts are (the triangles made by
   // one insertion are tested one after another, each with its neighbours, many of them made by the
   // same insertion: without this, one disk would be flooded up to four times).
+  // True if every segment of m is a convex hull edge (a ghost triangle across it): the CDT is then
+  // the Delaunay triangulation of the vertices.
+  static bool only_hull_segments(const Mesh& m) {
+    for (TriangleId t = 0; t < m.triangle_slots(); ++t) {
+      if (m.is_dead(t) || m.is_ghost(t)) continue;
+      for (unsigned e = 0; e < 3; ++e) {
+        const Handle h = make_handle(t, e);
+        if (m.is_segment(h) && !m.is_ghost(triangle_of(m.sym(h)))) return false;
+      }
+    }
+    return true;
+  }
+
+  static std::uint64_t mesh_version(const Mesh& m) { return std::uint64_t{m.points.size()} << 32 | m.triangles.size(); }
+
+  // disk_count's remembered value, or 0 if it has none.
+  std::uint32_t cached_count(const Mesh& m, TriangleId c) const {
+    if (c >= disk_cache_.size()) return 0;
+    const DiskCount& d = disk_cache_[c];
+    return d.version == mesh_version(m) && d.v == m.triangles[c].v ? d.count : 0;
+  }
+
   std::uint32_t disk_count(const Mesh& m, TriangleId c) {
-    const std::uint64_t version = std::uint64_t{m.points.size()} << 32 | m.triangles.size();
+    const std::uint64_t version = mesh_version(m);
     if (disk_cache_.size() < m.triangle_slots()) disk_cache_.resize(m.triangle_slots() + m.triangle_slots() / 4 + 64);
     DiskCount& d = disk_cache_[c];
     if (d.version == version && d.v == m.triangles[c].v) return d.count;
@@ -162,8 +221,18 @@ class LocalBundleTest {
 
   // The number of in-domain triangles meeting the open circumdisk of c, by a flood across the
   // edges meeting it; 0 if a vertex lies strictly inside the disk (exact incircle), or if the
-  // flood grows past cap_ (unknown: the exact test will decide).
+  // flood grows past cap_ (unknown: the exact test will decide). On a Delaunay mesh the count
+  // stops at K (the disk is vertex-empty: K is the answer the caller needs).
   std::uint32_t circumdisk_count(const Mesh& m, TriangleId c) {
+    ++stats_.floods;
+    std::size_t visited = 0;
+    const std::uint32_t count = flood(m, c, visited);
+    stats_.visits += visited;
+    stats_.max_visits = std::max<std::uint64_t>(stats_.max_visits, visited);
+    return count;
+  }
+
+  std::uint32_t flood(const Mesh& m, TriangleId c, std::size_t& visited) {
     if (++stamp_ == 0) {
       value_.fill(ValueSlot{});
       stamp_ = 1;
@@ -188,12 +257,17 @@ class LocalBundleTest {
     stack_.push_back(c);
     seen_triangles_.insert(c);
     std::uint32_t count = 0;
-    std::size_t visited = 0;
     while (!stack_.empty()) {
       const TriangleId t = stack_.back();
       stack_.pop_back();
-      if (++visited > cap_) return 0;
-      if (m.in_domain(t)) ++count;
+      if (++visited > cap_) {
+        ++stats_.capped;
+        return 0;
+      }
+      if (m.in_domain(t) && ++count >= k_ && delaunay_) {
+        ++stats_.stopped_at_k;
+        return count;
+      }
       for (unsigned e = 0; e < 3; ++e) {
         const Handle h = make_handle(t, e);
         const VertexId u = m.org(h), w = m.dest(h);
@@ -250,6 +324,9 @@ class LocalBundleTest {
   };
   std::vector<DiskCount> disk_cache_;
   std::uint16_t epoch_ = 1;
+  bool delaunay_known_ = false;
+  bool delaunay_ = false;  // every segment is a hull edge: circumdisks are vertex-empty
+  Stats stats_;
 };
 
 }  // namespace mwst::brh
