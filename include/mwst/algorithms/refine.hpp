@@ -10,6 +10,8 @@
 #include <cstddef>
 #include <functional>
 #include <string>
+#include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "mwst/algorithms/stop_reason.hpp"
@@ -92,6 +94,13 @@ struct RefineOptions {
   // a custom one; 0: none; > 0: this length (a caller refining in passes, as BRH, computes it once
   // from its input and passes it to every pass, seeded or not).
   double feature_guard_length = -1.0;
+  // The input segment (its two input endpoints) of every vertex refinement put on a segment, for
+  // the Miller–Pav–Walkington rule (a skinny triangle between two segments meeting at a small
+  // input angle is left). Null: the pass keeps its own, which is right for one pass. A caller
+  // refining in passes (BRH) keeps one map for all of them: a pass with a fresh map took the
+  // vertices earlier passes put on segments for input vertices, the rule no longer saw the small
+  // angle, and the splits near it did not end (BRH on a fan of 0.01° wedges).
+  std::unordered_map<VertexId, std::pair<VertexId, VertexId>>* segment_origins = nullptr;
 };
 
 // The termination guard's edge length for a carved mesh not yet refined: kFeatureGuardFraction

@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cstdint>
 #include <string>
+#include <unordered_map>
 #include <unordered_set>
 #include <vector>
 
@@ -75,6 +76,9 @@ class BundleRemoval {
   CleanQueries clean_;
   const SkinnyTest is_skinny_;
   RefineOptions ro_;
+  // Where the vertices the passes put on segments come from, kept across passes (see
+  // RefineOptions::segment_origins).
+  std::unordered_map<VertexId, std::pair<VertexId, VertexId>> segment_origins_;
   // Skinny triangles a pass tested: every triangle a pass makes passes through is_bad, and an
   // unseeded pass (a custom is_bad) ends by testing every triangle of the domain again (refine.cpp).
   std::vector<TriangleId> made_skinny_;
@@ -106,6 +110,7 @@ BundleRemoval::BundleRemoval(Mesh& mesh, const BrhOptions& options)
       ro_(options.refine),
       steiner_budget_(options.refine.max_steiner) {
   ro_.min_angle_deg = A_;
+  if (ro_.segment_origins == nullptr) ro_.segment_origins = &segment_origins_;
   // DR's termination guard (refine.hpp), measured once on the input: BRH splits only skinny
   // triangles, as DR does, so above the angles where DR provably stops it may crowd vertices
   // without end as well; its passes stop once a skinny triangle to split is far below the input's

@@ -259,7 +259,9 @@ class Refiner {
   std::vector<Pending> pending_;
   std::unordered_set<std::uint64_t> unsplittable_;
   // Refinement-made vertices on segments → the endpoints of the input segment they lie on.
-  std::unordered_map<VertexId, std::pair<VertexId, VertexId>> segment_of_;
+  std::unordered_map<VertexId, std::pair<VertexId, VertexId>> own_segment_of_;
+  std::unordered_map<VertexId, std::pair<VertexId, VertexId>>& segment_of_ =
+      opt_.segment_origins != nullptr ? *opt_.segment_origins : own_segment_of_;
   std::uint32_t walk_rng_ = 0x2545F491u;
 
   // Scratch (no allocation per insertion).

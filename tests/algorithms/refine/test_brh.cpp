@@ -11,6 +11,7 @@
 #include "mwst/algorithms/brh.hpp"
 #include "mwst/algorithms/bundle.hpp"
 #include "mwst/mesh/delaunay.hpp"
+#include "mwst/io/generate.hpp"
 #include "mwst/io/triangle_files.hpp"
 #include "mwst/algorithms/metrics.hpp"
 #include "mwst/algorithms/pipeline.hpp"
@@ -210,6 +211,30 @@ TEST(BrhTermination, GuardLengthCountsHullEdges) {
   const Mesh m = constrained_delaunay(g);
   EXPECT_DOUBLE_EQ(feature_guard_length(m, -1.0), 0.01 / 1024.0);
   EXPECT_DOUBLE_EQ(feature_guard_length(m, 1e-6), 1e-3 / 1024.0);  // the side of a triangle of max area
+}
+
+// Issue 32: BRH refines in passes, and each pass is a new refinement. Each pass used to forget
+// which input segment the vertices of earlier passes lie on, so the Miller–Pav–Walkington rule
+// stopped seeing the small input angles, and on a fan of 0.01° wedges the segment splits near the
+// apex did not end (101 vertices: 116k splits in 20 s, stopped by the time budget). With one map
+// of segment origins for all passes BRH stops as DR does, leaving the triangles near the small
+// angles, with no more splits than DR makes.
+TEST(Brh, FanOfTinyWedgesStopsAtTheSmallInputAnglesAsDrDoes) {
+  const Pslg fan = generate_input(Distribution::kFan, 101, 1);
+  TriangulateOptions o;
+  o.time_budget_seconds = 60.0;  // a safety net: the run takes well under a second
+  o.method = Method::kDr;
+  const Report dr = triangulate(fan, o);
+  ASSERT_TRUE(dr.refine.has_value());
+  o.method = Method::kBrh;
+  Mesh m;
+  const Report brh = triangulate(fan, o, &m);
+  ASSERT_TRUE(brh.brh.has_value());
+  EXPECT_EQ(brh.stop.kind, StopKind::kSmallInputAngles) << brh.stop_reason;
+  EXPECT_LE(brh.brh->segment_splits, dr.refine->segment_splits) << brh.stop_reason;
+  EXPECT_TRUE(validate(m).empty());
+  const CheckResult check = test::check_mesh(fan, m);
+  EXPECT_TRUE(check.ok()) << (check.messages.empty() ? "" : check.messages.front());
 }
 
 }  // namespace
