@@ -95,6 +95,20 @@ CleanInput clean_graph(const Pslg& pslg, const QuadtreeOptions& options, Quadtre
     in.segments.push_back({static_cast<VertexId>(seen[i].first >> 32),
                            static_cast<VertexId>(seen[i].first & 0xFFFFFFFFu), seen[i].second, false});
   }
+  // The leaves the tree needs at least along the segments (size_bound.cpp). The clip is at least
+  // half the deepest cells' size: the root's side is at most four times the input's span.
+  double xmin = std::numeric_limits<double>::infinity(), ymin = xmin, xmax = -xmin, ymax = -xmin;
+  for (VertexId v : in.vertices) {
+    xmin = std::min(xmin, cdt.points[v].x);
+    xmax = std::max(xmax, cdt.points[v].x);
+    ymin = std::min(ymin, cdt.points[v].y);
+    ymax = std::max(ymax, cdt.points[v].y);
+  }
+  if (!in.segments.empty()) {
+    const int deepest = static_cast<int>(std::min(options.max_depth, 52u));
+    const double clip = std::ldexp(4.0 * std::max(xmax - xmin, ymax - ymin), -deepest);
+    in.leaf_lower_bound = segment_leaf_lower_bound(cdt, clip);
+  }
   // The domain is the convex hull when asked or when no segment survived (all of zero length).
   if (options.convex_hull || in.segments.empty()) {
     for (const auto& [a, b] : hull) {

@@ -401,6 +401,15 @@ class Tree {
     throw RouteFailure{"the quadtree would need more than " + std::to_string(max_leaves_) +
                        " leaves (features very close for their extent, as in a long thin strip)"};
   }
+  // The same refusal before the build, from CleanInput::leaf_lower_bound (size_bound.cpp): a tree
+  // that needs far more leaves than the limit is not built up to the limit first.
+  void refuse_beyond_leaf_limit_by_bound() const {
+    if (!(in_.leaf_lower_bound > static_cast<double>(max_leaves_))) return;
+    throw RouteFailure{"the quadtree would need more than " + std::to_string(max_leaves_) +
+                       " leaves (features very close for their extent, as in a long thin strip; at least " +
+                       std::to_string(static_cast<unsigned long long>(in_.leaf_lower_bound)) +
+                       " along the segments)"};
+  }
   unsigned deepest() const { return deepest_; }
 
   NodeArray nodes;
