@@ -96,7 +96,7 @@ CleanInput clean_graph(const Pslg& pslg, const QuadtreeOptions& options, Quadtre
                            static_cast<VertexId>(seen[i].first & 0xFFFFFFFFu), seen[i].second, false});
   }
   // The leaves the tree needs at least along the segments (size_bound.cpp). The clip is at least
-  // half the deepest cells' size: the root's side is at most four times the input's span.
+  // the deepest cells' size: the root's side is at most four times the input's span.
   double xmin = std::numeric_limits<double>::infinity(), ymin = xmin, xmax = -xmin, ymax = -xmin;
   for (VertexId v : in.vertices) {
     xmin = std::min(xmin, cdt.points[v].x);

@@ -142,7 +142,8 @@ Mesh refine_with_switches(const Pslg& pslg, const QuadtreeOptions& options, cons
   }
   QuadtreeStats stats;
   std::vector<Point> holes;
-  const CleanInput in = clean_input(pslg, options, stats, holes);
+  CleanInput in = clean_input(pslg, options, stats, holes);
+  if (switches.skip_size_bound) in.leaf_lower_bound = 0.0;
   std::vector<Point> extra;
   Mesh mesh = quadtree_route(in, options, switches, holes, stats, leaves, extra);
   if (stats.fallback) {

@@ -96,7 +96,7 @@ struct CleanInput {
 // subsegments of the CDT are the clean segments.
 CleanInput clean_graph(const Pslg& pslg, const QuadtreeOptions& options, QuadtreeStats& stats);
 // A lower bound on the leaves of the finished quadtree that meet the segments of `cdt` (the input's
-// CDT; its subsegments are the clean segments), for cells no smaller than 2·clip at the deepest
+// CDT; its subsegments are the clean segments), for cells no larger than `clip` at the deepest
 // level (size_bound.cpp). O(segments · log of their distance ratios).
 double segment_leaf_lower_bound(const Mesh& cdt, double clip);
 // A point set: duplicates by sorting, the convex hull by Andrew's monotone chain (exact), the
