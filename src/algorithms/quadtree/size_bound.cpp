@@ -6,8 +6,8 @@
 // integral), unbounded in the number of features: nearly parallel segments that do not touch (the
 // spikes of a narrow fan, a long thin strip) need leaves about as small as their distance along all
 // their length. The route refused such a tree at the leaf limit (1024 per feature), but only after
-// building it to there: a fan of 5,000 spikes took 40 s and 1 GB to fall back to its CDT of 10,000
-// triangles. The bound below is the one-dimensional part of the integral, along the segments:
+// building it to there: a fan of 5,000 spikes took 23 s of CPU and 2.2 GB to fall back to its CDT
+// of 10,000 triangles. The bound below is the one-dimensional part of the integral, along the segments:
 //
 //   Leaf C of size s meeting segment e at x, with its extended cell B(C) simple (every leaf is,
 //   unless it is at the deepest level): B(C) is C grown by s for segments and by s/2 for vertices,
@@ -52,12 +52,12 @@ struct Witness {
 };
 
 double point_distance(const Point& x, const Witness& g) {
-  if (g.is_vertex) return std::hypot(x.x - g.a.x, x.y - g.a.y);
+  if (g.is_vertex) return distance(x, g.a);
   const double dx = g.b.x - g.a.x, dy = g.b.y - g.a.y;
   const double len2 = dx * dx + dy * dy;
   double t = len2 > 0.0 ? ((x.x - g.a.x) * dx + (x.y - g.a.y) * dy) / len2 : 0.0;
   t = std::clamp(t, 0.0, 1.0);
-  return std::hypot(x.x - (g.a.x + t * dx), x.y - (g.a.y + t * dy));
+  return distance(x, Point{g.a.x + t * dx, g.a.y + t * dy});
 }
 
 // A lower bound on the distance between the piece p–q and g (they do not meet: clean features that
@@ -80,7 +80,7 @@ double integral_lower_bound(const Point& p, const Point& q, const Witness& g, do
     double t0, t1, d0, d1;
     int depth;
   };
-  const double length = std::hypot(q.x - p.x, q.y - p.y);
+  const double length = distance(p, q);
   const auto at = [&](double t) { return Point{p.x + t * (q.x - p.x), p.y + t * (q.y - p.y)}; };
   const auto upper = [&](const Point& x) { return std::max(point_distance(x, g) * (1.0 + 1e-9) + slack(scale), clip); };
   std::array<Piece, 128> stack;
@@ -158,7 +158,7 @@ double segment_leaf_lower_bound(const Mesh& cdt, double clip) {
       side_witnesses(cdt, h, witnesses);
       side_witnesses(cdt, cdt.sym(h), witnesses);
       const Point &p = cdt.points[a], &q = cdt.points[b];
-      const double length = std::hypot(q.x - p.x, q.y - p.y);
+      const double length = distance(p, q);
       if (witnesses.empty() || !(length > 0.0)) continue;
       const double f = std::max(std::fabs(q.x - p.x), std::fabs(q.y - p.y)) / length;
       const double w = 1.0 / std::max(degree[a], degree[b]);
