@@ -9,6 +9,7 @@
 #include "algorithms/quadtree/route.hpp"
 #include "mwst/error.hpp"
 #include "mwst/mesh/delaunay.hpp"
+#include "mesh/insertion_order.hpp"
 #include "mesh/keys.hpp"
 
 namespace mwst::qtr {
@@ -27,10 +28,17 @@ Mesh fallback_mesh(const Pslg& pslg, const QuadtreeOptions& options, std::vector
   constrain.convex_hull = options.convex_hull;
   Mesh m = constrained_delaunay(pslg, constrain);
   auto less = [](const Point& a, const Point& b) { return a.x != b.x ? a.x < b.x : a.y < b.y; };
-  std::sort(extra.begin(), extra.end(), less);  // (sorted: short walks from one to the next)
+  std::sort(extra.begin(), extra.end(), less);
   extra.erase(std::unique(extra.begin(), extra.end()), extra.end());
+  // Inserted in the Delaunay triangulation's own order (BRIO rounds of a Hilbert curve): each walk
+  // starts next to its point. In x order, consecutive corners could lie far apart in y, and a walk
+  // across a vertex of many segments (a wheel of 8,000 spokes: 93,000 corners) crossed thousands of
+  // thin triangles: 68 % of the run.
+  std::size_t left_count = 0;
+  const std::vector<std::uint32_t> order = insertion_order::hilbert_order(extra, &left_count, false);
   Handle hint = kNone;
-  for (const Point& p : extra) {
+  for (const std::uint32_t k : order) {
+    const Point& p = extra[k];
     if (!in_supported_range(p)) continue;  // a grid corner finer than the range (see quadtree.cpp)
     const Location at = m.locate(p, hint);
     hint = at.handle;

@@ -174,5 +174,30 @@ TEST(QuadtreeSizeBound, RespectsTheDeepestLevel) {
   EXPECT_TRUE(check.ok()) << (check.messages.empty() ? "" : check.messages.front());
 }
 
+// A wheel: a centre joined to 1,000 points on the unit circle, and the circle. The centre, a grid
+// corner, is in four cells cut by 250 spokes each, more boundary vertices than a cell takes (250;
+// 600 spokes still go the quadtree route), so the route falls back to
+// the CDT plus the quadtree's free corners. Those are inserted in Hilbert order (in x order, walks
+// across the thin spoke triangles took 68 % of the run at 8,000 spokes): the mesh is still the
+// input's carved CDT with corners inside its domain.
+TEST(QuadtreeSizeBound, AWheelOfManySpokesFallsBackWithCorners) {
+  Pslg g;
+  constexpr std::uint32_t kSpokes = 1000;
+  g.points.push_back({0.0, 0.0});
+  for (std::uint32_t k = 0; k < kSpokes; ++k) {
+    const double a = 2.0 * std::numbers::pi * k / kSpokes;
+    g.points.push_back({std::cos(a), std::sin(a)});
+    g.segments.push_back({0, k + 1, 1});
+    g.segments.push_back({k + 1, (k + 1) % kSpokes + 1, 1});
+  }
+  QuadtreeStats stats;
+  const Mesh mesh = quadtree_refinement(g, QuadtreeOptions{}, &stats);
+  ASSERT_TRUE(stats.fallback);
+  EXPECT_EQ(stats.fallback_reason, "a cell has too many boundary vertices");
+  EXPECT_GT(mesh.points.size(), g.points.size() + 1000) << "the corners are used";
+  const CheckResult check = test::check_mesh(g, mesh);
+  EXPECT_TRUE(check.ok()) << (check.messages.empty() ? "" : check.messages.front());
+}
+
 }  // namespace
 }  // namespace mwst
