@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "algorithms/quadtree/route.hpp"
+#include "algorithms/quadtree/tree.hpp"
 #include "mwst/error.hpp"
 #include "mesh/keys.hpp"
 
@@ -95,8 +96,19 @@ CleanInput clean_graph(const Pslg& pslg, const QuadtreeOptions& options, Quadtre
     in.segments.push_back({static_cast<VertexId>(seen[i].first >> 32),
                            static_cast<VertexId>(seen[i].first & 0xFFFFFFFFu), seen[i].second, false});
   }
+  // The domain is the convex hull when asked or when no segment survived (all of zero length).
+  if (options.convex_hull || in.segments.empty()) {
+    for (const auto& [a, b] : hull) {
+      const std::uint64_t key = undirected_key(a, b);
+      const auto it = std::lower_bound(seen.begin(), seen.end(), std::make_pair(key, std::int32_t{0}),
+                                       [](const auto& x, const auto& y) { return x.first < y.first; });
+      if (it != seen.end() && it->first == key) continue;
+      in.segments.push_back({a, b, 1, true});
+    }
+  }
   // The leaves the tree needs at least along the segments (size_bound.cpp). The clip is at least
-  // the deepest cells' size: the root's side is at most four times the input's span.
+  // the deepest cells' size: the root's side is at most four times the input's span. (It stops
+  // once past the leaf limit.)
   double xmin = std::numeric_limits<double>::infinity(), ymin = xmin, xmax = -xmin, ymax = -xmin;
   for (VertexId v : in.vertices) {
     xmin = std::min(xmin, cdt.points[v].x);
@@ -107,17 +119,8 @@ CleanInput clean_graph(const Pslg& pslg, const QuadtreeOptions& options, Quadtre
   if (!in.segments.empty()) {
     const int deepest = static_cast<int>(std::min(options.max_depth, 52u));
     const double clip = std::ldexp(4.0 * std::max(xmax - xmin, ymax - ymin), -deepest);
-    in.leaf_lower_bound = segment_leaf_lower_bound(cdt, clip);
-  }
-  // The domain is the convex hull when asked or when no segment survived (all of zero length).
-  if (options.convex_hull || in.segments.empty()) {
-    for (const auto& [a, b] : hull) {
-      const std::uint64_t key = undirected_key(a, b);
-      const auto it = std::lower_bound(seen.begin(), seen.end(), std::make_pair(key, std::int32_t{0}),
-                                       [](const auto& x, const auto& y) { return x.first < y.first; });
-      if (it != seen.end() && it->first == key) continue;
-      in.segments.push_back({a, b, 1, true});
-    }
+    const auto limit = static_cast<double>(Tree::leaf_limit(options, in.vertices.size() + in.segments.size()));
+    in.leaf_lower_bound = segment_leaf_lower_bound(cdt, clip, limit);
   }
   return in;
 }

@@ -97,8 +97,9 @@ struct CleanInput {
 CleanInput clean_graph(const Pslg& pslg, const QuadtreeOptions& options, QuadtreeStats& stats);
 // A lower bound on the leaves of the finished quadtree that meet the segments of `cdt` (the input's
 // CDT; its subsegments are the clean segments), for cells no larger than `clip` at the deepest
-// level (size_bound.cpp). O(segments · log of their distance ratios).
-double segment_leaf_lower_bound(const Mesh& cdt, double clip);
+// level (size_bound.cpp). O(segments · log of their distance ratios); it stops (with a bound above
+// stop_above) once the bound exceeds stop_above.
+double segment_leaf_lower_bound(const Mesh& cdt, double clip, double stop_above);
 // A point set: duplicates by sorting, the convex hull by Andrew's monotone chain (exact), the
 // points on hull edges inserted into them. O(n log n).
 CleanInput clean_point_set(const Pslg& pslg, const QuadtreeOptions& options);

@@ -34,6 +34,7 @@
 // distance to g, which takes O(log(d_max / d_min)) pieces.
 #include <algorithm>
 #include <array>
+#include <utility>
 #include <cfloat>
 #include <cmath>
 #include <cstdint>
@@ -132,7 +133,7 @@ void side_witnesses(const Mesh& cdt, Handle h, std::vector<Witness>& out) {
 
 }  // namespace
 
-double segment_leaf_lower_bound(const Mesh& cdt, double clip) {
+double segment_leaf_lower_bound(const Mesh& cdt, double clip, double stop_above) {
   // Segments and their degrees (each segment is seen from both its triangles: counted once, from
   // the side where org < dest, with both sides' witnesses).
   std::vector<std::uint32_t> degree(cdt.points.size(), 0);
@@ -148,7 +149,8 @@ double segment_leaf_lower_bound(const Mesh& cdt, double clip) {
   }
   double leaves = 0.0;
   std::vector<Witness> witnesses;
-  for (TriangleId t = 0; t < cdt.triangles.size(); ++t) {
+  std::vector<std::pair<double, std::uint32_t>> most;  // per witness: the integral's upper bound
+  for (TriangleId t = 0; t < cdt.triangles.size() && !(leaves > stop_above); ++t) {
     if (cdt.is_dead(t)) continue;
     for (unsigned k = 0; k < 3; ++k) {
       const Handle h = make_handle(t, k);
@@ -162,8 +164,18 @@ double segment_leaf_lower_bound(const Mesh& cdt, double clip) {
       if (witnesses.empty() || !(length > 0.0)) continue;
       const double f = std::max(std::fabs(q.x - p.x), std::fabs(q.y - p.y)) / length;
       const double w = 1.0 / std::max(degree[a], degree[b]);
+      // The witnesses by the most their integral can be (the length over their least distance),
+      // largest first; the bisection stops at the first that cannot beat the best so far.
+      most.clear();
+      for (std::uint32_t i = 0; i < witnesses.size(); ++i) {
+        const double share = witnesses[i].is_vertex ? 0.5 : 1.0;
+        most.emplace_back(share * length / std::max(piece_distance(p, q, witnesses[i]), clip), i);
+      }
+      std::sort(most.begin(), most.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
       double best = 0.0;
-      for (const Witness& g : witnesses) {
+      for (const auto& [upper, i] : most) {
+        if (!(upper > best)) break;
+        const Witness& g = witnesses[i];
         const double scale = std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(q.x), std::fabs(q.y),
                                        std::fabs(g.a.x), std::fabs(g.a.y), std::fabs(g.b.x), std::fabs(g.b.y)});
         const double share = g.is_vertex ? 0.5 : 1.0;

@@ -139,6 +139,9 @@ class Tree {
   // Balance and warp rule, to a fixed point (two region lanes, then one over the whole tree).
   void finish();
 
+  // QuadtreeOptions::max_leaves, resolved for a clean input of `features` vertices and segments.
+  static std::size_t leaf_limit(const QuadtreeOptions& options, std::size_t features);
+
   // ---- for the Builder ----
   // Leaves in Morton (Z) order.
   std::vector<std::uint32_t> leaves_in_order() const;
@@ -489,8 +492,6 @@ class Tree {
   // The features of the parent's list that meet each child's extended cell, appended to `out`.
   void filter_children(const Node& parent, const std::uint32_t* list, std::size_t count,
                        std::array<FeatureList, 4>& out) const;
-  // QuadtreeOptions::max_leaves, resolved.
-  static std::size_t leaf_limit(const QuadtreeOptions& options, std::size_t features);
 
   // ---- private steps: finish (tree_balance.cpp), in the order they run ----
   // The lanes' split line: about half of the leaves on each side.

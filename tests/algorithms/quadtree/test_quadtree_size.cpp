@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -68,7 +69,8 @@ struct Measured {
 // finished tree, the leaves meeting an input segment.
 Measured measure_bound(const Pslg& g) {
   Measured m;
-  m.bound = qtr::segment_leaf_lower_bound(constrained_delaunay(g, ConstrainOptions{}), 0.0);
+  m.bound = qtr::segment_leaf_lower_bound(constrained_delaunay(g, ConstrainOptions{}), 0.0,
+                                           std::numeric_limits<double>::infinity());
   QuadtreeStats stats;
   std::vector<qtr::QuadtreeLeaf> leaves;
   qtr::TestSwitches switches;
