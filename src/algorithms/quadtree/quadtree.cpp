@@ -147,6 +147,7 @@ Mesh refine_with_switches(const Pslg& pslg, const QuadtreeOptions& options, cons
   std::vector<Point> extra;
   Mesh mesh = quadtree_route(in, options, switches, holes, stats, leaves, extra);
   if (stats.fallback) {
+    in = CleanInput{};  // (the fallback builds its own CDT: the clean input's memory goes first)
     const auto t2 = Clock::now();
     stats.warnings.push_back("quadtree refinement fell back to the constrained Delaunay triangulation "
                              "of the input" + std::string(extra.empty() ? "" : " plus quadtree corners") + ": " +
