@@ -31,13 +31,15 @@
 // and the segments at c found by turning around c (a few edges each way). d_g is convex along e
 // (the distance to a convex set), so on a piece of e it is at most its larger end value: the
 // integral is bounded below by cutting e into pieces until that is within 3/2 of the piece's
-// distance to g, which takes O(log(d_max / d_min)) pieces.
+// distance to g, which takes O(log(d_max / d_min)) pieces. Only the witnesses whose integral can
+// beat the best so far (e's length over their least distance) are cut, and the sum stops once it
+// passes the leaf limit: what the route needs to know is only whether it does.
 #include <algorithm>
 #include <array>
-#include <utility>
 #include <cfloat>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "algorithms/quadtree/route.hpp"
@@ -46,7 +48,7 @@ namespace mwst::qtr {
 
 namespace {
 
-// A witness: the segment (a, b), or the vertex a (b == kNone).
+// A witness: the segment a–b, or the vertex a (is_vertex; b is a copy of a).
 struct Witness {
   Point a, b;
   bool is_vertex;
