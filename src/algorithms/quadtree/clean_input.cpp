@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "algorithms/quadtree/route.hpp"
+#include "algorithms/quadtree/tree.hpp"
 #include "mwst/error.hpp"
 #include "mesh/keys.hpp"
 
@@ -104,6 +105,22 @@ CleanInput clean_graph(const Pslg& pslg, const QuadtreeOptions& options, Quadtre
       if (it != seen.end() && it->first == key) continue;
       in.segments.push_back({a, b, 1, true});
     }
+  }
+  // The leaves the tree needs at least along the segments (size_bound.cpp). The clip is at least
+  // the deepest cells' size: the root's side is at most four times the input's span. (It stops
+  // once past the leaf limit.)
+  double xmin = std::numeric_limits<double>::infinity(), ymin = xmin, xmax = -xmin, ymax = -xmin;
+  for (VertexId v : in.vertices) {
+    xmin = std::min(xmin, cdt.points[v].x);
+    xmax = std::max(xmax, cdt.points[v].x);
+    ymin = std::min(ymin, cdt.points[v].y);
+    ymax = std::max(ymax, cdt.points[v].y);
+  }
+  if (!in.segments.empty()) {
+    const int deepest = static_cast<int>(std::min(options.max_depth, 52u));
+    const double clip = std::ldexp(4.0 * std::max(xmax - xmin, ymax - ymin), -deepest);
+    const auto limit = static_cast<double>(Tree::leaf_limit(options, in.vertices.size() + in.segments.size()));
+    in.leaf_lower_bound = segment_leaf_lower_bound(cdt, clip, limit);
   }
   return in;
 }

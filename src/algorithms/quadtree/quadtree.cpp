@@ -142,10 +142,12 @@ Mesh refine_with_switches(const Pslg& pslg, const QuadtreeOptions& options, cons
   }
   QuadtreeStats stats;
   std::vector<Point> holes;
-  const CleanInput in = clean_input(pslg, options, stats, holes);
+  CleanInput in = clean_input(pslg, options, stats, holes);
+  if (switches.skip_size_bound) in.leaf_lower_bound = 0.0;
   std::vector<Point> extra;
   Mesh mesh = quadtree_route(in, options, switches, holes, stats, leaves, extra);
   if (stats.fallback) {
+    in = CleanInput{};  // (the fallback builds its own CDT: the clean input's memory goes first)
     const auto t2 = Clock::now();
     stats.warnings.push_back("quadtree refinement fell back to the constrained Delaunay triangulation "
                              "of the input" + std::string(extra.empty() ? "" : " plus quadtree corners") + ": " +

@@ -4,6 +4,7 @@
 //
 //   quadtree.cpp           quadtree_refinement(): runs the stages below, or the fallback
 //   1. clean_input.cpp     clean_graph(), clean_point_set(): the features (vertices, segments)
+//      size_bound.cpp      segment_leaf_lower_bound(): how many leaves the tree needs at least
 //   2. tree.hpp            Tree: nodes, feature lists, neighbour look-ups (inline)
 //      tree_build.cpp      Tree(): the root and the vertices' Morton ranks; build(): split by
 //                          the feature rule, level by level
@@ -88,11 +89,17 @@ struct CleanInput {
   std::vector<FeatureSegment> segments;  // subsegments of the clean graph, then hull edges
   double domain_area = 0.0;              // of the input's domain (in floating point)
   std::vector<Point> hole_seeds;         // where to carve the holes (see clean_graph())
+  double leaf_lower_bound = 0.0;         // leaves the tree will have at least (size_bound.cpp)
 };
 
 // A PSLG with segments: its CDT resolves duplicates, vertices on segments and crossings; the
 // subsegments of the CDT are the clean segments.
 CleanInput clean_graph(const Pslg& pslg, const QuadtreeOptions& options, QuadtreeStats& stats);
+// A lower bound on the leaves of the finished quadtree that meet the segments of `cdt` (the input's
+// CDT; its subsegments are the clean segments), for cells no larger than `clip` at the deepest
+// level (size_bound.cpp). O(segments · log of their distance ratios); it stops (with a bound above
+// stop_above) once the bound exceeds stop_above.
+double segment_leaf_lower_bound(const Mesh& cdt, double clip, double stop_above);
 // A point set: duplicates by sorting, the convex hull by Andrew's monotone chain (exact), the
 // points on hull edges inserted into them. O(n log n).
 CleanInput clean_point_set(const Pslg& pslg, const QuadtreeOptions& options);

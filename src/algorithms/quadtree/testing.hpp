@@ -1,5 +1,5 @@
 // algorithms/quadtree/testing.hpp — test switches of quadtree refinement, kept out of the public
-// QuadtreeOptions: the final quadtree's leaves, and a forced fallback. For tests/algorithms/quadtree/test_quadtree.cpp.
+// QuadtreeOptions: the final quadtree's leaves, a forced fallback, the size bound turned off. For tests/algorithms/quadtree/test_quadtree.cpp.
 #pragma once
 
 #include <vector>
@@ -18,6 +18,8 @@ struct QuadtreeLeaf {
 struct TestSwitches {
   bool keep_leaves = false;     // fill *leaves with the final quadtree's leaves, in node order
   bool force_fallback = false;  // skip the quadtree route and build the fallback
+  bool skip_size_bound = false; // build the tree even where the lower bound on its leaves
+                                // (size_bound.cpp) already exceeds QuadtreeOptions::max_leaves
 };
 
 // quadtree_refinement() with the test switches; `leaves` may be null (then keep_leaves is ignored).

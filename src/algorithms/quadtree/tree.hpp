@@ -139,6 +139,9 @@ class Tree {
   // Balance and warp rule, to a fixed point (two region lanes, then one over the whole tree).
   void finish();
 
+  // QuadtreeOptions::max_leaves, resolved for a clean input of `features` vertices and segments.
+  static std::size_t leaf_limit(const QuadtreeOptions& options, std::size_t features);
+
   // ---- for the Builder ----
   // Leaves in Morton (Z) order.
   std::vector<std::uint32_t> leaves_in_order() const;
@@ -401,6 +404,15 @@ class Tree {
     throw RouteFailure{"the quadtree would need more than " + std::to_string(max_leaves_) +
                        " leaves (features very close for their extent, as in a long thin strip)"};
   }
+  // The same refusal before the build, from CleanInput::leaf_lower_bound (size_bound.cpp): a tree
+  // that needs far more leaves than the limit is not built up to the limit first.
+  void refuse_beyond_leaf_limit_by_bound() const {
+    if (!(in_.leaf_lower_bound > static_cast<double>(max_leaves_))) return;
+    throw RouteFailure{"the quadtree would need more than " + std::to_string(max_leaves_) +
+                       " leaves (features very close for their extent, as in a long thin strip; at least " +
+                       std::to_string(static_cast<unsigned long long>(in_.leaf_lower_bound)) +
+                       " along the segments)"};
+  }
   unsigned deepest() const { return deepest_; }
 
   NodeArray nodes;
@@ -480,8 +492,6 @@ class Tree {
   // The features of the parent's list that meet each child's extended cell, appended to `out`.
   void filter_children(const Node& parent, const std::uint32_t* list, std::size_t count,
                        std::array<FeatureList, 4>& out) const;
-  // QuadtreeOptions::max_leaves, resolved.
-  static std::size_t leaf_limit(const QuadtreeOptions& options, std::size_t features);
 
   // ---- private steps: finish (tree_balance.cpp), in the order they run ----
   // The lanes' split line: about half of the leaves on each side.

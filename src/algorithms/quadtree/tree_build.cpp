@@ -153,6 +153,7 @@ struct Tree::Level {
 // frontier on two threads (they only read the levels above and write their own places), and the
 // result is the same arrays, index for index, as one pass in frontier order.
 void Tree::build() {
+  refuse_beyond_leaf_limit_by_bound();
   nodes.clear();
   // Room for what a uniform point set needs, so that the big arrays are not copied while they
   // grow: finish() sizes them to three times what this build makes (about 7 nodes and 7 list
