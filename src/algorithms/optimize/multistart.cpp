@@ -47,13 +47,34 @@ struct Start {
   Mesh mesh;
 };
 
+// Memory. opt's peak is what the multistart keeps at once: the meshes of all its starts (each
+// searched in turn, all kept for the crossover), the CDT until the starts are made, and one
+// search's scratch (Optimizer: its table of failed regions, 128 bytes per triangle, and a copy of
+// the mesh per perturbation trial). A mesh is about 40 bytes per triangle (Triangle, a flag byte,
+// half a vertex), but a refinement or a search grows its arrays by doubling and leaves up to as much
+// again unused: every mesh kept goes through release_spare_capacity, the CDT is freed once the
+// starts are made, and the starts once the crossover has taken what it wants from them. Nothing
+// here changes a result: only when memory is freed.
+void release_spare_capacity(Mesh& m) {
+  m.points.shrink_to_fit();
+  m.vertex_kind.shrink_to_fit();
+  m.vertex_marker.shrink_to_fit();
+  m.triangles.shrink_to_fit();
+  m.flags.shrink_to_fit();
+  m.segment_marker.shrink_to_fit();
+  m.area_bound.shrink_to_fit();
+  m.duplicates.shrink_to_fit();
+}
+
 class Multistart {
  public:
-  Multistart(const Pslg& pslg, const TriangulateOptions& options, Clock::time_point start, const Mesh& cdt)
-      : pslg_(pslg), options_(options), start_(start), cdt_(cdt), cdt_steiner_(measure(cdt).steiner) {}
+  Multistart(const Pslg& pslg, const TriangulateOptions& options, Clock::time_point start, Mesh cdt)
+      : pslg_(pslg), options_(options), start_(start), cdt_(std::move(cdt)), cdt_steiner_(measure(cdt_).steiner),
+        cdt_vertices_(cdt_.points.size()), cdt_separation_(default_min_separation(cdt_)) {}
 
   Mesh run(Report& report) {
     make_starts();
+    cdt_ = Mesh{};  // (only its size and separation scale are needed from here on)
     add_exact_polish_starts();
     local_search();
     kick_search();
@@ -67,19 +88,21 @@ class Multistart {
   // search); large also by the BRH start's size: an area bound makes meshes of tens of thousands
   // of triangles from a few hundred points, and the search's cost grows faster than the mesh.
   void make_starts() {
-    make_brh_start();
+    const bool large_input = pslg_.points.size() > 100000;
+    make_brh_start(/*last_start=*/large_input);
     constexpr std::size_t kLargeStartTriangles = 20000;
-    const bool large =
-        pslg_.points.size() > 100000 || starts_.front().mesh.domain_triangle_count() > kLargeStartTriangles;
+    const bool large = large_input || starts_.front().mesh.domain_triangle_count() > kLargeStartTriangles;
     if (large || time_is_up()) return;
     make_refined_starts();
     make_seeded_starts();
   }
 
-  // BRH at the run's (A, K) (A = 20° when the run has no angle bound), then EFH.
-  void make_brh_start() {
+  // BRH at the run's (A, K) (A = 20° when the run has no angle bound), then EFH. When it is the
+  // only start, it takes the CDT itself rather than a copy (one mesh less during BRH, the peak of
+  // opt on large inputs).
+  void make_brh_start(bool last_start) {
     announce(options_, start_, "start brh+efh", 0, 1);
-    Mesh m = cdt_;
+    Mesh m = last_start ? std::move(cdt_) : cdt_;
     Report scratch;
     TriangulateOptions o = options_;
     if (!(o.min_angle_deg > 0.0)) o.min_angle_deg = 20.0;
@@ -90,6 +113,7 @@ class Multistart {
     // and lower the weight most, e.g. the Delaunay triangulation of 20k points on an ellipse from
     // 12737 to 130.)
     flip_to_local_minimum(m, options_.max_area);
+    release_spare_capacity(m);
     starts_.push_back({"brh+efh", std::move(m)});
   }
 
@@ -102,6 +126,7 @@ class Multistart {
       RefineOptions ro = refine_options_for(options_, start_);
       ro.min_angle_deg = angle;
       note_refinement(refine(m, ro).stop);
+      release_spare_capacity(m);
       starts_.push_back({"dr" + std::to_string(static_cast<int>(angle)), std::move(m)});
     }
     if (!time_is_up()) {
@@ -139,7 +164,10 @@ class Multistart {
       Mesh m = starts_[i].mesh;
       OptimizeOptions polish;
       polish.max_area = options_.max_area;
-      if (exact_polish_mesh(m, polish)) starts_.push_back({starts_[i].name + "+mwt", std::move(m)});
+      if (exact_polish_mesh(m, polish)) {
+        release_spare_capacity(m);
+        starts_.push_back({starts_[i].name + "+mwt", std::move(m)});
+      }
     }
   }
 
@@ -147,14 +175,15 @@ class Multistart {
   // input's CDT's.
   void local_search() {
     local_.kick_passes = 0;
-    local_.fixed_vertices = cdt_.points.size();  // the input and the CDT's crossing points
+    local_.fixed_vertices = cdt_vertices_;  // the input and the CDT's crossing points
     local_.max_steiner = options_.max_steiner;
     local_.max_area = options_.max_area;
-    local_.min_separation = default_min_separation(cdt_);
+    local_.min_separation = cdt_separation_;
     for (std::size_t i = 0; i < starts_.size(); ++i) {
       announce(options_, start_, "local search", i, starts_.size());
       local_.time_budget_seconds = budget_left(options_, start_);
       const OptimizeStats os = optimize(starts_[i].mesh, local_);
+      release_spare_capacity(starts_[i].mesh);
       out_of_time_ |= os.out_of_time;
       local_weight_.push_back(os.weight_after);
       if (i < original_starts_) lightest_ = std::min(lightest_, local_weight_.back());
@@ -188,6 +217,7 @@ class Multistart {
                                                                          : std::min<std::size_t>(600, 300000 / triangles);
         o.time_budget_seconds = budget_left(options_, start_);
         os = optimize(s.mesh, o);
+        release_spare_capacity(s.mesh);
         out_of_time_ |= os.out_of_time;
       } else {
         os.weight_before = os.weight_after = local_weight_[i];
@@ -216,6 +246,8 @@ class Multistart {
     for (std::size_t k = 1; k < order.size(); ++k) {
       crossed_.taken += partition_crossover(child, starts_[order[k]].mesh).taken;
     }
+    starts_.clear();  // (their meshes: the polish of the seams below needs only the child)
+    starts_.shrink_to_fit();
     // (Pieces come from results that keep the area bound, but a start cut short by the budgets
     // may hold larger triangles: a child with a triangle larger than the bound and than the
     // lightest result's largest is not taken.)
@@ -289,14 +321,17 @@ class Multistart {
       ro.min_angle_deg = 0.0;
       note_refinement(refine(m, ro).stop);
     }
+    release_spare_capacity(m);
     return m;
   }
 
   const Pslg& pslg_;
   const TriangulateOptions& options_;
   const Clock::time_point start_;
-  const Mesh& cdt_;
+  Mesh cdt_;  // freed once the starts are made
   const std::size_t cdt_steiner_;
+  const std::size_t cdt_vertices_;
+  const double cdt_separation_;
   bool out_of_time_ = false;     // the budget has passed (a refinement or search was cut, or a step skipped)
   bool out_of_steiner_ = false;  // a start's refinement ran out of max_steiner
   std::vector<Start> starts_;
@@ -342,7 +377,7 @@ bool optimize_in_pieces(const Pslg& pslg, const TriangulateOptions& options, Clo
 }  // namespace
 
 Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::time_point start, Report& report) {
-  const Mesh cdt = constrained_delaunay_phase(pslg, options, report);
+  Mesh cdt = constrained_delaunay_phase(pslg, options, report);
   check_memory_for_area_bound(cdt, options);
   // (Not in pieces with max_steiner, a budget for the whole mesh, nor with convex_hull.)
   const bool whole_budget = options.max_steiner != std::numeric_limits<std::size_t>::max();
@@ -351,7 +386,7 @@ Mesh optimize_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
     if (optimize_in_pieces(pslg, options, start, cdt, report, merged)) return merged;
   }
   Phase phase(report, "optimize");
-  Multistart multistart(pslg, options, start, cdt);
+  Multistart multistart(pslg, options, start, std::move(cdt));
   Mesh best = multistart.run(report);
   phase.finish();
   return best;

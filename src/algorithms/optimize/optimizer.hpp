@@ -103,11 +103,17 @@ class Optimizer {
   // corners' points and kinds, and allow_star. The local search retries every region near a
   // change, in every round and every perturbation trial, and most of them have not changed since
   // they last failed, so such failures are remembered by a 128-bit fingerprint of that input and
-  // not tried again. A lossy cache (one fingerprint per slot, the newest kept): forgetting only
-  // costs a retry, and a match needs all 128 bits, so the results are those of trying every time.
+  // not tried again. A lossy cache (a set-associative table of FailedRegionSet's, the newest
+  // kept): forgetting only costs a retry, and a match needs all 128 bits, so the results are
+  // those of trying every time, whatever the table's size.
   using RegionFingerprint = std::array<std::uint64_t, 2>;
+  static constexpr std::size_t kFailedRegionWays = 4;
+  // One set: the newest failure first; 64 bytes, one cache line.
+  struct alignas(64) FailedRegionSet {
+    std::array<RegionFingerprint, kFailedRegionWays> way{};
+  };
   RegionFingerprint region_fingerprint(const std::vector<TriangleId>& tris, bool allow_star) const;
-  RegionFingerprint* failed_region_slot(const RegionFingerprint& f);
+  FailedRegionSet& failed_region_set(const RegionFingerprint& f);
 
   // ---- budgets and trials (inline: asked before every move) -----------------------------------
   // Has OptimizeOptions::time_budget_seconds passed? (Sticky: once it has, every loop stops.)
@@ -235,7 +241,7 @@ class Optimizer {
   std::vector<std::array<std::uint32_t, 3>> local_;
   std::vector<TriangleId> member_;
   std::vector<std::pair<VertexId, Handle>> boundary_from_;  // region_from(): boundary edges by origin
-  std::vector<std::array<std::uint64_t, 2>> failed_regions_;  // try_region(): fingerprints of failures
+  std::vector<FailedRegionSet> failed_regions_;  // try_region(): fingerprints of failures
   double region_interior_weight_ = 0.0;
   Mesh backup_;
   std::vector<Handle> flip_stack_;

@@ -115,13 +115,20 @@ bool Optimizer::try_region(const std::vector<TriangleId>& tris, bool allow_star)
   bool depends_on_room = false;  // a failure for want of Steiner room is not remembered
   if (!test_.remember_failed_regions) return try_region_once(tris, allow_star, depends_on_room);
   const RegionFingerprint fingerprint = region_fingerprint(tris, allow_star);
-  RegionFingerprint* const slot = failed_region_slot(fingerprint);
-  if ((*slot)[0] == fingerprint[0] && (*slot)[1] == fingerprint[1]) {
+  FailedRegionSet& set = failed_region_set(fingerprint);
+  // The set is kept in order of last use (most recent first; a miss forgets the least recent), so
+  // the fingerprints of regions that have since changed, never asked for again, leave first.
+  const auto found = std::find(set.way.begin(), set.way.end(), fingerprint);
+  if (found != set.way.end()) {
+    std::rotate(set.way.begin(), found, found + 1);
     ++stats_.region_tries_skipped;
     return false;
   }
   if (!try_region_once(tris, allow_star, depends_on_room)) {
-    if (!depends_on_room) *slot = fingerprint;
+    if (!depends_on_room) {
+      std::copy_backward(set.way.begin(), set.way.end() - 1, set.way.end());
+      set.way.front() = fingerprint;
+    }
     return false;
   }
   return true;
@@ -219,14 +226,18 @@ Optimizer::RegionFingerprint Optimizer::region_fingerprint(const std::vector<Tri
   return {finish(h1), finish(h2) | 1u};  // (never {0, 0}, the empty slot)
 }
 
-Optimizer::RegionFingerprint* Optimizer::failed_region_slot(const RegionFingerprint& f) {
+Optimizer::FailedRegionSet& Optimizer::failed_region_set(const RegionFingerprint& f) {
   if (failed_regions_.empty()) {
-    // About 32 slots per triangle (each triangle starts several regions, and the mesh around it
-    // keeps changing), a power of two between 2^14 and 2^21 (256 KiB to 32 MiB).
-    const std::size_t want = std::clamp<std::size_t>(32 * m_.triangles.size(), std::size_t{1} << 14, std::size_t{1} << 21);
-    failed_regions_.assign(std::bit_ceil(want), RegionFingerprint{0, 0});
+    // This table is most of what a search adds to the mesh it searches, and so it bounds opt's
+    // memory (multistart.cpp counts the rest): two sets of four fingerprints, 128 bytes, per
+    // triangle slot. Each triangle starts one region and its edges one and a half more on average
+    // (try_insertions), and the kicks' and perturbations' trials add failures of their own; at
+    // eight fingerprints per triangle the local search skips as many retries as it did with 32
+    // direct-mapped ones rounded up to a power of two (0.5 to 1 KB per triangle, 32 MiB of the
+    // 46 MiB opt took on 40,000 uniform points), and a quarter fewer with four.
+    failed_regions_.resize(std::max<std::size_t>(2 * m_.triangles.size(), 1024));
   }
-  return &failed_regions_[f[0] & (failed_regions_.size() - 1)];
+  return failed_regions_[f[0] % failed_regions_.size()];  // (any size: no power of two, no rounding up)
 }
 
 }  // namespace mwst::opt
