@@ -41,7 +41,7 @@ std::size_t options_budget(const BundleArgs& a, std::size_t triangles) {
 }
 
 int run_bundle(const BundleArgs& a) {
-  const Pslg input = io::read_input(a.input);
+  const std::string input_source = io::read_input(a.input).source;  // the graph itself is not needed
   const io::MeshFiles mesh = io::read_mesh(a.prefix);
   const auto start = std::chrono::steady_clock::now();
   BundleResult r;
@@ -58,7 +58,7 @@ int run_bundle(const BundleArgs& a) {
   if (a.json) {
     const nlohmann::json j = {
         {"version", kVersionString},
-        {"input", input.source},
+        {"input", input_source},
         {"mesh", a.prefix},
         {"triangle_count", mesh.triangles.size()},
         {"bundle_number", r.bundle_number},

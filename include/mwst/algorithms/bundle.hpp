@@ -79,6 +79,10 @@ struct BundleResult {
   // results above do not).
   std::size_t pencils = 0;
   std::size_t candidate_pairs = 0;
+  // Distinct circumdisks of Delaunay triangles whose candidate lists were built: the Delaunay
+  // triangles of one circle (cocircular vertices) share one disk and one list (1 for points on a
+  // circle).
+  std::size_t disks = 0;
   std::size_t exact_comparisons = 0;
 };
 

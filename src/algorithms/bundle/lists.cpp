@@ -37,7 +37,7 @@ void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers, cons
       sh.check_deadline();
       local_begin[t] = static_cast<std::uint32_t>(part.size());
       const auto dtt = static_cast<TriangleId>(t);
-      if (sh.dt.is_dead(dtt) || sh.dt.is_ghost(dtt) || (needed && (*needed)[t] == 0)) continue;
+      if (sh.dt.is_dead(dtt) || sh.dt.is_ghost(dtt) || (needed && (*needed)[t] == 0) || sh.disk(dtt) != dtt) continue;
       if (cap == std::numeric_limits<std::uint32_t>::max()) {
         w.flood(dtt, one);
       } else {
@@ -76,7 +76,7 @@ void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers, cons
 bool build_lists_within_budget(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers, std::size_t budget) {
   const std::size_t slots = sh.dt.triangle_slots();
   std::size_t disks = 0;
-  for (TriangleId d = 0; d < slots; ++d) disks += sh.dt.is_dead(d) || sh.dt.is_ghost(d) ? 0 : 1;
+  for (TriangleId d = 0; d < slots; ++d) disks += sh.dt.is_dead(d) || sh.dt.is_ghost(d) || sh.disk(d) != d ? 0 : 1;
   const auto share = [](std::size_t total, std::size_t parts) {
     return static_cast<std::uint32_t>(std::min<std::size_t>(total / std::max<std::size_t>(parts, 1), 0xFFFFFFF0u));
   };
