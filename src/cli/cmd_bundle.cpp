@@ -15,9 +15,13 @@
 // says so ("exact": false) and gives exact lower and upper bounds, with a witness disk for the
 // lower one. --candidate-budget 0 asks for the exact number whatever it costs.
 #include <chrono>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <iostream>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "cli/commands.hpp"
 #include "mwst/algorithms/bundle.hpp"
@@ -41,14 +45,21 @@ std::size_t options_budget(const BundleArgs& a, std::size_t triangles) {
 }
 
 int run_bundle(const BundleArgs& a) {
+#ifdef __GLIBC__
+  // Large arrays in their own mappings, returned to the system when freed: the input, the covering
+  // mesh and each phase's scratch are freed as the computation goes, and glibc's adaptive
+  // threshold would otherwise keep them in the heap, where the peak resident size never drops.
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
+#endif
   const std::string input_source = io::read_input(a.input).source;  // the graph itself is not needed
-  const io::MeshFiles mesh = io::read_mesh(a.prefix);
+  io::MeshFiles mesh = io::read_mesh(a.prefix);
+  const std::size_t triangle_count = mesh.triangles.size();
   const auto start = std::chrono::steady_clock::now();
   BundleResult r;
   try {
     BundleOptions options;
-    options.candidate_budget = options_budget(a, mesh.triangles.size());
-    r = bundle_number(mesh.points, mesh.triangles, options);
+    options.candidate_budget = options_budget(a, triangle_count);
+    r = bundle_number(std::move(mesh.points), std::move(mesh.triangles), options);  // freed once copied
   } catch (const InputError& e) {
     throw InputError(a.prefix + ".ele", 0, e.what());
   }
@@ -60,7 +71,7 @@ int run_bundle(const BundleArgs& a) {
         {"version", kVersionString},
         {"input", input_source},
         {"mesh", a.prefix},
-        {"triangle_count", mesh.triangles.size()},
+        {"triangle_count", triangle_count},
         {"bundle_number", r.bundle_number},
         {"exact", r.exact},
         {"lower_bound", r.lower_bound},
@@ -76,12 +87,12 @@ int run_bundle(const BundleArgs& a) {
     return kExitOk;
   }
   if (r.exact) {
-    std::cout << a.prefix << ": bundle number " << r.bundle_number << " (" << mesh.triangles.size()
+    std::cout << a.prefix << ": bundle number " << r.bundle_number << " (" << triangle_count
               << " triangles; circumdisks of the Delaunay triangles alone give " << r.circumdisk_bound << ")\n";
   } else {
     std::cout << a.prefix << ": bundle number between " << r.lower_bound << " and " << r.upper_bound
               << " (not exact: " << r.truncated_disks << " circumdisks meet more triangles than the candidate budget of "
-              << options_budget(a, mesh.triangles.size()) << " pairs lets them hold; --candidate-budget 0 computes it "
+              << options_budget(a, triangle_count) << " pairs lets them hold; --candidate-budget 0 computes it "
               << "exactly, at a cost that grows with the square of such disks)\n";
   }
   if (r.bundle_number > 0) {

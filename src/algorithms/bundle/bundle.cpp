@@ -118,6 +118,10 @@ BundleResult bundle_number_of(const Mesh& mesh, const BundleOptions& options, Re
   }
   release();
   result.disks = sh.share_cocircular_disks();
+  // DT(V)'s coordinates are sh.pts; from here on only its topology is read.
+  sh.dt.points = {};
+  sh.dt.vertex_kind = {};
+  sh.dt.vertex_marker = {};
   const unsigned threads = bundle::worker_threads(options.threads, sh.pencils.size());
   // Without per-triangle values, a pencil with no more candidates than the best count so far
   // cannot improve it and is skipped (the first pencil reaching the maximum is never skipped, so
@@ -294,13 +298,15 @@ std::vector<std::uint32_t> find_input_triangles(Mesh& mesh, const std::vector<st
   return slot_to_input;
 }
 
-}  // namespace
-
-BundleResult bundle_number(const std::vector<Point>& points,
-                           const std::vector<std::array<std::uint32_t, 3>>& triangles,
-                           const BundleOptions& options) {
+// The triangle-list versions: `release_input` runs once the input has been copied (compacted).
+template <class Release>
+BundleResult bundle_number_of_list(const std::vector<Point>& points,
+                                   const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                                   const BundleOptions& options, Release release_input) {
   if (triangles.empty()) return {};
+  const std::size_t input_triangles = triangles.size();
   CompactTriangles compact = compact_triangles(points, triangles);
+  release_input();
   Mesh mesh = covering_mesh(compact);
   compact.pslg = {};  // the mesh holds the points; what is not needed is freed as soon as it is not
   compact.original = {};
@@ -310,13 +316,29 @@ BundleResult bundle_number(const std::vector<Point>& points,
   for (std::uint32_t& t : r.triangles) t = slot_to_input[t];
   std::sort(r.triangles.begin(), r.triangles.end());
   if (options.per_triangle) {
-    std::vector<std::uint32_t> by_input(triangles.size(), 0);
+    std::vector<std::uint32_t> by_input(input_triangles, 0);
     for (TriangleId t = 0; t < r.per_triangle.size(); ++t) {
       if (slot_to_input[t] != kNone) by_input[slot_to_input[t]] = r.per_triangle[t];
     }
     r.per_triangle = std::move(by_input);
   }
   return r;
+}
+
+}  // namespace
+
+BundleResult bundle_number(const std::vector<Point>& points,
+                           const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                           const BundleOptions& options) {
+  return bundle_number_of_list(points, triangles, options, [] {});
+}
+
+BundleResult bundle_number(std::vector<Point>&& points, std::vector<std::array<std::uint32_t, 3>>&& triangles,
+                           const BundleOptions& options) {
+  return bundle_number_of_list(points, triangles, options, [&] {
+    points = {};
+    triangles = {};
+  });
 }
 
 }  // namespace mwst
