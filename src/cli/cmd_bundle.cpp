@@ -8,7 +8,7 @@
 // {"bundle_number": K, "exact": true, "lower_bound": K, "upper_bound": K, "disk": {"x":…, "y":…,
 // "r":…}, "triangles": [...], ...} on stdout.
 //
-// Budget (--candidate-budget, BundleOptions::candidate_budget): by default at most 24 (circumdisk,
+// Budget (--candidate-budget, BundleOptions::candidate_budget): by default at most 12 (circumdisk,
 // triangle) candidate pairs per triangle plus 2^20 are kept, which bounds memory (4 bytes a pair)
 // and time. When a circumdisk meets more triangles than that allows (points on a circle: every
 // circumdisk is about the whole circle), the exact number may be out of reach; the output then
@@ -37,11 +37,11 @@ struct BundleArgs {
   std::string input;
   std::string prefix;
   bool json = false;
-  long long candidate_budget = -1;  // −1: 24 per triangle + 2^20; 0: none
+  long long candidate_budget = -1;  // −1: 12 per triangle + 2^20; 0: none
 };
 
 std::size_t options_budget(const BundleArgs& a, std::size_t triangles) {
-  return a.candidate_budget >= 0 ? static_cast<std::size_t>(a.candidate_budget) : 24 * triangles + (std::size_t{1} << 20);
+  return a.candidate_budget >= 0 ? static_cast<std::size_t>(a.candidate_budget) : 12 * triangles + (std::size_t{1} << 20);
 }
 
 int run_bundle(const BundleArgs& a) {
@@ -117,7 +117,7 @@ void register_bundle(CLI::App& app, Action& action) {
                 "Print {\"bundle_number\": K, \"disk\": {\"x\", \"y\", \"r\"}, \"triangles\": [...]} "
                 "(triangles numbered from 1 in PREFIX.ele)");
   sub->add_option("--candidate-budget", args->candidate_budget,
-                  "Keep at most N (circumdisk, triangle) pairs (default 24 per triangle + 2^20); past it the "
+                  "Keep at most N (circumdisk, triangle) pairs (default 12 per triangle + 2^20); past it the "
                   "output gives exact lower and upper bounds instead of the exact number; 0: no budget")
       ->check(CLI::NonNegativeNumber);
   sub->callback([args, &action] { action = [args] { return run_bundle(*args); }; });
