@@ -8,16 +8,20 @@
 // {"bundle_number": K, "exact": true, "lower_bound": K, "upper_bound": K, "disk": {"x":…, "y":…,
 // "r":…}, "triangles": [...], ...} on stdout.
 //
-// Budget (--candidate-budget, BundleOptions::candidate_budget): by default at most 24 (circumdisk,
+// Budget (--candidate-budget, BundleOptions::candidate_budget): by default at most 12 (circumdisk,
 // triangle) candidate pairs per triangle plus 2^20 are kept, which bounds memory (4 bytes a pair)
 // and time. When a circumdisk meets more triangles than that allows (points on a circle: every
 // circumdisk is about the whole circle), the exact number may be out of reach; the output then
 // says so ("exact": false) and gives exact lower and upper bounds, with a witness disk for the
 // lower one. --candidate-budget 0 asks for the exact number whatever it costs.
 #include <chrono>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <iostream>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "cli/commands.hpp"
 #include "mwst/algorithms/bundle.hpp"
@@ -33,22 +37,29 @@ struct BundleArgs {
   std::string input;
   std::string prefix;
   bool json = false;
-  long long candidate_budget = -1;  // −1: 24 per triangle + 2^20; 0: none
+  long long candidate_budget = -1;  // −1: 12 per triangle + 2^20; 0: none
 };
 
 std::size_t options_budget(const BundleArgs& a, std::size_t triangles) {
-  return a.candidate_budget >= 0 ? static_cast<std::size_t>(a.candidate_budget) : 24 * triangles + (std::size_t{1} << 20);
+  return a.candidate_budget >= 0 ? static_cast<std::size_t>(a.candidate_budget) : 12 * triangles + (std::size_t{1} << 20);
 }
 
 int run_bundle(const BundleArgs& a) {
-  const Pslg input = io::read_input(a.input);
-  const io::MeshFiles mesh = io::read_mesh(a.prefix);
+#ifdef __GLIBC__
+  // Large arrays in their own mappings, returned to the system when freed: the input, the covering
+  // mesh and each phase's scratch are freed as the computation goes, and glibc's adaptive
+  // threshold would otherwise keep them in the heap, where the peak resident size never drops.
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
+#endif
+  const std::string input_source = io::read_input(a.input).source;  // the graph itself is not needed
+  io::MeshFiles mesh = io::read_mesh(a.prefix);
+  const std::size_t triangle_count = mesh.triangles.size();
   const auto start = std::chrono::steady_clock::now();
   BundleResult r;
   try {
     BundleOptions options;
-    options.candidate_budget = options_budget(a, mesh.triangles.size());
-    r = bundle_number(mesh.points, mesh.triangles, options);
+    options.candidate_budget = options_budget(a, triangle_count);
+    r = bundle_number(std::move(mesh.points), std::move(mesh.triangles), options);  // freed once copied
   } catch (const InputError& e) {
     throw InputError(a.prefix + ".ele", 0, e.what());
   }
@@ -58,9 +69,9 @@ int run_bundle(const BundleArgs& a) {
   if (a.json) {
     const nlohmann::json j = {
         {"version", kVersionString},
-        {"input", input.source},
+        {"input", input_source},
         {"mesh", a.prefix},
-        {"triangle_count", mesh.triangles.size()},
+        {"triangle_count", triangle_count},
         {"bundle_number", r.bundle_number},
         {"exact", r.exact},
         {"lower_bound", r.lower_bound},
@@ -76,12 +87,12 @@ int run_bundle(const BundleArgs& a) {
     return kExitOk;
   }
   if (r.exact) {
-    std::cout << a.prefix << ": bundle number " << r.bundle_number << " (" << mesh.triangles.size()
+    std::cout << a.prefix << ": bundle number " << r.bundle_number << " (" << triangle_count
               << " triangles; circumdisks of the Delaunay triangles alone give " << r.circumdisk_bound << ")\n";
   } else {
     std::cout << a.prefix << ": bundle number between " << r.lower_bound << " and " << r.upper_bound
               << " (not exact: " << r.truncated_disks << " circumdisks meet more triangles than the candidate budget of "
-              << options_budget(a, mesh.triangles.size()) << " pairs lets them hold; --candidate-budget 0 computes it "
+              << options_budget(a, triangle_count) << " pairs lets them hold; --candidate-budget 0 computes it "
               << "exactly, at a cost that grows with the square of such disks)\n";
   }
   if (r.bundle_number > 0) {
@@ -106,7 +117,7 @@ void register_bundle(CLI::App& app, Action& action) {
                 "Print {\"bundle_number\": K, \"disk\": {\"x\", \"y\", \"r\"}, \"triangles\": [...]} "
                 "(triangles numbered from 1 in PREFIX.ele)");
   sub->add_option("--candidate-budget", args->candidate_budget,
-                  "Keep at most N (circumdisk, triangle) pairs (default 24 per triangle + 2^20); past it the "
+                  "Keep at most N (circumdisk, triangle) pairs (default 12 per triangle + 2^20); past it the "
                   "output gives exact lower and upper bounds instead of the exact number; 0: no budget")
       ->check(CLI::NonNegativeNumber);
   sub->callback([args, &action] { action = [args] { return run_bundle(*args); }; });

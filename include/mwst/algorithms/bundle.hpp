@@ -79,6 +79,10 @@ struct BundleResult {
   // results above do not).
   std::size_t pencils = 0;
   std::size_t candidate_pairs = 0;
+  // Distinct circumdisks of Delaunay triangles whose candidate lists were built: the Delaunay
+  // triangles of one circle (cocircular vertices) share one disk and one list (1 for points on a
+  // circle).
+  std::size_t disks = 0;
   std::size_t exact_comparisons = 0;
 };
 
@@ -94,6 +98,10 @@ MWST_API BundleResult bundle_number(const Mesh& mesh, const BundleOptions& optio
 MWST_API BundleResult bundle_number(const std::vector<Point>& points,
                            const std::vector<std::array<std::uint32_t, 3>>& triangles,
                            const BundleOptions& options = {});
+// The same, taking the points and triangles over: they are freed as soon as they are copied, so
+// that a million-triangle input is held once, not twice (`mwst bundle`).
+MWST_API BundleResult bundle_number(std::vector<Point>&& points, std::vector<std::array<std::uint32_t, 3>>&& triangles,
+                                    const BundleOptions& options = {});
 
 // The cheap variant for bundle removal: for every triangle slot of `mesh`, the largest number of
 // in-domain triangles met by a circumdisk of a triangle of DT(V) that meets it (0 for slots not in

@@ -66,13 +66,12 @@ void merge_workers(const Workers& workers, BundleResult& result) {
 // what was swept is exact. Lower bound: that, or a circumdisk counted in full (those whose cut
 // lists met the most triangles; a circumdisk of DT(V) is vertex-empty, so it is a witness). Upper
 // bound: no disk meets more than every triangle.
-void bound_cut_lists(const Mesh& mesh, const Shared& sh, Worker& worker, BundleResult& result) {
+void bound_cut_lists(const Shared& sh, Worker& worker, BundleResult& result) {
   std::vector<std::pair<std::uint32_t, TriangleId>> cut;  // (met within the cut list, slot)
   for (TriangleId d = 0; d < sh.truncated.size(); ++d) {
     if (!sh.truncated[d]) continue;
     ++result.truncated_disks;
-    const std::uint32_t size = sh.list_begin[d + 1] - sh.list_begin[d];
-    cut.emplace_back(worker.circumdisk_count(d, sh.list.data() + sh.list_begin[d], size, nullptr), d);
+    cut.emplace_back(worker.circumdisk_count(d, sh.list_data(d), sh.list_size(d), nullptr), d);
   }
   const std::size_t full = std::min(kFullCounts, cut.size());
   std::partial_sort(cut.begin(), cut.begin() + static_cast<std::ptrdiff_t>(full), cut.end(),
@@ -91,7 +90,7 @@ void bound_cut_lists(const Mesh& mesh, const Shared& sh, Worker& worker, BundleR
     result.triangles = met;
   }
   std::uint32_t domain = 0;
-  for (TriangleId t = 0; t < mesh.triangle_slots(); ++t) domain += mesh.in_domain(t) ? 1 : 0;
+  for (TriangleId t = 0; t < sh.slots.size(); ++t) domain += sh.in_domain(t) ? 1 : 0;
   result.upper_bound = std::max(domain, result.lower_bound);
   result.bundle_number = result.lower_bound;
   result.exact = result.lower_bound == result.upper_bound;
@@ -107,15 +106,22 @@ std::vector<std::uint32_t> merge_per_triangle(Workers& workers) {
   return merged;
 }
 
-}  // namespace
-
-BundleResult bundle_number(const Mesh& mesh, const BundleOptions& options) {
+// bundle_number(Mesh); `release` runs once the mesh has been copied into Shared and is no longer
+// read (the triangle-list version frees its covering mesh there).
+template <class Release>
+BundleResult bundle_number_of(const Mesh& mesh, const BundleOptions& options, Release release) {
   BundleResult result;
   Shared sh(mesh, options.deadline);
   if (!sh.build()) {
     if (options.per_triangle) result.per_triangle.assign(mesh.triangle_slots(), 0);
     return result;
   }
+  release();
+  result.disks = sh.share_cocircular_disks();
+  // DT(V)'s coordinates are sh.pts; from here on only its topology is read.
+  sh.dt.points = {};
+  sh.dt.vertex_kind = {};
+  sh.dt.vertex_marker = {};
   const unsigned threads = bundle::worker_threads(options.threads, sh.pencils.size());
   // Without per-triangle values, a pencil with no more candidates than the best count so far
   // cannot improve it and is skipped (the first pencil reaching the maximum is never skipped, so
@@ -128,6 +134,7 @@ BundleResult bundle_number(const Mesh& mesh, const BundleOptions& options) {
   } else {
     bundle::build_lists(sh, workers);
   }
+  for (auto& w : workers) w->release_flood_scratch();
   bundle::for_ranges(workers, sh.pencils.size(), [&](Worker& w, std::size_t begin, std::size_t end, std::size_t) {
     for (std::size_t i = begin; i < end; ++i) {
       sh.check_deadline();
@@ -135,10 +142,19 @@ BundleResult bundle_number(const Mesh& mesh, const BundleOptions& options) {
     }
   });
   merge_workers(workers, result);
-  if (!complete) bound_cut_lists(mesh, sh, *workers[0], result);
+  if (!complete) {
+    for (auto& w : workers) w->release_sweep_scratch();
+    bound_cut_lists(sh, *workers[0], result);
+  }
   std::sort(result.triangles.begin(), result.triangles.end());
   if (options.per_triangle) result.per_triangle = merge_per_triangle(workers);
   return result;
+}
+
+}  // namespace
+
+BundleResult bundle_number(const Mesh& mesh, const BundleOptions& options) {
+  return bundle_number_of(mesh, options, [] {});
 }
 
 std::vector<std::uint32_t> circumdisk_bundle_per_triangle(const Mesh& mesh, unsigned threads_requested) {
@@ -225,6 +241,7 @@ Mesh covering_mesh(CompactTriangles& c) {
   for (const std::uint64_t e : edges) {
     pslg.segments.push_back({static_cast<std::uint32_t>(e >> 32), static_cast<std::uint32_t>(e & 0xFFFFFFFFu), 1});
   }
+  edges = {};
   ConstrainOptions constrain;
   constrain.strict = true;
   constrain.convex_hull = true;
@@ -281,26 +298,47 @@ std::vector<std::uint32_t> find_input_triangles(Mesh& mesh, const std::vector<st
   return slot_to_input;
 }
 
-}  // namespace
-
-BundleResult bundle_number(const std::vector<Point>& points,
-                           const std::vector<std::array<std::uint32_t, 3>>& triangles,
-                           const BundleOptions& options) {
+// The triangle-list versions: `release_input` runs once the input has been copied (compacted).
+template <class Release>
+BundleResult bundle_number_of_list(const std::vector<Point>& points,
+                                   const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                                   const BundleOptions& options, Release release_input) {
   if (triangles.empty()) return {};
+  const std::size_t input_triangles = triangles.size();
   CompactTriangles compact = compact_triangles(points, triangles);
+  release_input();
   Mesh mesh = covering_mesh(compact);
+  compact.pslg = {};  // the mesh holds the points; what is not needed is freed as soon as it is not
+  compact.original = {};
   const std::vector<std::uint32_t> slot_to_input = find_input_triangles(mesh, compact.tris);
-  BundleResult r = bundle_number(mesh, options);
+  compact.tris = {};
+  BundleResult r = bundle_number_of(mesh, options, [&mesh] { mesh = Mesh{}; });
   for (std::uint32_t& t : r.triangles) t = slot_to_input[t];
   std::sort(r.triangles.begin(), r.triangles.end());
   if (options.per_triangle) {
-    std::vector<std::uint32_t> by_input(triangles.size(), 0);
+    std::vector<std::uint32_t> by_input(input_triangles, 0);
     for (TriangleId t = 0; t < r.per_triangle.size(); ++t) {
       if (slot_to_input[t] != kNone) by_input[slot_to_input[t]] = r.per_triangle[t];
     }
     r.per_triangle = std::move(by_input);
   }
   return r;
+}
+
+}  // namespace
+
+BundleResult bundle_number(const std::vector<Point>& points,
+                           const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                           const BundleOptions& options) {
+  return bundle_number_of_list(points, triangles, options, [] {});
+}
+
+BundleResult bundle_number(std::vector<Point>&& points, std::vector<std::array<std::uint32_t, 3>>&& triangles,
+                           const BundleOptions& options) {
+  return bundle_number_of_list(points, triangles, options, [&] {
+    points = {};
+    triangles = {};
+  });
 }
 
 }  // namespace mwst

@@ -22,22 +22,59 @@ std::vector<std::unique_ptr<Worker>> make_workers(const Shared& sh, unsigned thr
 
 // ---- candidate lists begin here -------------------------------------------------------------------
 
+namespace {
+
+// One thread's candidate lists, in chunks of about kChunk triangles (a list never straddles two):
+// the lists are copied into Shared::list chunk by chunk, each freed once copied, so that memory
+// holds the lists about once, not twice, and no growing array is ever copied.
+class ListChunks {
+ public:
+  static constexpr std::size_t kChunk = std::size_t{1} << 20;
+
+  std::size_t size() const { return size_; }
+
+  void append(const std::vector<TriangleId>& one) {
+    if (one.empty()) return;
+    if (chunks_.empty() || chunks_.back().size() + one.size() > chunks_.back().capacity()) {
+      chunks_.emplace_back();
+      chunks_.back().reserve(std::max(kChunk, one.size()));
+    }
+    chunks_.back().insert(chunks_.back().end(), one.begin(), one.end());
+    size_ += one.size();
+  }
+
+  // Appends every list to `out` in order, freeing each chunk once copied.
+  void move_into(std::vector<TriangleId>& out) {
+    for (auto& chunk : chunks_) {
+      out.insert(out.end(), chunk.begin(), chunk.end());
+      chunk = {};
+    }
+    chunks_.clear();
+    size_ = 0;
+  }
+
+ private:
+  std::vector<std::vector<TriangleId>> chunks_;
+  std::size_t size_ = 0;
+};
+
+}  // namespace
+
 void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers, const std::vector<std::uint8_t>* needed,
                  std::vector<std::array<double, 4>>* boxes, std::uint32_t cap) {
   if (boxes) boxes->assign(sh.dt.triangle_slots(), {kInf, kInf, -kInf, -kInf});
   for (auto& w : workers) w->want_flood_box = boxes != nullptr;
   const std::size_t slots = sh.dt.triangle_slots();
-  std::vector<std::vector<TriangleId>> parts(workers.size());
+  std::vector<ListChunks> parts(workers.size());
   std::vector<std::uint32_t> local_begin(slots + 1, 0);
   for_ranges(workers, slots, [&](Worker& w, std::size_t begin, std::size_t end, std::size_t k) {
-    std::vector<TriangleId>& part = parts[k];
-    part.reserve((end - begin) * 12);
+    ListChunks& part = parts[k];
     std::vector<TriangleId> one;
     for (std::size_t t = begin; t < end; ++t) {
       sh.check_deadline();
       local_begin[t] = static_cast<std::uint32_t>(part.size());
       const auto dtt = static_cast<TriangleId>(t);
-      if (sh.dt.is_dead(dtt) || sh.dt.is_ghost(dtt) || (needed && (*needed)[t] == 0)) continue;
+      if (sh.dt.is_dead(dtt) || sh.dt.is_ghost(dtt) || (needed && (*needed)[t] == 0) || sh.disk(dtt) != dtt) continue;
       if (cap == std::numeric_limits<std::uint32_t>::max()) {
         w.flood(dtt, one);
       } else {
@@ -54,7 +91,7 @@ void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers, cons
         sh.truncated[t] = over ? 1 : 0;
       }
       if (boxes) (*boxes)[t] = w.flood_box;
-      part.insert(part.end(), one.begin(), one.end());
+      part.append(one);
     }
   });
   std::size_t total = 0;
@@ -67,8 +104,7 @@ void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers, cons
     const std::size_t begin = slots * k / workers.size(), end = slots * (k + 1) / workers.size();
     const auto offset = static_cast<std::uint32_t>(sh.list.size());
     for (std::size_t t = begin; t < end; ++t) sh.list_begin[t] = local_begin[t] + offset;
-    sh.list.insert(sh.list.end(), parts[k].begin(), parts[k].end());
-    parts[k] = {};
+    parts[k].move_into(sh.list);
   }
   sh.list_begin[slots] = static_cast<std::uint32_t>(sh.list.size());
 }
@@ -76,7 +112,7 @@ void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers, cons
 bool build_lists_within_budget(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers, std::size_t budget) {
   const std::size_t slots = sh.dt.triangle_slots();
   std::size_t disks = 0;
-  for (TriangleId d = 0; d < slots; ++d) disks += sh.dt.is_dead(d) || sh.dt.is_ghost(d) ? 0 : 1;
+  for (TriangleId d = 0; d < slots; ++d) disks += sh.dt.is_dead(d) || sh.dt.is_ghost(d) || sh.disk(d) != d ? 0 : 1;
   const auto share = [](std::size_t total, std::size_t parts) {
     return static_cast<std::uint32_t>(std::min<std::size_t>(total / std::max<std::size_t>(parts, 1), 0xFFFFFFF0u));
   };

@@ -38,7 +38,8 @@ void for_ranges(std::vector<std::unique_ptr<Worker>>& workers, std::size_t n, Bo
 }
 
 // Fills sh.list / sh.list_begin: the candidates of every Delaunay triangle (or of those flagged in
-// `needed`; the others get empty lists), by floods.
+// `needed`; the others get empty lists), by floods. A slot sharing another's disk (Shared::disk)
+// gets an empty list: it reads that slot's.
 // With `cap`, a list stops at cap triangles and its flag in sh.truncated is set if the flood had
 // more to give.
 void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers,

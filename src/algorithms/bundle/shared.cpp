@@ -220,6 +220,39 @@ bool Shared::build_region(const std::vector<TriangleId>& region, const DenseIds&
   return finish(false);
 }
 
+// ---- cocircular Delaunay triangles begin here --------------------------------------------------
+
+std::size_t Shared::share_cocircular_disks() {
+  disk_rep.assign(dt.triangle_slots(), kNone);
+  std::size_t distinct = 0;
+  std::vector<TriangleId> stack;
+  for (TriangleId t = 0; t < dt.triangle_slots(); ++t) {
+    if (dt.is_dead(t) || dt.is_ghost(t)) {
+      disk_rep[t] = t;
+      continue;
+    }
+    if (disk_rep[t] != kNone) continue;
+    ++distinct;
+    disk_rep[t] = t;
+    stack.assign(1, t);
+    while (!stack.empty()) {
+      const TriangleId u = stack.back();
+      stack.pop_back();
+      for (unsigned e = 0; e < 3; ++e) {
+        const Handle h = make_handle(u, e);
+        const Handle hs = dt.sym(h);
+        const TriangleId n = triangle_of(hs);
+        if (disk_rep[n] != kNone || dt.is_ghost(n)) continue;
+        // The four vertices of the two triangles on the edge are cocircular: one circumcircle.
+        if (incircle(pts[dt.org(h)], pts[dt.dest(h)], pts[dt.apex(h)], pts[dt.apex(hs)]) != 0) continue;
+        disk_rep[n] = t;
+        stack.push_back(n);
+      }
+    }
+  }
+  return distinct;
+}
+
 // ---- Shared::finish begins here -------------------------------------------------------------------
 
 bool Shared::finish(bool list_pencils) {

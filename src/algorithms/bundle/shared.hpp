@@ -116,6 +116,12 @@ struct Shared {
   std::vector<Handle> pencils;              // per Delaunay edge: a DT handle with a finite left side
   // Per DT slot (empty: none): its list was cut at the budget's cap (bundle_number with a budget).
   std::vector<std::uint8_t> truncated;
+  // Per DT slot (empty: every slot is its own): the slot whose circumdisk and candidate list it
+  // shares. Delaunay triangles with one circumcircle (cocircular vertices: points on a circle) tile
+  // the convex polygon of the vertices on it, joined across edges whose four vertices are
+  // cocircular; the first slot of each such group is flooded, the others use its list
+  // (share_cocircular_disks).
+  std::vector<TriangleId> disk_rep;
   bool kept_dt = false;                     // dt is a kept DT(V) with the new vertices inserted
 
   Handle sym(Handle h) const { return slots[h >> 2].n[h & 3]; }
@@ -128,6 +134,16 @@ struct Shared {
     return v[0] == kInfinite || v[1] == kInfinite || v[2] == kInfinite;
   }
   bool in_domain(TriangleId t) const { return domain[t] != 0; }
+  // The DT slot whose candidate list (and circumdisk) DT slot d uses.
+  TriangleId disk(TriangleId d) const { return disk_rep.empty() ? d : disk_rep[d]; }
+  // The candidate list of DT slot d (its disk's): size and first entry.
+  std::uint32_t list_size(TriangleId d) const { return list_begin[disk(d) + 1] - list_begin[disk(d)]; }
+  const TriangleId* list_data(TriangleId d) const { return list.data() + list_begin[disk(d)]; }
+  bool list_cut(TriangleId d) const { return !truncated.empty() && truncated[disk(d)] != 0; }
+
+  // Fills disk_rep: the Delaunay triangles of one circumcircle share the first one's slot. Returns
+  // the number of distinct circumdisks (live finite DT slots that are their own).
+  std::size_t share_cocircular_disks();
 
 
   // Renumbers, builds DT(V) and (if asked) lists the pencils. False if T has no triangle. With a

@@ -111,6 +111,10 @@ class Worker {
   std::vector<SweepKey> reused_keys;
   std::vector<std::pair<SweepKey, CachedSweep>> made;
   std::vector<std::uint32_t>& per_triangle() { return per_triangle_; }
+  // Frees the scratch of the floods (flood_each) / of the sweeps (sweep); it is allocated again
+  // if used again.
+  void release_flood_scratch();
+  void release_sweep_scratch();
 
   // ---- floods ----
 
@@ -136,6 +140,10 @@ class Worker {
     circle_[1] = sh_.pts[v[1]];
     circle_[2] = sh_.pts[v[2]];
     circle_orient_ = orient_approx(circle_[0], circle_[1], circle_[2]);
+    if (triangle_stamp_.empty()) {
+      flood_vertex_.assign(sh_.pts.size(), FloodVertex{});
+      triangle_stamp_.assign(sh_.slots.size(), 0);
+    }
     bump(flood_stamp_, [this] {
       for (auto& f : flood_vertex_) f.stamp = 0;
     });
@@ -215,6 +223,10 @@ class Worker {
   // A new disk for meets_circumdisk's caches. (Stamps below 2^31: edge_meets_ keeps the stamp
   // shifted by one bit.)
   void start_disk() {
+    if (edge_meets_.empty()) {
+      disk_side_.assign(sh_.pts.size(), DiskSide{});
+      edge_meets_.assign(4 * sh_.slots.size(), 0u);
+    }
     if (++disk_stamp_ == (1u << 31)) {
       for (auto& d : disk_side_) d.stamp = 0;
       std::fill(edge_meets_.begin(), edge_meets_.end(), 0u);
@@ -320,16 +332,28 @@ class Worker {
 
 // ---- Worker: the floods and the circumdisk test (inline: called per flood and per triangle) ----
 
+// The scratch arrays (per vertex and per slot, on every thread) are allocated when first used:
+// floods, disk counts and sweeps each have their own, and bundle_number frees the floods' before
+// the sweeps start, so that peak memory holds one phase's scratch, not all.
 inline Worker::Worker(const Shared& shared, bool per_triangle, bool prune)
     : sh_(shared), per_triangle_enabled_(per_triangle), prune_(prune) {
-  flood_vertex_.assign(sh_.pts.size(), FloodVertex{});
-  pencil_vertex_.assign(sh_.pts.size(), PencilVertex{});
-  disk_side_.assign(sh_.pts.size(), DiskSide{});
-  edge_meets_.assign(4 * sh_.slots.size(), 0u);
-  triangle_stamp_.assign(sh_.slots.size(), 0);
-  candidate_stamp_.assign(sh_.slots.size(), 0);
-  candidate_index_.assign(sh_.slots.size(), 0);
   if (per_triangle) per_triangle_.assign(sh_.slots.size(), 0);
+}
+
+inline void Worker::release_flood_scratch() {
+  flood_vertex_ = {};
+  triangle_stamp_ = {};
+  stack_ = {};
+}
+
+inline void Worker::release_sweep_scratch() {
+  pencil_vertex_ = {};
+  candidate_stamp_ = {};
+  candidate_index_ = {};
+  candidates_ = {};
+  edge_info_ = {};
+  edge_ref_ = {};
+  events_ = {};
 }
 
 // The finite mesh triangle around vertex a whose closed corner at a contains the direction

@@ -15,6 +15,13 @@ void Worker::sweep(std::size_t index) {
   const VertexId lv = dt.apex(h), rv = dt.apex(hs);  // rv = kInfinite on a hull edge
   if (!start_pencil(h, rv)) return;
   ++pencils;
+  // The two lists hold at least as many triangles as their union: a pencil that cannot beat the
+  // best count is pruned before its candidates are gathered (points on a circle: a million hull
+  // pencils share one list of all the triangles).
+  if (prune_ && sh_.list_size(triangle_of(h)) + (rv == kInfinite ? 0 : sh_.list_size(triangle_of(hs))) <= best_count) {
+    count_pencil_ends(h, hs);
+    return;
+  }
   gather_candidates(h, hs, rv);
   candidate_pairs += candidates_.size();
   // No disk of this pencil meets more triangles than it has candidates: below the count asked
@@ -59,20 +66,24 @@ bool Worker::start_pencil(Handle h, VertexId rv) {
   pc_.q = sh_.pts[pc_.qv];
   pc_.points = sh_.pts.data();
   if (rv != kInfinite && incircle(pc_.p, pc_.q, sh_.pts[lv], sh_.pts[rv]) == 0) return false;
-  if (!sh_.truncated.empty() && (sh_.truncated[triangle_of(h)] || (rv != kInfinite && sh_.truncated[triangle_of(hs)]))) {
-    return false;
-  }
+  if (sh_.list_cut(triangle_of(h)) || (rv != kInfinite && sh_.list_cut(triangle_of(hs)))) return false;
   return true;
 }
 
 // The candidates: the union of the lists of the two Delaunay triangles on the edge (every disk of
 // the pencil lies in their circumdisks), each triangle once.
 void Worker::gather_candidates(Handle h, Handle hs, VertexId rv) {
+  if (candidate_stamp_.empty()) {
+    candidate_stamp_.assign(sh_.slots.size(), 0);
+    candidate_index_.assign(sh_.slots.size(), 0);
+    pencil_vertex_.assign(sh_.pts.size(), PencilVertex{});
+  }
   bump(candidate_mark_, [this] { std::fill(candidate_stamp_.begin(), candidate_stamp_.end(), 0); });
   candidates_.clear();
   auto gather = [&](TriangleId dtt) {
-    for (std::uint32_t i = sh_.list_begin[dtt]; i < sh_.list_begin[dtt + 1]; ++i) {
-      const TriangleId t = sh_.list[i];
+    const TriangleId* list = sh_.list_data(dtt);
+    for (std::uint32_t i = 0, size = sh_.list_size(dtt); i < size; ++i) {
+      const TriangleId t = list[i];
       if (candidate_stamp_[t] == candidate_mark_) continue;
       candidate_stamp_[t] = candidate_mark_;
       candidate_index_[t] = static_cast<std::uint32_t>(candidates_.size());
@@ -131,9 +142,9 @@ void Worker::count_pencil_ends(Handle h, Handle hs) {
   const Mesh& dt = sh_.dt;
   for (const TriangleId dtt : {triangle_of(h), triangle_of(hs)}) {
     if (dt.is_ghost(dtt)) continue;
-    const std::uint32_t size = sh_.list_begin[dtt + 1] - sh_.list_begin[dtt];
+    const std::uint32_t size = sh_.list_size(dtt);
     if (size <= circumdisk_best) continue;
-    circumdisk_best = std::max(circumdisk_best, circumdisk_count(dtt, sh_.list.data() + sh_.list_begin[dtt], size, nullptr));
+    circumdisk_best = std::max(circumdisk_best, circumdisk_count(dtt, sh_.list_data(dtt), size, nullptr));
   }
 }
 
