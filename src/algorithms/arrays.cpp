@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "mwst/error.hpp"
+#include "support/huge_pages.hpp"
 
 namespace mwst {
 
@@ -119,7 +120,8 @@ VertexCensus census_of_vertices(const Mesh& mesh) {
 // counts the origin of its directed edge, so both ends are counted once.
 std::vector<std::uint32_t> subsegment_ends(const Mesh& mesh) {
   const std::size_t slots = mesh.triangle_slots();
-  std::vector<std::uint32_t> segment_ends(mesh.points.size(), 0);
+  std::vector<std::uint32_t> segment_ends;
+  support::resize_on_huge_pages(segment_ends, mesh.points.size());
   for (TriangleId t = 0; t < slots; ++t) {
     if ((mesh.flags[t] & kSegmentEdges) == 0 || mesh.is_dead(t)) continue;
     for (unsigned e = 0; e < 3; ++e) {
@@ -149,21 +151,23 @@ std::vector<std::uint32_t> copy_kept_vertices(const Mesh& mesh, const VertexCens
   const std::size_t point_count = mesh.points.size();
   const bool has_removed = census.removed_count != 0;
   std::vector<std::uint32_t> index_of_vertex;
-  if (has_removed) index_of_vertex.assign(point_count, kNone);
+  if (has_removed) {
+    support::reserve_on_huge_pages(index_of_vertex, point_count);
+    index_of_vertex.assign(point_count, kNone);
+  }
   const std::size_t kept = point_count - census.removed_count;
-  out.vertices.resize(2 * kept);
-  out.vertex_kinds.resize(kept);
-  out.vertex_markers.assign(kept, 0);
-  std::size_t next = 0;
+  support::reserve_on_huge_pages(out.vertices, 2 * kept);
+  support::reserve_on_huge_pages(out.vertex_kinds, kept);
+  support::reserve_on_huge_pages(out.vertex_markers, kept);
+  const std::size_t marked = mesh.vertex_marker.size();
   for (VertexId v = 0; v < point_count; ++v) {
     const VertexKind kind = mesh.vertex_kind[v];
     if (kind == VertexKind::kRemoved) continue;
-    if (has_removed) index_of_vertex[v] = static_cast<std::uint32_t>(next);
-    out.vertices[2 * next] = mesh.points[v].x;
-    out.vertices[2 * next + 1] = mesh.points[v].y;
-    out.vertex_kinds[next] = array_kind_of(kind, segment_ends, v);
-    if (v < mesh.vertex_marker.size()) out.vertex_markers[next] = mesh.vertex_marker[v];
-    ++next;
+    if (has_removed) index_of_vertex[v] = static_cast<std::uint32_t>(out.vertex_kinds.size());
+    out.vertices.push_back(mesh.points[v].x);
+    out.vertices.push_back(mesh.points[v].y);
+    out.vertex_kinds.push_back(array_kind_of(kind, segment_ends, v));
+    out.vertex_markers.push_back(v < marked ? mesh.vertex_marker[v] : 0);
   }
   return index_of_vertex;
 }
@@ -183,10 +187,11 @@ struct ArrayVertex {
 // elsewhere. Sets `count` to the number of domain triangles.
 std::vector<std::int32_t> number_domain_triangles(const Mesh& mesh, std::size_t& count) {
   const std::size_t slots = mesh.triangle_slots();
-  std::vector<std::int32_t> index_of_slot(slots, kNoTriangle);
+  std::vector<std::int32_t> index_of_slot;
+  support::reserve_on_huge_pages(index_of_slot, slots);
   count = 0;
   for (TriangleId t = 0; t < slots; ++t) {
-    if (mesh.in_domain(t)) index_of_slot[t] = static_cast<std::int32_t>(count++);
+    index_of_slot.push_back(mesh.in_domain(t) ? static_cast<std::int32_t>(count++) : kNoTriangle);
   }
   return index_of_slot;
 }
@@ -196,17 +201,15 @@ std::vector<std::int32_t> number_domain_triangles(const Mesh& mesh, std::size_t&
 void copy_domain_triangles(const Mesh& mesh, const std::vector<std::int32_t>& index_of_slot, std::size_t count,
                            const ArrayVertex& array_vertex, MeshArrays& out) {
   const std::size_t slots = mesh.triangle_slots();
-  out.triangles.resize(3 * count);
-  out.neighbours.resize(3 * count);
-  std::uint32_t* corners = out.triangles.data();
-  std::int32_t* neighbours = out.neighbours.data();
+  support::reserve_on_huge_pages(out.triangles, 3 * count);
+  support::reserve_on_huge_pages(out.neighbours, 3 * count);
   for (TriangleId t = 0; t < slots; ++t) {
     if (index_of_slot[t] == kNoTriangle) continue;
     const Triangle& triangle = mesh.triangles[t];
     for (unsigned i = 0; i < 3; ++i) {
-      *corners++ = array_vertex(triangle.v[i]);
+      out.triangles.push_back(array_vertex(triangle.v[i]));
       // Edge i of t is opposite corner i; its neighbour is the triangle of sym (-1 outside).
-      *neighbours++ = index_of_slot[triangle_of(triangle.n[i])];
+      out.neighbours.push_back(index_of_slot[triangle_of(triangle.n[i])]);
     }
     if ((mesh.flags[t] & kSegmentEdges) == 0) continue;
     for (unsigned e = 0; e < 3; ++e) {
