@@ -201,6 +201,9 @@ std::vector<std::int32_t> number_domain_triangles(const Mesh& mesh, std::size_t&
 void copy_domain_triangles(const Mesh& mesh, const std::vector<std::int32_t>& index_of_slot, std::size_t count,
                            const ArrayVertex& array_vertex, MeshArrays& out) {
   const std::size_t slots = mesh.triangle_slots();
+  // The array index of the triangle of handle h: kNoTriangle outside the domain, and for an edge
+  // with no triangle across (kNone: a mesh put together by hand, not closed by ghosts).
+  const auto slot_index = [&](Handle h) { return h == kNone ? kNoTriangle : index_of_slot[triangle_of(h)]; };
   support::reserve_on_huge_pages(out.triangles, 3 * count);
   support::reserve_on_huge_pages(out.neighbours, 3 * count);
   for (TriangleId t = 0; t < slots; ++t) {
@@ -209,13 +212,13 @@ void copy_domain_triangles(const Mesh& mesh, const std::vector<std::int32_t>& in
     for (unsigned i = 0; i < 3; ++i) {
       out.triangles.push_back(array_vertex(triangle.v[i]));
       // Edge i of t is opposite corner i; its neighbour is the triangle of sym (-1 outside).
-      out.neighbours.push_back(index_of_slot[triangle_of(triangle.n[i])]);
+      out.neighbours.push_back(slot_index(triangle.n[i]));
     }
     if ((mesh.flags[t] & kSegmentEdges) == 0) continue;
     for (unsigned e = 0; e < 3; ++e) {
       const Handle h = make_handle(t, e);
       if (!mesh.is_segment(h)) continue;
-      const std::int32_t other = index_of_slot[triangle_of(mesh.sym(h))];
+      const std::int32_t other = slot_index(mesh.sym(h));
       if (other != kNoTriangle && other < index_of_slot[t]) continue;
       out.segments.push_back(array_vertex(mesh.org(h)));
       out.segments.push_back(array_vertex(mesh.dest(h)));

@@ -67,13 +67,12 @@ std::vector<std::vector<std::string>> records(const std::string& text) {
   return out;
 }
 
-const std::string& text_of(const std::vector<io::TriangleFile>& files, const std::string& extension) {
+std::string text_of(const std::vector<io::TriangleFile>& files, const std::string& extension) {
   for (const io::TriangleFile& f : files) {
-    if (f.extension == extension) return f.text;
+    if (f.extension == extension) return f.text();
   }
-  static const std::string none;
   ADD_FAILURE() << "no " << extension << " file";
-  return none;
+  return {};
 }
 
 std::vector<std::string> extensions(const std::vector<io::TriangleFile>& files) {
@@ -83,7 +82,7 @@ std::vector<std::string> extensions(const std::vector<io::TriangleFile>& files) 
 }
 
 void write_all(const std::vector<io::TriangleFile>& files, const std::string& prefix) {
-  for (const io::TriangleFile& f : files) io::write_file_atomic(prefix + f.extension, f.text);
+  io::write_triangle_files(prefix, files);
 }
 
 io::TriangleOutput every_file() {

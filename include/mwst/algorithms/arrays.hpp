@@ -36,6 +36,10 @@ struct MeshArrays {
   std::vector<double> vertices;               // 2 per vertex: x, y
   std::vector<ArrayVertexKind> vertex_kinds;  // 1 per vertex
   std::vector<std::int32_t> vertex_markers;   // 1 per vertex: Triangle's boundary markers
+  // Triangle's vertex attributes (the A of a .node's "N 2 A B"): attributes_per_vertex per vertex,
+  // vertex v's at [v * attributes_per_vertex, (v + 1) * attributes_per_vertex). Empty when 0.
+  std::size_t attributes_per_vertex = 0;
+  std::vector<double> vertex_attributes;
   std::vector<std::uint32_t> triangles;       // 3 per triangle: vertex indices, counter-clockwise
   std::vector<std::int32_t> neighbours;       // 3 per triangle: across the edge opposite corner i; -1 none
   std::vector<std::uint32_t> segments;        // 2 per subsegment bounding a domain triangle
