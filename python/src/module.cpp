@@ -553,9 +553,11 @@ py::array columns_of(const NumberLines& lines, std::size_t first, std::size_t co
 void read_triangle_file(const mwst::io::TriangleFile& file, py::dict& out) {
   const NumberLines lines = number_lines(file.text(), file.extension);
   const auto count = static_cast<std::size_t>(lines.at(0, 0));
-  if (file.extension == ".node") {  // "N 2 0 B", then "i x y [marker]"
+  if (file.extension == ".node") {  // "N 2 A B", then "i x y [A attributes] [marker]"
+    const auto attributes = static_cast<std::size_t>(lines.at(0, 2));
     out["vertices"] = columns_of<double>(lines, 1, count, 1, 2);
-    out["vertex_markers"] = columns_of<std::int32_t>(lines, 1, count, 3, 1);
+    if (attributes > 0) out["vertex_attributes"] = columns_of<double>(lines, 1, count, 3, attributes);
+    out["vertex_markers"] = columns_of<std::int32_t>(lines, 1, count, 3 + attributes, 1);
   } else if (file.extension == ".ele") {  // "T 3 A", then "i a b c [attribute]"
     out["triangles"] = columns_of<std::int32_t>(lines, 1, count, 1, 3);
     if (lines.at(0, 2) > 0) out["triangle_attributes"] = columns_of<double>(lines, 1, count, 4, 1);
@@ -595,7 +597,8 @@ py::dict triangulate_switches(const DoubleArray& vertices, const std::optional<I
                               const std::optional<MarkerArray>& vertex_markers,
                               const std::optional<MarkerArray>& segment_markers,
                               const std::optional<IndexArray>& triangles,
-                              const std::optional<DoubleArray>& triangle_max_area, const std::string& switches) {
+                              const std::optional<DoubleArray>& triangle_max_area,
+                              const std::optional<DoubleArray>& vertex_attributes, const std::string& switches) {
   const mwst::TriangleSwitches parsed = mwst::parse_triangle_switches(switches);
   mwst::TriangulateOptions options = parsed.options;
   mwst::check_options(options);
@@ -603,6 +606,14 @@ py::dict triangulate_switches(const DoubleArray& vertices, const std::optional<I
   mwst::Pslg pslg = pslg_of(vertices, poly ? segments : std::nullopt, poly ? segment_markers : std::nullopt,
                             vertex_markers, poly && !parsed.ignore_holes ? holes : std::nullopt,
                             poly ? regions : std::nullopt);
+  if (vertex_attributes) {  // (n, A): Triangle's vertex attributes, carried to the output's vertices
+    if (vertex_attributes->ndim() != 2 || static_cast<std::size_t>(vertex_attributes->shape(0)) != pslg.points.size()) {
+      input_error("vertex_attributes: expected one row per vertex (" + std::to_string(pslg.points.size()) +
+                  "), got shape " + shape_text(*vertex_attributes));
+    }
+    pslg.attributes_per_point = static_cast<std::size_t>(vertex_attributes->shape(1));
+    pslg.point_attributes.assign(vertex_attributes->data(), vertex_attributes->data() + vertex_attributes->size());
+  }
   if (parsed.refine) {
     if (!triangles) input_error("-r: refining needs the triangles of the mesh to refine ('triangles')");
     for (const auto& t : triangles_of(*triangles, pslg.points.size(), "triangles")) {
@@ -695,7 +706,7 @@ PYBIND11_MODULE(_mwst, m) {
         "The library's parse_triangle_switches(): what a Triangle switch string sets.");
   m.def("triangulate_switches", &triangulate_switches, py::arg("vertices"), py::arg("segments"), py::arg("holes"),
         py::arg("regions"), py::arg("vertex_markers"), py::arg("segment_markers"), py::arg("triangles"),
-        py::arg("triangle_max_area"), py::arg("switches"),
+        py::arg("triangle_max_area"), py::arg("vertex_attributes"), py::arg("switches"),
         "triangulate_arrays() with the options of a Triangle switch string (mwst.triangle).");
   m.def("read_input", &read_input, py::arg("path"), "io::read_input: a .node or .poly file.");
   m.def("read_mesh", &read_mesh, py::arg("prefix"), "io::read_mesh: PREFIX.node, .ele and .poly.");

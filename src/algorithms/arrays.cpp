@@ -3,6 +3,7 @@
 // point location per region seed).
 #include "mwst/algorithms/arrays.hpp"
 
+#include <algorithm>
 #include <sstream>
 #include <utility>
 
@@ -243,10 +244,113 @@ MeshArrays to_arrays(const Mesh& mesh, const std::vector<Region>& regions, const
   return out;
 }
 
+namespace {
+
+// The attributes of `a` and `b` at the point of segment ab nearest p: (1 - s) a + s b, s in [0, 1].
+void along_segment(const Point& a, const Point& b, const double* at_a, const double* at_b, const Point& p,
+                   std::size_t count, double* out) {
+  const double dx = b.x - a.x, dy = b.y - a.y, length2 = dx * dx + dy * dy;
+  const double s = length2 > 0.0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / length2, 0.0, 1.0) : 0.0;
+  for (std::size_t k = 0; k < count; ++k) out[k] = (1.0 - s) * at_a[k] + s * at_b[k];
+}
+
+// Piecewise linear attributes over a triangulation (the input's constrained Delaunay
+// triangulation): `values` holds `count` per vertex of `mesh`.
+struct LinearAttributes {
+  const Mesh& mesh;
+  const std::vector<double>& values;
+  std::size_t count;
+
+  const double* of(VertexId v) const { return values.data() + static_cast<std::size_t>(v) * count; }
+
+  // The attributes at p, into out[0, count).
+  void at(const Point& p, double* out) const {
+    const Location where = mesh.locate(p);
+    const Handle h = where.handle;
+    if (where.kind == Location::Kind::kOnVertex) {
+      std::copy(of(mesh.org(h)), of(mesh.org(h)) + count, out);
+      return;
+    }
+    const TriangleId t = triangle_of(h);
+    if (where.kind == Location::Kind::kOnEdge || mesh.is_ghost(t)) {
+      // On an edge, or outside the hull beyond the ghost's hull edge: along that edge.
+      Handle edge = h;
+      for (unsigned e = 0; e < 3 && (mesh.org(edge) == kInfinite || mesh.dest(edge) == kInfinite); ++e) {
+        edge = make_handle(t, e);
+      }
+      const VertexId a = mesh.org(edge), b = mesh.dest(edge);
+      along_segment(mesh.points[a], mesh.points[b], of(a), of(b), p, count, out);
+      return;
+    }
+    // Barycentric: the weight of each corner is the area of the triangle p makes with the other
+    // two, over the whole triangle's.
+    const auto& v = mesh.triangles[t].v;
+    const Point &a = mesh.points[v[0]], &b = mesh.points[v[1]], &c = mesh.points[v[2]];
+    const double whole = signed_area(a, b, c);
+    const double wa = signed_area(p, b, c) / whole, wb = signed_area(a, p, c) / whole, wc = 1.0 - wa - wb;
+    for (std::size_t k = 0; k < count; ++k) out[k] = wa * of(v[0])[k] + wb * of(v[1])[k] + wc * of(v[2])[k];
+  }
+};
+
+// The attributes of the vertices of `cdt`, the constrained Delaunay triangulation of `input`:
+// an input point's own; a crossing of input segments linearly along the input segment nearest it.
+std::vector<double> attributes_of_cdt_vertices(const Pslg& input, const Mesh& cdt) {
+  const std::size_t count = input.attributes_per_point, inputs = input.points.size();
+  std::vector<double> values(cdt.points.size() * count, 0.0);
+  std::copy(input.point_attributes.begin(), input.point_attributes.end(), values.begin());
+  for (std::size_t v = inputs; v < cdt.points.size(); ++v) {
+    const Point& p = cdt.points[v];
+    const Segment* nearest = nullptr;
+    double best = 0.0;
+    for (const Segment& s : input.segments) {
+      const Point &a = input.points[s.a], &b = input.points[s.b];
+      const double dx = b.x - a.x, dy = b.y - a.y, length2 = dx * dx + dy * dy;
+      const double t = length2 > 0.0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / length2, 0.0, 1.0) : 0.0;
+      const double d = squared_distance(p, Point{a.x + t * dx, a.y + t * dy});
+      if (nearest == nullptr || d < best) {
+        nearest = &s;
+        best = d;
+      }
+    }
+    if (nearest == nullptr) continue;
+    const double* attributes = input.point_attributes.data();
+    along_segment(input.points[nearest->a], input.points[nearest->b], attributes + nearest->a * count,
+                  attributes + nearest->b * count, p, count, values.data() + v * count);
+  }
+  return values;
+}
+
+}  // namespace
+
+void interpolate_vertex_attributes(const Pslg& input, bool convex_hull, MeshArrays& arrays) {
+  const std::size_t count = input.attributes_per_point;
+  if (count == 0) return;
+  if (input.point_attributes.size() != count * input.points.size()) {
+    throw InputError(input.source, 0, "vertex attributes: expected " + std::to_string(count) + " per vertex");
+  }
+  arrays.attributes_per_vertex = count;
+  arrays.vertex_attributes.assign(arrays.vertex_count() * count, 0.0);
+  const std::size_t inputs = std::min(input.points.size(), arrays.vertex_count());
+  std::copy(input.point_attributes.begin(), input.point_attributes.begin() + static_cast<std::ptrdiff_t>(inputs * count),
+            arrays.vertex_attributes.begin());
+  if (arrays.vertex_count() == inputs) return;  // no Steiner point
+  TriangulateOptions plain;
+  plain.method = Method::kDt;
+  plain.convex_hull = convex_hull;
+  Mesh cdt;
+  (void)triangulate(input, plain, &cdt);
+  const std::vector<double> at_cdt_vertices = attributes_of_cdt_vertices(input, cdt);
+  const LinearAttributes linear{cdt, at_cdt_vertices, count};
+  for (std::size_t v = inputs; v < arrays.vertex_count(); ++v) {
+    linear.at(Point{arrays.vertices[2 * v], arrays.vertices[2 * v + 1]}, arrays.vertex_attributes.data() + v * count);
+  }
+}
+
 MeshArrays triangulate_arrays(const Pslg& pslg, const TriangulateOptions& options, Mesh* mesh) {
   Mesh result;
   Report report = triangulate(pslg, options, &result);
   MeshArrays out = to_arrays(result, pslg.regions, pslg.source);
+  interpolate_vertex_attributes(pslg, options.convex_hull, out);
   for (std::string& warning : out.report.warnings) report.warnings.push_back(std::move(warning));
   out.report = std::move(report);
   if (mesh) *mesh = std::move(result);

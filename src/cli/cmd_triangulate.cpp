@@ -134,7 +134,9 @@ int run_triangulate(const TriangulateArgs& a) {
   }
 
   OutputFiles out;
-  out.write_mesh(to_arrays(mesh), prefix, pslg.first_index, pslg.holes, pslg.regions);
+  MeshArrays arrays = to_arrays(mesh);
+  interpolate_vertex_attributes(pslg, options.convex_hull, arrays);
+  out.write_mesh(arrays, prefix, pslg.first_index, pslg.holes, pslg.regions);
   if (!a.json.empty()) out.write_json(a.json, to_json(report));
   if (!a.draw.empty()) out.write(a.draw, io::render_pictures({io::picture_of(mesh)}, draw_format));
   out.commit();
