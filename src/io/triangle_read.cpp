@@ -305,6 +305,8 @@ bool read_vertex_records_in_halves(Scanner& s, std::size_t n, std::int64_t nattr
   return true;
 }
 
+constexpr std::int64_t kMaxVertexAttributes = 1024;
+
 // Reads a vertex section (header line already current): "N dim nattr nmarkers" then N vertices.
 // Returns the count from the header; with count 0 nothing more is read.
 std::size_t read_vertex_section(Scanner& s, Pslg& out) {
@@ -315,6 +317,12 @@ std::size_t read_vertex_section(Scanner& s, Pslg& out) {
   const std::size_t n = s.check_count(declared, "vertex count");
   const std::int64_t nattr = s.optional_integer(header, "attribute count", 0);
   if (nattr < 0) s.fail("negative attribute count " + std::to_string(nattr));
+  // Every attribute is kept (8 bytes per vertex each, missing ones too): a bound keeps a header's
+  // typo from asking for terabytes.
+  if (nattr > kMaxVertexAttributes) {
+    s.fail("attribute count " + std::to_string(nattr) + " is too large (at most " +
+           std::to_string(kMaxVertexAttributes) + ")");
+  }
   const std::int64_t nmarkers = s.optional_integer(header, "marker count", 0);
   if (nmarkers < 0) s.fail("negative marker count " + std::to_string(nmarkers));
   s.end_of_record(header);
