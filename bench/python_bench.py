@@ -88,18 +88,29 @@ def main():
     parser.add_argument("--repeat", type=int, default=3, help="runs per mwst measurement (best kept)")
     parser.add_argument("--points", type=int, default=1_000_000, help="points of the Delaunay comparison")
     parser.add_argument("--dr-points", type=int, default=100_000, help="points of the DR comparison")
+    parser.add_argument("--overhead-only", action="store_true",
+                        help="only parts 2-3 (no scipy or matplotlib, which take about 10 s each)")
     args = parser.parse_args()
 
+    import mwst
+
+    print(f"mwst {mwst.__version__}, numpy {np.__version__}, python {sys.version.split()[0]}, "
+          f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}")
+    rng = np.random.default_rng(1)
+    points = rng.random((args.points, 2))
+    if not args.overhead_only:
+        compare_triangulators(points, args)
+    overhead_table(points, rng, args)
+
+
+def compare_triangulators(points, args):
+    """Part 1: mwst.triangulate against scipy's and matplotlib's Delaunay triangulations."""
     import matplotlib.tri
     import scipy.spatial
 
     import mwst
 
-    print(f"mwst {mwst.__version__}, numpy {np.__version__}, scipy {scipy.__version__}, "
-          f"matplotlib {matplotlib.__version__}, python {sys.version.split()[0]}, {os.cpu_count()} cores, "
-          f"load average {os.getloadavg()[0]:.1f}")
-    rng = np.random.default_rng(1)
-    points = rng.random((args.points, 2))
+    print(f"scipy {scipy.__version__}, matplotlib {matplotlib.__version__}")
 
     print(f"\n1. Delaunay triangulation of {args.points:,} uniform points")
     print("| triangulator | triangles | wall s | CPU s | wall vs scipy |")
@@ -118,6 +129,10 @@ def main():
     for name, triangles, wall, cpu in results:
         print(f"| {name} | {triangles:,} | {wall:.3f} | {cpu:.3f} | {wall / scipy_wall:.3f}x |")
 
+
+
+def overhead_table(points, rng, args):
+    """Parts 2-3: mwst's Python overhead over the C++ call."""
     print("\n2.-3. mwst's Python overhead over the C++ call")
     with tempfile.TemporaryDirectory() as work:
         rows = overhead_rows(f"dt {args.points // 1000}k", points, {}, args.cli, ["--method", "dt"], args.repeat, work)

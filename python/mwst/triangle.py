@@ -47,6 +47,9 @@ def _call(tri: dict, opts: str) -> dict:
     if "vertices" not in tri:
         raise InputError("triangulate: the input dict has no 'vertices'")
     area = tri.get("triangle_max_area")
+    attributes = tri.get("vertex_attributes")
+    if attributes is not None:
+        attributes = np.ascontiguousarray(np.asarray(attributes, dtype=np.float64).reshape(len(tri["vertices"]), -1))
     return _mwst.triangulate_switches(
         _float_rows(tri["vertices"], "vertices"),
         _input(tri, "segments", _index_rows),
@@ -56,6 +59,7 @@ def _call(tri: dict, opts: str) -> dict:
         _marker_rows(tri.get("segment_markers"), "segment_markers"),
         _input(tri, "triangles", _index_rows, 3),
         None if area is None else np.ascontiguousarray(np.asarray(area, dtype=np.float64).reshape(-1)),
+        attributes,
         str(opts),
     )
 
@@ -68,7 +72,9 @@ def triangulate(tri: dict, opts: str = "") -> dict:
     refinement (r) ``triangles`` and ``triangle_max_area``. Returns a dict with ``vertices``,
     ``vertex_markers``, ``triangles``, and as the switches ask ``segments``, ``segment_markers``
     (p or c), ``holes``, ``regions`` (p), ``neighbors`` (n), ``edges``, ``edge_markers`` (e),
-    ``triangle_attributes`` (A), ``vertex_attributes``. Numbering is from 0; markers are (n, 1)
+    ``triangle_attributes`` (A), ``vertex_attributes`` (an input vertex keeps its own; a Steiner
+    point gets them interpolated linearly over the input's constrained Delaunay triangulation).
+    Numbering is from 0; markers are (n, 1)
     columns, carried as Triangle carries them; keys with nothing in them are left out.
 
     Raises mwst.InputError for a switch mwst does not do, and for input it refuses.
@@ -77,17 +83,10 @@ def triangulate(tri: dict, opts: str = "") -> dict:
     switches = out.pop("switches")
     for key in ("report", "voronoi_vertices", "voronoi_edges", "voronoi_directions"):
         out.pop(key, None)  # (the `triangle` package's triangulate drops the Voronoi diagram too)
-    kept = out.pop("kept_vertices", None)
-
-    if tri.get("vertex_attributes") is not None:
-        attributes = np.asarray(tri["vertex_attributes"], dtype=np.float64).reshape(len(tri["vertices"]), -1)
-        if kept is not None:
-            attributes = attributes[kept]
-        if len(out["vertices"]) != len(attributes):
-            raise InputError("vertex_attributes: mwst does not interpolate vertex attributes to Steiner points; "
-                             "leave them out, or use no switch that adds points (q, a, S)")
-        if attributes.size:
-            out["vertex_attributes"] = attributes
+    out.pop("kept_vertices", None)
+    # vertex_attributes: the input vertices keep theirs; Steiner points get them interpolated
+    # linearly over the input's constrained Delaunay triangulation (the library's
+    # interpolate_vertex_attributes).
     if switches["poly"]:  # Triangle hands the input's holes and regions back
         for key in ("holes", "regions"):
             if tri.get(key) is not None and len(tri[key]) and not (key == "holes" and switches["ignore_holes"]):

@@ -406,9 +406,10 @@ py::dict read_mesh(const std::string& prefix) {
   return out;
 }
 
-// Writes the mesh given as arrays with the library's writer (io::write_mesh: PREFIX.node, .ele and,
-// with segments, .poly, each atomically). The writer reads a Mesh: one is put together here with
-// the given triangles, each subsegment marked on one triangle that has it as an edge.
+// Writes the mesh given as arrays with the library's writer (io::format_triangle_files with
+// io::mesh_files' choice: PREFIX.node, .ele and, with segments, .poly; io::write_triangle_files:
+// each atomically). The writer reads flat arrays (MeshArrays): the neighbours across the edges of
+// the given triangles are found here, and every segment must be an edge of them.
 void write_mesh(const std::string& prefix, const DoubleArray& vertices, const std::optional<MarkerArray>& vertex_markers,
                 const IndexArray& triangles, const std::optional<IndexArray>& segments,
                 const std::optional<MarkerArray>& segment_markers, int first_index,
@@ -416,48 +417,45 @@ void write_mesh(const std::string& prefix, const DoubleArray& vertices, const st
   if (first_index != 0 && first_index != 1) input_error("first_index: expected 0 or 1");
   // The input's holes and regions, for the .poly (so that re-meshing it gives the same domain).
   const mwst::Pslg domain = pslg_of(vertices, std::nullopt, std::nullopt, std::nullopt, holes, regions);
-  mwst::Mesh mesh;
-  mesh.points = points_of(vertices, "vertices");
-  const std::size_t n = mesh.points.size();
-  mesh.vertex_kind.assign(n, mwst::VertexKind::kInput);
-  mesh.vertex_marker = markers_of(vertex_markers, n, "vertex_markers");
-  mesh.vertex_marker.resize(n, 0);
-  mesh.input_vertex_count = static_cast<std::uint32_t>(n);
+  const std::size_t n = domain.points.size();
+  mwst::MeshArrays mesh;
+  mesh.vertices.resize(2 * n);
+  if (n > 0) std::memcpy(mesh.vertices.data(), static_cast<const void*>(domain.points.data()), 2 * n * sizeof(double));
+  mesh.vertex_kinds.assign(n, mwst::ArrayVertexKind::kInput);
+  mesh.vertex_markers = markers_of(vertex_markers, n, "vertex_markers");
+  mesh.vertex_markers.resize(n, 0);
   const auto list = triangles_of(triangles, n, "triangles");
-  mesh.triangles.resize(list.size());
-  mesh.flags.assign(list.size(), 0);
-  // Edge e of a triangle is opposite corner e: from corner e+1 to corner e+2.
-  std::unordered_map<std::uint64_t, mwst::Handle> edge_at;
+  mesh.neighbours.assign(3 * list.size(), -1);
+  // Edge k of a triangle is opposite corner k: from corner k+1 to corner k+2. The first triangle
+  // seen with an edge waits in `edge_at` for the second.
+  std::unordered_map<std::uint64_t, std::size_t> edge_at;  // undirected edge → 3 * triangle + k
   auto key = [](std::uint32_t a, std::uint32_t b) {
     return a < b ? (std::uint64_t{a} << 32) | b : (std::uint64_t{b} << 32) | a;
   };
   for (std::size_t t = 0; t < list.size(); ++t) {
-    mesh.triangles[t].v = list[t];
-    mesh.triangles[t].n = {mwst::kNone, mwst::kNone, mwst::kNone};
-    if (segments) {
-      for (unsigned e = 0; e < 3; ++e) {
-        edge_at.emplace(key(list[t][mwst::next3(e)], list[t][mwst::prev3(e)]),
-                        mwst::make_handle(static_cast<mwst::TriangleId>(t), e));
-      }
+    mesh.triangles.insert(mesh.triangles.end(), list[t].begin(), list[t].end());
+    for (unsigned k = 0; k < 3; ++k) {
+      const auto [at, first] = edge_at.emplace(key(list[t][mwst::next3(k)], list[t][mwst::prev3(k)]), 3 * t + k);
+      if (first) continue;
+      mesh.neighbours[3 * t + k] = static_cast<std::int32_t>(at->second / 3);
+      mesh.neighbours[at->second] = static_cast<std::int32_t>(t);
     }
   }
   if (segments) {
     const std::vector<mwst::Segment> subsegments = subsegments_of(segments, n);
     const std::vector<std::int32_t> markers = markers_of(segment_markers, subsegments.size(), "segment_markers");
-    mesh.segment_marker.assign(3 * list.size(), 1);
     for (std::size_t i = 0; i < subsegments.size(); ++i) {
-      const auto found = edge_at.find(key(subsegments[i].a, subsegments[i].b));
-      if (found == edge_at.end()) {
+      if (edge_at.count(key(subsegments[i].a, subsegments[i].b)) == 0) {
         input_error("segments: segment " + std::to_string(i) + " (" + std::to_string(subsegments[i].a) + ", " +
                     std::to_string(subsegments[i].b) + ") is not an edge of the triangles");
       }
-      const mwst::Handle h = found->second;
-      mesh.flags[mwst::triangle_of(h)] |= static_cast<std::uint8_t>(mwst::kSegmentEdge0 << mwst::edge_of(h));
-      mesh.segment_marker[3 * mwst::triangle_of(h) + mwst::edge_of(h)] = markers.empty() ? 1 : markers[i];
+      mesh.segments.insert(mesh.segments.end(), {subsegments[i].a, subsegments[i].b});
+      mesh.segment_markers.push_back(markers.empty() ? 1 : markers[i]);
     }
   }
   py::gil_scoped_release unlocked;
-  mwst::io::write_mesh(mesh, prefix, first_index, domain.holes, domain.regions);
+  mwst::io::write_triangle_files(prefix, mwst::io::format_triangle_files(mesh, domain.holes, domain.regions,
+                                                                         mwst::io::mesh_files(mesh, first_index)));
 }
 
 const char* segment_splitting_name(mwst::SegmentSplitting s) {
@@ -553,11 +551,13 @@ py::array columns_of(const NumberLines& lines, std::size_t first, std::size_t co
 
 // One file of format_triangle_files as the `triangle` package's arrays (keys as it names them).
 void read_triangle_file(const mwst::io::TriangleFile& file, py::dict& out) {
-  const NumberLines lines = number_lines(file.text, file.extension);
+  const NumberLines lines = number_lines(file.text(), file.extension);
   const auto count = static_cast<std::size_t>(lines.at(0, 0));
-  if (file.extension == ".node") {  // "N 2 0 B", then "i x y [marker]"
+  if (file.extension == ".node") {  // "N 2 A B", then "i x y [A attributes] [marker]"
+    const auto attributes = static_cast<std::size_t>(lines.at(0, 2));
     out["vertices"] = columns_of<double>(lines, 1, count, 1, 2);
-    out["vertex_markers"] = columns_of<std::int32_t>(lines, 1, count, 3, 1);
+    if (attributes > 0) out["vertex_attributes"] = columns_of<double>(lines, 1, count, 3, attributes);
+    out["vertex_markers"] = columns_of<std::int32_t>(lines, 1, count, 3 + attributes, 1);
   } else if (file.extension == ".ele") {  // "T 3 A", then "i a b c [attribute]"
     out["triangles"] = columns_of<std::int32_t>(lines, 1, count, 1, 3);
     if (lines.at(0, 2) > 0) out["triangle_attributes"] = columns_of<double>(lines, 1, count, 4, 1);
@@ -597,7 +597,8 @@ py::dict triangulate_switches(const DoubleArray& vertices, const std::optional<I
                               const std::optional<MarkerArray>& vertex_markers,
                               const std::optional<MarkerArray>& segment_markers,
                               const std::optional<IndexArray>& triangles,
-                              const std::optional<DoubleArray>& triangle_max_area, const std::string& switches) {
+                              const std::optional<DoubleArray>& triangle_max_area,
+                              const std::optional<DoubleArray>& vertex_attributes, const std::string& switches) {
   const mwst::TriangleSwitches parsed = mwst::parse_triangle_switches(switches);
   mwst::TriangulateOptions options = parsed.options;
   mwst::check_options(options);
@@ -605,6 +606,14 @@ py::dict triangulate_switches(const DoubleArray& vertices, const std::optional<I
   mwst::Pslg pslg = pslg_of(vertices, poly ? segments : std::nullopt, poly ? segment_markers : std::nullopt,
                             vertex_markers, poly && !parsed.ignore_holes ? holes : std::nullopt,
                             poly ? regions : std::nullopt);
+  if (vertex_attributes) {  // (n, A): Triangle's vertex attributes, carried to the output's vertices
+    if (vertex_attributes->ndim() != 2 || static_cast<std::size_t>(vertex_attributes->shape(0)) != pslg.points.size()) {
+      input_error("vertex_attributes: expected one row per vertex (" + std::to_string(pslg.points.size()) +
+                  "), got shape " + shape_text(*vertex_attributes));
+    }
+    pslg.attributes_per_point = static_cast<std::size_t>(vertex_attributes->shape(1));
+    pslg.point_attributes.assign(vertex_attributes->data(), vertex_attributes->data() + vertex_attributes->size());
+  }
   if (parsed.refine) {
     if (!triangles) input_error("-r: refining needs the triangles of the mesh to refine ('triangles')");
     for (const auto& t : triangles_of(*triangles, pslg.points.size(), "triangles")) {
@@ -697,11 +706,11 @@ PYBIND11_MODULE(_mwst, m) {
         "The library's parse_triangle_switches(): what a Triangle switch string sets.");
   m.def("triangulate_switches", &triangulate_switches, py::arg("vertices"), py::arg("segments"), py::arg("holes"),
         py::arg("regions"), py::arg("vertex_markers"), py::arg("segment_markers"), py::arg("triangles"),
-        py::arg("triangle_max_area"), py::arg("switches"),
+        py::arg("triangle_max_area"), py::arg("vertex_attributes"), py::arg("switches"),
         "triangulate_arrays() with the options of a Triangle switch string (mwst.triangle).");
   m.def("read_input", &read_input, py::arg("path"), "io::read_input: a .node or .poly file.");
   m.def("read_mesh", &read_mesh, py::arg("prefix"), "io::read_mesh: PREFIX.node, .ele and .poly.");
   m.def("write_mesh", &write_mesh, py::arg("prefix"), py::arg("vertices"), py::arg("vertex_markers"),
         py::arg("triangles"), py::arg("segments"), py::arg("segment_markers"), py::arg("first_index"),
-        py::arg("holes"), py::arg("regions"), "io::write_mesh of a mesh given as arrays.");
+        py::arg("holes"), py::arg("regions"), "The library's Triangle writer (format_triangle_files) for a mesh given as arrays.");
 }

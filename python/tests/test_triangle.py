@@ -243,7 +243,29 @@ def test_vertex_attributes_pass_through_without_steiner_points():
     tri["vertex_attributes"] = np.arange(8.0)
     out = tr.triangulate(tri, "p")
     np.testing.assert_array_equal(out["vertex_attributes"][:, 0], np.arange(8.0))
-    with pytest.raises(mwst.InputError, match="vertex_attributes: mwst does not interpolate"):
+
+
+@pytest.mark.parametrize("opts", ["pq30", "pq25a0.5", "pq30j", "q30", "pcq28"])
+def test_vertex_attributes_are_interpolated_to_steiner_points(opts):
+    """Input vertices keep their attributes; Steiner points get them interpolated linearly, so two
+    linear functions of the coordinates are reproduced exactly at every output vertex."""
+    tri = pslg()
+    v = np.asarray(tri["vertices"], dtype=np.float64)
+    tri["vertex_attributes"] = np.column_stack([v[:, 0] + 2 * v[:, 1], 3 - v[:, 1]])
+    out = tr.triangulate(tri, opts)
+    assert len(out["vertices"]) > len(v)  # Steiner points were added
+    w = out["vertices"]
+    assert out["vertex_attributes"].shape == (len(w), 2)
+    np.testing.assert_allclose(out["vertex_attributes"], np.column_stack([w[:, 0] + 2 * w[:, 1], 3 - w[:, 1]]),
+                               rtol=0, atol=1e-9)
+    if "j" not in opts:
+        np.testing.assert_array_equal(out["vertex_attributes"][: len(v)], tri["vertex_attributes"])
+
+
+def test_vertex_attributes_of_the_wrong_shape_are_refused():
+    tri = pslg()
+    tri["vertex_attributes"] = np.zeros((3, 2))
+    with pytest.raises(ValueError):
         tr.triangulate(tri, "pq30")
 
 

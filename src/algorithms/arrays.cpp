@@ -3,10 +3,12 @@
 // point location per region seed).
 #include "mwst/algorithms/arrays.hpp"
 
+#include <algorithm>
 #include <sstream>
 #include <utility>
 
 #include "mwst/error.hpp"
+#include "support/huge_pages.hpp"
 
 namespace mwst {
 
@@ -119,7 +121,8 @@ VertexCensus census_of_vertices(const Mesh& mesh) {
 // counts the origin of its directed edge, so both ends are counted once.
 std::vector<std::uint32_t> subsegment_ends(const Mesh& mesh) {
   const std::size_t slots = mesh.triangle_slots();
-  std::vector<std::uint32_t> segment_ends(mesh.points.size(), 0);
+  std::vector<std::uint32_t> segment_ends;
+  support::resize_on_huge_pages(segment_ends, mesh.points.size());
   for (TriangleId t = 0; t < slots; ++t) {
     if ((mesh.flags[t] & kSegmentEdges) == 0 || mesh.is_dead(t)) continue;
     for (unsigned e = 0; e < 3; ++e) {
@@ -149,21 +152,23 @@ std::vector<std::uint32_t> copy_kept_vertices(const Mesh& mesh, const VertexCens
   const std::size_t point_count = mesh.points.size();
   const bool has_removed = census.removed_count != 0;
   std::vector<std::uint32_t> index_of_vertex;
-  if (has_removed) index_of_vertex.assign(point_count, kNone);
+  if (has_removed) {
+    support::reserve_on_huge_pages(index_of_vertex, point_count);
+    index_of_vertex.assign(point_count, kNone);
+  }
   const std::size_t kept = point_count - census.removed_count;
-  out.vertices.resize(2 * kept);
-  out.vertex_kinds.resize(kept);
-  out.vertex_markers.assign(kept, 0);
-  std::size_t next = 0;
+  support::reserve_on_huge_pages(out.vertices, 2 * kept);
+  support::reserve_on_huge_pages(out.vertex_kinds, kept);
+  support::reserve_on_huge_pages(out.vertex_markers, kept);
+  const std::size_t marked = mesh.vertex_marker.size();
   for (VertexId v = 0; v < point_count; ++v) {
     const VertexKind kind = mesh.vertex_kind[v];
     if (kind == VertexKind::kRemoved) continue;
-    if (has_removed) index_of_vertex[v] = static_cast<std::uint32_t>(next);
-    out.vertices[2 * next] = mesh.points[v].x;
-    out.vertices[2 * next + 1] = mesh.points[v].y;
-    out.vertex_kinds[next] = array_kind_of(kind, segment_ends, v);
-    if (v < mesh.vertex_marker.size()) out.vertex_markers[next] = mesh.vertex_marker[v];
-    ++next;
+    if (has_removed) index_of_vertex[v] = static_cast<std::uint32_t>(out.vertex_kinds.size());
+    out.vertices.push_back(mesh.points[v].x);
+    out.vertices.push_back(mesh.points[v].y);
+    out.vertex_kinds.push_back(array_kind_of(kind, segment_ends, v));
+    out.vertex_markers.push_back(v < marked ? mesh.vertex_marker[v] : 0);
   }
   return index_of_vertex;
 }
@@ -183,10 +188,11 @@ struct ArrayVertex {
 // elsewhere. Sets `count` to the number of domain triangles.
 std::vector<std::int32_t> number_domain_triangles(const Mesh& mesh, std::size_t& count) {
   const std::size_t slots = mesh.triangle_slots();
-  std::vector<std::int32_t> index_of_slot(slots, kNoTriangle);
+  std::vector<std::int32_t> index_of_slot;
+  support::reserve_on_huge_pages(index_of_slot, slots);
   count = 0;
   for (TriangleId t = 0; t < slots; ++t) {
-    if (mesh.in_domain(t)) index_of_slot[t] = static_cast<std::int32_t>(count++);
+    index_of_slot.push_back(mesh.in_domain(t) ? static_cast<std::int32_t>(count++) : kNoTriangle);
   }
   return index_of_slot;
 }
@@ -196,23 +202,24 @@ std::vector<std::int32_t> number_domain_triangles(const Mesh& mesh, std::size_t&
 void copy_domain_triangles(const Mesh& mesh, const std::vector<std::int32_t>& index_of_slot, std::size_t count,
                            const ArrayVertex& array_vertex, MeshArrays& out) {
   const std::size_t slots = mesh.triangle_slots();
-  out.triangles.resize(3 * count);
-  out.neighbours.resize(3 * count);
-  std::uint32_t* corners = out.triangles.data();
-  std::int32_t* neighbours = out.neighbours.data();
+  // The array index of the triangle of handle h: kNoTriangle outside the domain, and for an edge
+  // with no triangle across (kNone: a mesh put together by hand, not closed by ghosts).
+  const auto slot_index = [&](Handle h) { return h == kNone ? kNoTriangle : index_of_slot[triangle_of(h)]; };
+  support::reserve_on_huge_pages(out.triangles, 3 * count);
+  support::reserve_on_huge_pages(out.neighbours, 3 * count);
   for (TriangleId t = 0; t < slots; ++t) {
     if (index_of_slot[t] == kNoTriangle) continue;
     const Triangle& triangle = mesh.triangles[t];
     for (unsigned i = 0; i < 3; ++i) {
-      *corners++ = array_vertex(triangle.v[i]);
+      out.triangles.push_back(array_vertex(triangle.v[i]));
       // Edge i of t is opposite corner i; its neighbour is the triangle of sym (-1 outside).
-      *neighbours++ = index_of_slot[triangle_of(triangle.n[i])];
+      out.neighbours.push_back(slot_index(triangle.n[i]));
     }
     if ((mesh.flags[t] & kSegmentEdges) == 0) continue;
     for (unsigned e = 0; e < 3; ++e) {
       const Handle h = make_handle(t, e);
       if (!mesh.is_segment(h)) continue;
-      const std::int32_t other = index_of_slot[triangle_of(mesh.sym(h))];
+      const std::int32_t other = slot_index(mesh.sym(h));
       if (other != kNoTriangle && other < index_of_slot[t]) continue;
       out.segments.push_back(array_vertex(mesh.org(h)));
       out.segments.push_back(array_vertex(mesh.dest(h)));
@@ -237,10 +244,113 @@ MeshArrays to_arrays(const Mesh& mesh, const std::vector<Region>& regions, const
   return out;
 }
 
+namespace {
+
+// The attributes of `a` and `b` at the point of segment ab nearest p: (1 - s) a + s b, s in [0, 1].
+void along_segment(const Point& a, const Point& b, const double* at_a, const double* at_b, const Point& p,
+                   std::size_t count, double* out) {
+  const double dx = b.x - a.x, dy = b.y - a.y, length2 = dx * dx + dy * dy;
+  const double s = length2 > 0.0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / length2, 0.0, 1.0) : 0.0;
+  for (std::size_t k = 0; k < count; ++k) out[k] = (1.0 - s) * at_a[k] + s * at_b[k];
+}
+
+// Piecewise linear attributes over a triangulation (the input's constrained Delaunay
+// triangulation): `values` holds `count` per vertex of `mesh`.
+struct LinearAttributes {
+  const Mesh& mesh;
+  const std::vector<double>& values;
+  std::size_t count;
+
+  const double* of(VertexId v) const { return values.data() + static_cast<std::size_t>(v) * count; }
+
+  // The attributes at p, into out[0, count).
+  void at(const Point& p, double* out) const {
+    const Location where = mesh.locate(p);
+    const Handle h = where.handle;
+    if (where.kind == Location::Kind::kOnVertex) {
+      std::copy(of(mesh.org(h)), of(mesh.org(h)) + count, out);
+      return;
+    }
+    const TriangleId t = triangle_of(h);
+    if (where.kind == Location::Kind::kOnEdge || mesh.is_ghost(t)) {
+      // On an edge, or outside the hull beyond the ghost's hull edge: along that edge.
+      Handle edge = h;
+      for (unsigned e = 0; e < 3 && (mesh.org(edge) == kInfinite || mesh.dest(edge) == kInfinite); ++e) {
+        edge = make_handle(t, e);
+      }
+      const VertexId a = mesh.org(edge), b = mesh.dest(edge);
+      along_segment(mesh.points[a], mesh.points[b], of(a), of(b), p, count, out);
+      return;
+    }
+    // Barycentric: the weight of each corner is the area of the triangle p makes with the other
+    // two, over the whole triangle's.
+    const auto& v = mesh.triangles[t].v;
+    const Point &a = mesh.points[v[0]], &b = mesh.points[v[1]], &c = mesh.points[v[2]];
+    const double whole = signed_area(a, b, c);
+    const double wa = signed_area(p, b, c) / whole, wb = signed_area(a, p, c) / whole, wc = 1.0 - wa - wb;
+    for (std::size_t k = 0; k < count; ++k) out[k] = wa * of(v[0])[k] + wb * of(v[1])[k] + wc * of(v[2])[k];
+  }
+};
+
+// The attributes of the vertices of `cdt`, the constrained Delaunay triangulation of `input`:
+// an input point's own; a crossing of input segments linearly along the input segment nearest it.
+std::vector<double> attributes_of_cdt_vertices(const Pslg& input, const Mesh& cdt) {
+  const std::size_t count = input.attributes_per_point, inputs = input.points.size();
+  std::vector<double> values(cdt.points.size() * count, 0.0);
+  std::copy(input.point_attributes.begin(), input.point_attributes.end(), values.begin());
+  for (std::size_t v = inputs; v < cdt.points.size(); ++v) {
+    const Point& p = cdt.points[v];
+    const Segment* nearest = nullptr;
+    double best = 0.0;
+    for (const Segment& s : input.segments) {
+      const Point &a = input.points[s.a], &b = input.points[s.b];
+      const double dx = b.x - a.x, dy = b.y - a.y, length2 = dx * dx + dy * dy;
+      const double t = length2 > 0.0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / length2, 0.0, 1.0) : 0.0;
+      const double d = squared_distance(p, Point{a.x + t * dx, a.y + t * dy});
+      if (nearest == nullptr || d < best) {
+        nearest = &s;
+        best = d;
+      }
+    }
+    if (nearest == nullptr) continue;
+    const double* attributes = input.point_attributes.data();
+    along_segment(input.points[nearest->a], input.points[nearest->b], attributes + nearest->a * count,
+                  attributes + nearest->b * count, p, count, values.data() + v * count);
+  }
+  return values;
+}
+
+}  // namespace
+
+void interpolate_vertex_attributes(const Pslg& input, bool convex_hull, MeshArrays& arrays) {
+  const std::size_t count = input.attributes_per_point;
+  if (count == 0) return;
+  if (input.point_attributes.size() != count * input.points.size()) {
+    throw InputError(input.source, 0, "vertex attributes: expected " + std::to_string(count) + " per vertex");
+  }
+  arrays.attributes_per_vertex = count;
+  arrays.vertex_attributes.assign(arrays.vertex_count() * count, 0.0);
+  const std::size_t inputs = std::min(input.points.size(), arrays.vertex_count());
+  std::copy(input.point_attributes.begin(), input.point_attributes.begin() + static_cast<std::ptrdiff_t>(inputs * count),
+            arrays.vertex_attributes.begin());
+  if (arrays.vertex_count() == inputs) return;  // no Steiner point
+  TriangulateOptions plain;
+  plain.method = Method::kDt;
+  plain.convex_hull = convex_hull;
+  Mesh cdt;
+  (void)triangulate(input, plain, &cdt);
+  const std::vector<double> at_cdt_vertices = attributes_of_cdt_vertices(input, cdt);
+  const LinearAttributes linear{cdt, at_cdt_vertices, count};
+  for (std::size_t v = inputs; v < arrays.vertex_count(); ++v) {
+    linear.at(Point{arrays.vertices[2 * v], arrays.vertices[2 * v + 1]}, arrays.vertex_attributes.data() + v * count);
+  }
+}
+
 MeshArrays triangulate_arrays(const Pslg& pslg, const TriangulateOptions& options, Mesh* mesh) {
   Mesh result;
   Report report = triangulate(pslg, options, &result);
   MeshArrays out = to_arrays(result, pslg.regions, pslg.source);
+  interpolate_vertex_attributes(pslg, options.convex_hull, out);
   for (std::string& warning : out.report.warnings) report.warnings.push_back(std::move(warning));
   out.report = std::move(report);
   if (mesh) *mesh = std::move(result);

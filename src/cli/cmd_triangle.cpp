@@ -265,14 +265,15 @@ int run_triangle(const std::vector<std::string>& arguments) {
 
   OutputFiles out;
   std::vector<std::string> not_written;
+  std::vector<io::TriangleFile> files;
   for (io::TriangleFile& file : io::format_triangle_files(mesh, in.pslg.holes, in.pslg.regions, what)) {
-    const std::string path = prefix + file.extension;
-    if (is_input(path)) {
+    if (is_input(prefix + file.extension)) {
       not_written.push_back(file.extension);
-      continue;
+    } else {
+      files.push_back(std::move(file));
     }
-    out.write(path, file.text);
   }
+  out.write_files(prefix, files);
   out.commit();
   // Only now, so that a failed run prints exactly one line.
   if (!quiet) print_run(in, mesh, switches, out.written(), not_written);

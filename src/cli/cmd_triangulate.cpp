@@ -17,6 +17,7 @@
 #include "mwst/io/triangle_files.hpp"
 #include "mwst/io/draw.hpp"
 #include "mwst/error.hpp"
+#include "mwst/algorithms/arrays.hpp"
 #include "mwst/algorithms/pipeline.hpp"
 
 namespace mwst::cli {
@@ -133,7 +134,9 @@ int run_triangulate(const TriangulateArgs& a) {
   }
 
   OutputFiles out;
-  out.write_mesh(mesh, prefix, pslg.first_index, pslg.holes, pslg.regions);
+  MeshArrays arrays = to_arrays(mesh);
+  interpolate_vertex_attributes(pslg, options.convex_hull, arrays);
+  out.write_mesh(arrays, prefix, pslg.first_index, pslg.holes, pslg.regions);
   if (!a.json.empty()) out.write_json(a.json, to_json(report));
   if (!a.draw.empty()) out.write(a.draw, io::render_pictures({io::picture_of(mesh)}, draw_format));
   out.commit();

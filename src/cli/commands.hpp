@@ -29,7 +29,9 @@
 #include <nlohmann/json.hpp>
 
 #include "mwst/mesh/mesh.hpp"
+#include "mwst/algorithms/arrays.hpp"
 #include "mwst/algorithms/pipeline.hpp"
+#include "mwst/io/triangle_files.hpp"
 
 namespace mwst::cli {
 
@@ -124,11 +126,14 @@ class OutputFiles {
   ~OutputFiles();
 
   void write(const std::string& path, std::string_view content);
-  // PREFIX.node, PREFIX.ele and, if the mesh has subsegments, PREFIX.poly (io::write_mesh). A
-  // stale PREFIX.poly from an earlier run is removed at commit() when the mesh has none.
-  // The .poly lists the input's `holes` and `regions` too.
-  void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index, const std::vector<Point>& holes = {},
-                  const std::vector<Region>& regions = {});
+  // PREFIX + extension of each of `files` (io::write_triangle_files: two at a time, none left
+  // behind if one fails).
+  void write_files(const std::string& prefix, const std::vector<io::TriangleFile>& files);
+  // PREFIX.node, PREFIX.ele and, if the mesh has subsegments, PREFIX.poly (io::mesh_files,
+  // formatted by io::format_triangle_files). A stale PREFIX.poly from an earlier run is removed at
+  // commit() when the mesh has none. The .poly lists the input's `holes` and `regions` too.
+  void write_mesh(const MeshArrays& mesh, const std::string& prefix, int first_index,
+                  const std::vector<Point>& holes = {}, const std::vector<Region>& regions = {});
   // `path` "-" means standard output, printed at commit() (after every file is in place).
   void write_json(const std::string& path, const nlohmann::json& json);
   void commit();

@@ -148,21 +148,16 @@ void OutputFiles::write(const std::string& path, std::string_view content) {
   written_.push_back(path);
 }
 
-void OutputFiles::write_mesh(const Mesh& mesh, const std::string& prefix, int first_index,
+void OutputFiles::write_files(const std::string& prefix, const std::vector<io::TriangleFile>& files) {
+  io::write_triangle_files(prefix, files);  // removes its own files if it fails half-way
+  for (const io::TriangleFile& file : files) written_.push_back(prefix + file.extension);
+}
+
+void OutputFiles::write_mesh(const MeshArrays& mesh, const std::string& prefix, int first_index,
                              const std::vector<Point>& holes, const std::vector<Region>& regions) {
-  bool has_subsegments = false;
-  for (TriangleId t = 0; t < mesh.triangles.size() && !has_subsegments; ++t) {
-    if (!mesh.in_domain(t)) continue;
-    for (unsigned e = 0; e < 3; ++e) has_subsegments = has_subsegments || mesh.is_segment(make_handle(t, e));
-  }
-  io::write_mesh(mesh, prefix, first_index, holes, regions);  // removes its own files if it fails half-way
-  written_.push_back(prefix + ".node");
-  written_.push_back(prefix + ".ele");
-  if (has_subsegments) {
-    written_.push_back(prefix + ".poly");
-  } else {
-    remove_at_commit_.push_back(prefix + ".poly");
-  }
+  const io::TriangleOutput what = io::mesh_files(mesh, first_index);
+  write_files(prefix, io::format_triangle_files(mesh, holes, regions, what));
+  if (!what.poly) remove_at_commit_.push_back(prefix + ".poly");
 }
 
 void OutputFiles::write_json(const std::string& path, const nlohmann::json& json) {

@@ -226,16 +226,17 @@ std::int64_t record_index(Scanner& s, const char* kind, std::size_t ordinal, int
 
 // ---- vertex sections begin here -----------------------------------------------------------------
 
-// One vertex record (ordinal i): index, x, y, then attributes (tolerated, ignored; missing ones
-// count as 0, as in Triangle) and the marker.
+// One vertex record (ordinal i): index, x, y, then the nattr attributes (into `attributes`; missing
+// ones count as 0, as in Triangle) and the marker.
 void read_vertex_record(Scanner& s, std::size_t i, int& base, std::int64_t nattr, std::int64_t nmarkers,
-                        Point& p, std::int32_t& marker) {
+                        Point& p, std::int32_t& marker, double* attributes) {
   const std::int64_t index = record_index(s, "vertex", i, base);
   const Item item{"vertex", index};
   p.x = s.coordinate(item, "x coordinate");
   p.y = s.coordinate(item, "y coordinate");
   std::int64_t a = 0;
-  for (; a < nattr && s.has_field(); ++a) s.real(item, "attribute");
+  for (; a < nattr && s.has_field(); ++a) attributes[a] = s.real(item, "attribute");
+  for (std::int64_t missing = a; missing < nattr; ++missing) attributes[missing] = 0.0;
   marker = 0;
   if (nmarkers > 0 && a == nattr && s.has_field()) marker = s.marker(item);
   s.end_of_record(item);
@@ -255,7 +256,7 @@ bool read_vertex_records_in_halves(Scanner& s, std::size_t n, std::int64_t nattr
   const char* record0 = first.position();
   try {
     if (!first.next_line()) return false;
-    read_vertex_record(first, 0, base, nattr, nmarkers, out.points[0], out.point_markers[0]);
+    read_vertex_record(first, 0, base, nattr, nmarkers, out.points[0], out.point_markers[0], nullptr);
   } catch (const InputError&) {
     return false;
   }
@@ -284,7 +285,7 @@ bool read_vertex_records_in_halves(Scanner& s, std::size_t n, std::int64_t nattr
         int second_base = base;
         for (std::size_t i = middle; i < n && second_ok; ++i) {
           if (!second.next_line()) second_ok = false;
-          else read_vertex_record(second, i, second_base, nattr, nmarkers, out.points[i], out.point_markers[i]);
+          else read_vertex_record(second, i, second_base, nattr, nmarkers, out.points[i], out.point_markers[i], nullptr);
         }
       } catch (...) {
         second_ok = false;
@@ -293,7 +294,7 @@ bool read_vertex_records_in_halves(Scanner& s, std::size_t n, std::int64_t nattr
     try {
       for (std::size_t i = 1; i < middle; ++i) {
         if (!first.next_line()) return false;  // (the worker joins on the way out)
-        read_vertex_record(first, i, base, nattr, nmarkers, out.points[i], out.point_markers[i]);
+        read_vertex_record(first, i, base, nattr, nmarkers, out.points[i], out.point_markers[i], nullptr);
       }
     } catch (const InputError&) {
       return false;
@@ -303,6 +304,8 @@ bool read_vertex_records_in_halves(Scanner& s, std::size_t n, std::int64_t nattr
   s.continue_as(second, first.lines_scanned());
   return true;
 }
+
+constexpr std::int64_t kMaxVertexAttributes = 1024;
 
 // Reads a vertex section (header line already current): "N dim nattr nmarkers" then N vertices.
 // Returns the count from the header; with count 0 nothing more is read.
@@ -314,6 +317,12 @@ std::size_t read_vertex_section(Scanner& s, Pslg& out) {
   const std::size_t n = s.check_count(declared, "vertex count");
   const std::int64_t nattr = s.optional_integer(header, "attribute count", 0);
   if (nattr < 0) s.fail("negative attribute count " + std::to_string(nattr));
+  // Every attribute is kept (8 bytes per vertex each, missing ones too): a bound keeps a header's
+  // typo from asking for terabytes.
+  if (nattr > kMaxVertexAttributes) {
+    s.fail("attribute count " + std::to_string(nattr) + " is too large (at most " +
+           std::to_string(kMaxVertexAttributes) + ")");
+  }
   const std::int64_t nmarkers = s.optional_integer(header, "marker count", 0);
   if (nmarkers < 0) s.fail("negative marker count " + std::to_string(nmarkers));
   s.end_of_record(header);
@@ -322,7 +331,8 @@ std::size_t read_vertex_section(Scanner& s, Pslg& out) {
 
   int base = -1;
   constexpr std::size_t kParallelRecords = std::size_t{1} << 16;
-  if (n >= kParallelRecords && s.reservable(n, 6) == n) {
+  // (In halves only without attributes: a file with them is read by one thread.)
+  if (nattr == 0 && n >= kParallelRecords && s.reservable(n, 6) == n) {
     if (read_vertex_records_in_halves(s, n, nattr, nmarkers, out, base)) {
       out.first_index = base;
       return n;
@@ -333,13 +343,17 @@ std::size_t read_vertex_section(Scanner& s, Pslg& out) {
   out.point_markers.clear();
   out.points.reserve(s.reservable(n, 6));
   out.point_markers.reserve(s.reservable(n, 6));
+  out.attributes_per_point = static_cast<std::size_t>(nattr);
+  out.point_attributes.clear();
+  std::vector<double> attributes(out.attributes_per_point);
   for (std::size_t i = 0; i < n; ++i) {
     if (!s.next_line()) truncated(s, n, i, "vertices");
     Point p;
     std::int32_t marker = 0;
-    read_vertex_record(s, i, base, nattr, nmarkers, p, marker);
+    read_vertex_record(s, i, base, nattr, nmarkers, p, marker, attributes.data());
     out.points.push_back(p);
     out.point_markers.push_back(marker);
+    out.point_attributes.insert(out.point_attributes.end(), attributes.begin(), attributes.end());
   }
   out.first_index = base;
   return n;

@@ -1,33 +1,24 @@
-// src/io/triangle_write.cpp — the writers of Triangle's files (mwst/io/triangle_files.hpp): the
-// mesh writer (write_mesh) and format_triangle_files (the files of flat arrays: .node, .ele,
-// .poly, .edge, .neigh, .v.node, .v.edge). write_file_atomic lives in atomic_file.cpp.
+// src/io/triangle_write.cpp — the writer of Triangle's files (mwst/io/triangle_files.hpp):
+// format_triangle_files (the files of flat arrays: .node, .ele, .poly, .edge, .neigh, .v.node,
+// .v.edge), write_triangle_files, and write_mesh (to_arrays, then those two). write_file_atomic
+// lives in atomic_file.cpp.
 //
-// Each file is formatted into buffers sized for its longest possible text (numbers via
-// std::to_chars, shortest round-trip), large meshes in two halves on two threads, and written with
-// write_file_atomic (temporary name, rename); if a later file of a mesh fails, the earlier ones are
-// removed again.
-#include <fcntl.h>
-#include <sys/mman.h>
-#include <sys/stat.h>
+// Each file is formatted record by record (numbers via std::to_chars, doubles shortest
+// round-trip); a large one in contiguous ranges of records on several threads, each range into
+// its own piece of text (on huge pages: support/huge_pages.hpp), so that the pieces in order are
+// the text one thread would write. The files are written two at a time, each atomically
+// (temporary name, rename); if one fails, those already written are removed again.
 #include <unistd.h>
 
-#include <cerrno>
-#include <charconv>
-#include <cmath>
-#include <cstdint>
-#include <cstdlib>
-#include <algorithm>
 #include <array>
+#include <cstdint>
 #include <cstring>
+#include <charconv>
 #include <exception>
-#include <limits>
-#include <memory>
-#include <new>
+#include <initializer_list>
 #include <span>
 #include <string>
 #include <string_view>
-#include <system_error>
-#include <thread>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -35,34 +26,14 @@
 #include "mwst/error.hpp"
 #include "mwst/io/triangle_files.hpp"
 #include "mesh/keys.hpp"
+#include "support/huge_pages.hpp"
+#include "support/parallel.hpp"
 
 namespace mwst::io {
 
 namespace {
 
-// ---- text buffers begin here --------------------------------------------------------------------
-
-// A text being written into storage sized for its longest possible content (uninitialised; only
-// the pages written are ever touched): numbers go straight in with std::to_chars, with no capacity
-// check per character. (Plain allocation without huge-page advice: for output buffers the kernel's
-// huge-page compaction cost twice the system time in measurements.)
-class TextBuffer {
- public:
-  // (new char[] leaves the storage uninitialised, as malloc does, and throws std::bad_alloc.)
-  explicit TextBuffer(std::size_t capacity) : data_(new char[capacity]), end_(data_.get()) {}
-  void put(char c) { *end_++ = c; }
-  void put(std::string_view text) {
-    std::memcpy(end_, text.data(), text.size());
-    end_ += text.size();
-  }
-  void put_int(std::int64_t v) { end_ = std::to_chars(end_, end_ + 24, v).ptr; }
-  void put_double(double v) { end_ = std::to_chars(end_, end_ + 32, v).ptr; }  // shortest round-trip
-  std::string_view view() const { return {data_.get(), static_cast<std::size_t>(end_ - data_.get())}; }
-
- private:
-  std::unique_ptr<char[]> data_;
-  char* end_;
-};
+// ---- text begins here ---------------------------------------------------------------------------
 
 constexpr std::size_t kMaxIntChars = 20, kMaxDoubleChars = 24;
 
@@ -91,7 +62,11 @@ class Text {
     used_ = static_cast<std::size_t>(std::to_chars(text_.data() + used_, text_.data() + text_.size(), v).ptr - text_.data());
     return *this;
   }
-  void reserve(std::size_t n) { text_.reserve(n); }
+  // Room for n characters; a large room on huge pages (its first touch faults once per 2 MiB).
+  void reserve(std::size_t n) {
+    text_.reserve(n);
+    if (n >= support::kHugePageWorthwhile) support::advise_huge_pages(text_.data(), text_.capacity());
+  }
   std::string take() {
     text_.resize(used_);
     used_ = 0;
@@ -108,7 +83,29 @@ class Text {
   std::size_t used_ = 0;
 };
 
-// ---- text buffers end here ----------------------------------------------------------------------
+// Below this many records a file is formatted by one thread.
+constexpr std::size_t kParallelRecords = std::size_t{1} << 15;
+
+// The pieces of a file: `header`, then records 0..n-1, `line(i, text)` appending record i (or
+// nothing) to `text`. Large files are cut into one contiguous range of records per worker, each
+// formatted into its own piece (reserved for `line_bound` characters per record), so the pieces
+// in order are what one thread writes.
+template <class Line>
+std::vector<std::string> format_records(std::string header, std::size_t n, std::size_t line_bound, unsigned threads,
+                                        const Line& line) {
+  const std::size_t ranges = n >= kParallelRecords ? support::worker_count(threads) : 1;
+  std::vector<std::string> pieces(ranges + 1);
+  pieces[0] = std::move(header);
+  support::parallel_ranges(ranges, n, [&](std::size_t k, std::size_t begin, std::size_t end) {
+    Text text;
+    text.reserve((end - begin) * line_bound + 64);
+    for (std::size_t i = begin; i < end; ++i) line(i, text);
+    pieces[k + 1] = text.take();
+  });
+  return pieces;
+}
+
+// ---- text ends here -----------------------------------------------------------------------------
 
 // The end of an output .poly: "H", then "i x y" per hole, and, when there are regions, "R", then
 // "i x y attribute max-area" per region (Triangle's layout, numbered from `base`).
@@ -134,216 +131,7 @@ std::string poly_holes_and_regions(const std::vector<Point>& holes, const std::v
   return out.take();
 }
 
-// ---- the mesh writer (write_mesh) begins here ---------------------------------------------------
-
-// Lines first..last-1 of PREFIX.node (vertex i is record i + base).
-void format_node_lines(const Mesh& mesh, std::size_t first, std::size_t last, std::int64_t base,
-                       TextBuffer& out) {
-  for (std::size_t i = first; i < last; ++i) {
-    out.put_int(static_cast<std::int64_t>(i) + base);
-    out.put(' ');
-    out.put_double(mesh.points[i].x);
-    out.put(' ');
-    out.put_double(mesh.points[i].y);
-    out.put(' ');
-    out.put_int(i < mesh.vertex_marker.size() ? mesh.vertex_marker[i] : 0);
-    out.put('\n');
-  }
-}
-
-// The PREFIX.ele lines of the in-domain triangles in slots first..last-1, numbered from `number`.
-void format_ele_lines(const Mesh& mesh, TriangleId first, TriangleId last, std::int64_t number,
-                      std::int64_t base, TextBuffer& out) {
-  const std::size_t nv = mesh.points.size();
-  for (TriangleId t = first; t < last; ++t) {
-    if (!mesh.in_domain(t)) continue;
-    out.put_int(number++);
-    for (const VertexId v : mesh.triangles[t].v) {
-      if (v >= nv) throw InternalError("write_mesh: triangle names a vertex that does not exist");
-      out.put(' ');
-      out.put_int(static_cast<std::int64_t>(v) + base);
-    }
-    out.put('\n');
-  }
-}
-
-// The in-domain triangles among slots first..last-1.
-std::int64_t count_in_domain(const Mesh& mesh, TriangleId first, TriangleId last) {
-  std::int64_t count = 0;
-  for (TriangleId t = first; t < last; ++t) count += mesh.in_domain(t) ? 1 : 0;
-  return count;
-}
-
-// The texts of PREFIX.node (every vertex, with its boundary marker) and PREFIX.ele (the live,
-// finite, in-domain triangles, corners counter-clockwise): each file is its header line followed
-// by its first and second half.
-struct NodeAndEleText {
-  TextBuffer node_head, ele_head;
-  TextBuffer node_first, node_second;
-  TextBuffer ele_first, ele_second;
-};
-
-// Formats PREFIX.node and PREFIX.ele. A large mesh (`parallel`) is split at its middle vertex and
-// its middle triangle slot, and the second halves are formatted on a second thread, each half of
-// each file into its own buffer: the concatenations are the same text as one thread writes.
-// Otherwise the second halves stay empty.
-NodeAndEleText format_node_and_ele(const Mesh& mesh, std::int64_t base, bool parallel) {
-  const std::size_t nv = mesh.points.size();
-  const auto slots = static_cast<TriangleId>(mesh.triangles.size());
-  const std::size_t node_split = parallel ? nv / 2 : nv;
-  const TriangleId ele_split = parallel ? slots / 2 : slots;
-  const std::int64_t count_first = count_in_domain(mesh, 0, ele_split);
-  const std::int64_t count_second = count_in_domain(mesh, ele_split, slots);
-  constexpr std::size_t kNodeLine = 2 * kMaxIntChars + 2 * kMaxDoubleChars + 4;
-  constexpr std::size_t kEleLine = 4 * (kMaxIntChars + 1);
-  NodeAndEleText text{TextBuffer(64), TextBuffer(64), TextBuffer(node_split * kNodeLine + 1),
-                      TextBuffer((nv - node_split) * kNodeLine + 1),
-                      TextBuffer(static_cast<std::size_t>(count_first) * kEleLine + 1),
-                      TextBuffer(static_cast<std::size_t>(count_second) * kEleLine + 1)};
-  text.node_head.put_int(static_cast<std::int64_t>(nv));
-  text.node_head.put(" 2 0 1\n");
-  text.ele_head.put_int(count_first + count_second);
-  text.ele_head.put(" 3 0\n");
-  std::exception_ptr worker_error;
-  {
-    std::jthread worker;  // joins on every way out of this block (a throw below included)
-    auto second_halves = [&] {
-      try {
-        format_node_lines(mesh, node_split, nv, base, text.node_second);
-        format_ele_lines(mesh, ele_split, slots, base + count_first, base, text.ele_second);
-      } catch (...) {
-        worker_error = std::current_exception();
-      }
-    };
-    if (parallel) worker = std::jthread(second_halves);
-    format_node_lines(mesh, 0, node_split, base, text.node_first);
-    format_ele_lines(mesh, 0, ele_split, base, base, text.ele_first);
-  }
-  if (worker_error) std::rethrow_exception(worker_error);
-  return text;
-}
-
-// Whether edge e of in-domain triangle t (of `slots`) gets a line in PREFIX.poly: every
-// subsegment bordering the domain, once (seen from both sides, it is written from the
-// lower-numbered triangle only).
-inline bool poly_segment_from(const Mesh& mesh, TriangleId slots, TriangleId t, unsigned e) {
-  const Handle h = make_handle(t, e);
-  if (!mesh.is_segment(h)) return false;
-  const Handle other = mesh.triangles[t].n[e];
-  if (other == kNone) return true;
-  const TriangleId u = triangle_of(other);
-  return !(u < slots && u < t && mesh.in_domain(u) && mesh.is_segment(other));
-}
-
-// The number of segment lines of PREFIX.poly.
-std::size_t count_poly_segments(const Mesh& mesh) {
-  const auto slots = static_cast<TriangleId>(mesh.triangles.size());
-  std::size_t segments = 0;
-  for (TriangleId t = 0; t < slots; ++t) {
-    if (!mesh.in_domain(t)) continue;
-    for (unsigned e = 0; e < 3; ++e) segments += poly_segment_from(mesh, slots, t, e) ? 1 : 0;
-  }
-  return segments;
-}
-
-// PREFIX.poly up to its holes: no vertices (they are in PREFIX.node), then the `segments`
-// subsegments with their markers, numbered from `base`; empty when there are none.
-TextBuffer format_poly_segments(const Mesh& mesh, std::size_t segments, std::int64_t base) {
-  const auto slots = static_cast<TriangleId>(mesh.triangles.size());
-  TextBuffer poly(segments * 4 * (kMaxIntChars + 1) + 64);
-  if (segments == 0) return poly;
-  poly.put("0 2 0 1\n");
-  poly.put_int(static_cast<std::int64_t>(segments));
-  poly.put(" 1\n");
-  std::int64_t number = base;
-  for (TriangleId t = 0; t < slots; ++t) {
-    if (!mesh.in_domain(t)) continue;
-    for (unsigned e = 0; e < 3; ++e) {
-      if (!poly_segment_from(mesh, slots, t, e)) continue;
-      const Handle h = make_handle(t, e);
-      const std::size_t slot = 3 * static_cast<std::size_t>(t) + e;
-      const std::int32_t marker = slot < mesh.segment_marker.size() ? mesh.segment_marker[slot] : 1;
-      poly.put_int(number++);
-      poly.put(' ');
-      poly.put_int(static_cast<std::int64_t>(mesh.org(h)) + base);
-      poly.put(' ');
-      poly.put_int(static_cast<std::int64_t>(mesh.dest(h)) + base);
-      poly.put(' ');
-      poly.put_int(marker);
-      poly.put('\n');
-    }
-  }
-  return poly;
-}
-
-// Writes PREFIX.node, PREFIX.ele and (when `poly` is not empty) PREFIX.poly. Each file is atomic;
-// if a later one fails, the earlier ones are removed again so that a failure leaves no partial
-// mesh behind. With `parallel` the .node is written by a second thread while this one writes the
-// .ele (the kernel's copies overlap).
-void write_node_ele_poly(const std::string& prefix, const NodeAndEleText& text,
-                         std::span<const std::string_view> poly, bool parallel) {
-  const std::string node_path = prefix + ".node", ele_path = prefix + ".ele", poly_path = prefix + ".poly";
-  const std::string_view node_text[3] = {text.node_head.view(), text.node_first.view(), text.node_second.view()};
-  const std::string_view ele_text[3] = {text.ele_head.view(), text.ele_first.view(), text.ele_second.view()};
-  std::exception_ptr node_error, ele_error;
-  bool ele_written = false;
-  {
-    std::jthread node_writer;  // joins at the end of this block, and on every way out of it
-    auto write_node = [&] {
-      try {
-        write_file_atomic(node_path, node_text);
-      } catch (...) {
-        node_error = std::current_exception();
-      }
-    };
-    if (parallel) {
-      node_writer = std::jthread(write_node);
-    } else {
-      write_node();
-    }
-    if (parallel || !node_error) {
-      try {
-        write_file_atomic(ele_path, ele_text);
-        ele_written = true;
-        if (!poly.empty()) write_file_atomic(poly_path, poly);
-      } catch (...) {
-        ele_error = std::current_exception();
-      }
-    }
-  }
-  if (node_error || ele_error) {
-    if (!node_error) ::unlink(node_path.c_str());
-    if (ele_written) ::unlink(ele_path.c_str());
-    std::rethrow_exception(node_error ? node_error : ele_error);  // the first file's error first
-  }
-}
-
-}  // namespace
-
-// The steps: format_node_and_ele (two threads for a large mesh), count_poly_segments and
-// format_poly_segments, poly_holes_and_regions, then write_node_ele_poly.
-void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index, const std::vector<Point>& holes,
-                const std::vector<Region>& regions) {
-  if (mesh.flags.size() != mesh.triangles.size()) {
-    throw InternalError("write_mesh: flags and triangles differ in size");
-  }
-  const std::int64_t base = first_index;
-  const auto slots = static_cast<TriangleId>(mesh.triangles.size());
-  const bool parallel = mesh.points.size() + slots >= (std::size_t{1} << 16);
-  const NodeAndEleText text = format_node_and_ele(mesh, base, parallel);
-  const std::size_t segments = count_poly_segments(mesh);
-  const TextBuffer poly = format_poly_segments(mesh, segments, base);
-  const std::string holes_and_regions = segments > 0 ? poly_holes_and_regions(holes, regions, base) : std::string();
-  const std::string_view poly_text[2] = {poly.view(), holes_and_regions};
-  write_node_ele_poly(prefix, text, segments > 0 ? std::span<const std::string_view>(poly_text)
-                                                 : std::span<const std::string_view>(), parallel);
-}
-
-// ---- the mesh writer ends here ------------------------------------------------------------------
-
 // ---- the files of flat arrays (format_triangle_files) begin here --------------------------------
-
-namespace {
 
 // The edges of the triangulation in Triangle's order: triangle by triangle, the edge opposite
 // corner k = 0, 1, 2 (from corner k+1 to corner k+2), where the neighbour across it is none or a
@@ -425,104 +213,117 @@ Carried carry_markers(const MeshArrays& mesh, bool list_edges) {
 
 
 // Output numbers of the vertices, from `base`: all of them, or with -j (jettison) only those of
-// some triangle; -1 for a vertex left out. `kept` counts those numbered.
-struct VertexNumbers {
-  std::vector<std::int64_t> number;
-  std::size_t kept = 0;
+// some triangle (the others left out, -1).
+class VertexNumbers {
+ public:
+  VertexNumbers(const MeshArrays& mesh, const TriangleOutput& what) : base_(what.first_index) {
+    const std::size_t nv = mesh.vertex_count();
+    if (!what.jettison) {
+      kept_ = nv;
+      return;
+    }
+    std::vector<bool> used(nv, false);
+    for (const std::uint32_t v : mesh.triangles) used[v] = true;
+    number_.assign(nv, -1);
+    for (std::size_t v = 0; v < nv; ++v) {
+      if (used[v]) number_[v] = static_cast<std::int64_t>(kept_++) + base_;
+    }
+  }
+  std::int64_t operator[](std::size_t v) const { return number_.empty() ? static_cast<std::int64_t>(v) + base_ : number_[v]; }
+  std::size_t kept() const { return kept_; }
+
+ private:
+  std::int64_t base_;
+  std::vector<std::int64_t> number_;  // empty: vertex v is v + base
+  std::size_t kept_ = 0;
 };
 
-// Numbers the vertices for `what` (see VertexNumbers).
-VertexNumbers number_vertices(const MeshArrays& mesh, const TriangleOutput& what) {
-  const std::int64_t base = what.first_index;
-  const std::size_t nv = mesh.vertex_count();
-  VertexNumbers out{std::vector<std::int64_t>(nv, 0), 0};
-  std::vector<bool> used(nv, !what.jettison);
-  if (what.jettison) {
-    for (const std::uint32_t v : mesh.triangles) used[v] = true;
-  }
-  for (std::size_t v = 0; v < nv; ++v) {
-    if (used[v]) out.number[v] = static_cast<std::int64_t>(out.kept++) + base;
-    else out.number[v] = -1;
-  }
-  return out;
-}
-
-// PREFIX.node: the numbered vertices, with their boundary markers when `markers`.
-std::string node_file(const MeshArrays& mesh, const Carried& carried, const VertexNumbers& numbers,
-                      bool markers) {
-  const std::vector<std::int64_t>& number = numbers.number;
+// A header line of numbers.
+std::string header_line(std::initializer_list<std::int64_t> numbers) {
   Text out;
-  out.reserve(64 + numbers.kept * 64);
-  out.integer(static_cast<std::int64_t>(numbers.kept)) << " 2 0 " << (markers ? "1" : "0") << '\n';
-  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
-    if (number[v] < 0) continue;
-    out.integer(number[v]) << ' ';
-    out.real(mesh.vertices[2 * v]) << ' ';
-    out.real(mesh.vertices[2 * v + 1]);
-    if (markers) (out << ' ').integer(carried.vertex_marker[v]);
-    out << '\n';
+  bool first = true;
+  for (const std::int64_t n : numbers) {
+    if (!first) out << ' ';
+    out.integer(n);
+    first = false;
   }
+  out << '\n';
   return out.take();
 }
 
+// PREFIX.node: the numbered vertices, with their attributes, and their boundary markers when
+// `markers`.
+std::vector<std::string> node_file(const MeshArrays& mesh, const Carried& carried, const VertexNumbers& number,
+                                   bool markers, unsigned threads) {
+  const std::size_t attributes = mesh.attributes_per_vertex;
+  const std::string header = header_line({static_cast<std::int64_t>(number.kept()), 2,
+                                          static_cast<std::int64_t>(attributes), markers ? 1 : 0});
+  const std::size_t line_bound = 2 * kMaxIntChars + (2 + attributes) * (kMaxDoubleChars + 1) + 4;
+  return format_records(header, mesh.vertex_count(), line_bound, threads, [&](std::size_t v, Text& out) {
+    if (number[v] < 0) return;
+    out.integer(number[v]) << ' ';
+    out.real(mesh.vertices[2 * v]) << ' ';
+    out.real(mesh.vertices[2 * v + 1]);
+    for (std::size_t k = 0; k < attributes; ++k) (out << ' ').real(mesh.vertex_attributes[v * attributes + k]);
+    if (markers) (out << ' ').integer(carried.vertex_marker[v]);
+    out << '\n';
+  });
+}
+
 // PREFIX.ele: every triangle, corners counter-clockwise, with its regional attribute when asked.
-std::string ele_file(const MeshArrays& mesh, const VertexNumbers& numbers, const TriangleOutput& what) {
+std::vector<std::string> ele_file(const MeshArrays& mesh, const VertexNumbers& number, const TriangleOutput& what) {
   const std::int64_t base = what.first_index;
   const std::size_t nt = mesh.triangle_count();
-  const std::vector<std::int64_t>& number = numbers.number;
-  Text out;
-  out.reserve(64 + nt * 48);
-  out.integer(static_cast<std::int64_t>(nt)) << " 3 " << (what.triangle_attributes ? "1" : "0") << '\n';
-  for (std::size_t t = 0; t < nt; ++t) {
+  const bool attribute = what.triangle_attributes;
+  const std::string header = header_line({static_cast<std::int64_t>(nt), 3, attribute ? 1 : 0});
+  const std::size_t line_bound = 4 * (kMaxIntChars + 1) + kMaxDoubleChars + 2;
+  return format_records(header, nt, line_bound, what.threads, [&](std::size_t t, Text& out) {
     out.integer(static_cast<std::int64_t>(t) + base);
     for (unsigned k = 0; k < 3; ++k) (out << ' ').integer(number[mesh.triangles[3 * t + k]]);
-    if (what.triangle_attributes) {
+    if (attribute) {
       out << ' ';
       out.real(mesh.triangle_attributes.empty() ? 0.0 : mesh.triangle_attributes[t]);
     }
     out << '\n';
-  }
-  return out.take();
+  });
 }
 
 // PREFIX.poly: no vertices (they are in PREFIX.node), every subsegment, then the boundary edges
 // that are none (the hull of a point set) with marker 1, then the holes and regions.
-std::string poly_file(const MeshArrays& mesh, const Carried& carried, const VertexNumbers& numbers,
-                      const std::vector<Point>& holes, const std::vector<Region>& regions, std::int64_t base,
-                      bool markers) {
-  const std::vector<std::int64_t>& number = numbers.number;
-  Text out;
-  const std::size_t segments = mesh.segment_count() + carried.boundary_edges.size();
-  out.reserve(128 + segments * 40);
-  out << "0 2 0 " << (markers ? "1" : "0") << '\n';
-  out.integer(static_cast<std::int64_t>(segments)) << ' ' << (markers ? "1" : "0") << '\n';
-  std::int64_t index = base;
-  const auto segment_line = [&](std::uint32_t a, std::uint32_t b, std::int32_t marker) {
-    out.integer(index++) << ' ';
+std::vector<std::string> poly_file(const MeshArrays& mesh, const Carried& carried, const VertexNumbers& number,
+                                   const std::vector<Point>& holes, const std::vector<Region>& regions,
+                                   const TriangleOutput& what) {
+  const std::int64_t base = what.first_index;
+  const bool markers = what.boundary_markers;
+  const std::size_t subsegments = mesh.segment_count(), boundary = carried.boundary_edges.size();
+  const std::string header = "0 2 0 " + std::string(markers ? "1" : "0") + '\n' +
+                             header_line({static_cast<std::int64_t>(subsegments + boundary), markers ? 1 : 0});
+  const auto segment_line = [&](std::size_t i, Text& out) {
+    const bool is_subsegment = i < subsegments;
+    const std::uint32_t a = is_subsegment ? mesh.segments[2 * i] : carried.boundary_edges[i - subsegments][0];
+    const std::uint32_t b = is_subsegment ? mesh.segments[2 * i + 1] : carried.boundary_edges[i - subsegments][1];
+    out.integer(static_cast<std::int64_t>(i) + base) << ' ';
     out.integer(number[a]) << ' ';
     out.integer(number[b]);
-    if (markers) (out << ' ').integer(marker);
+    if (markers) (out << ' ').integer(is_subsegment ? carried.segment_marker[i] : 1);
     out << '\n';
   };
-  for (std::size_t s = 0; s < mesh.segment_count(); ++s) {
-    segment_line(mesh.segments[2 * s], mesh.segments[2 * s + 1], carried.segment_marker[s]);
-  }
-  for (const auto& [a, b] : carried.boundary_edges) segment_line(a, b, 1);
-  out << poly_holes_and_regions(holes, regions, base);
-  return out.take();
+  std::vector<std::string> pieces =
+      format_records(header, subsegments + boundary, 4 * (kMaxIntChars + 1), what.threads, segment_line);
+  pieces.push_back(poly_holes_and_regions(holes, regions, base));
+  return pieces;
 }
 
 // PREFIX.edge: the edges in Triangle's order (Carried::edges), with markers when `markers`: a
 // subsegment's marker, else 1 on the boundary, 0 inside.
-std::string edge_file(const MeshArrays& mesh, const Carried& carried, const VertexNumbers& numbers,
-                      std::int64_t base, bool markers) {
-  const std::vector<std::int64_t>& number = numbers.number;
-  Text out;
-  out.reserve(32 + carried.edges.size() * 32);
-  out.integer(static_cast<std::int64_t>(carried.edges.size())) << ' ' << (markers ? "1" : "0") << '\n';
-  std::int64_t index = base;
-  for (const MeshEdge& e : carried.edges) {
-    out.integer(index++) << ' ';
+std::vector<std::string> edge_file(const MeshArrays& mesh, const Carried& carried, const VertexNumbers& number,
+                                   const TriangleOutput& what) {
+  const std::int64_t base = what.first_index;
+  const bool markers = what.boundary_markers;
+  const std::string header = header_line({static_cast<std::int64_t>(carried.edges.size()), markers ? 1 : 0});
+  return format_records(header, carried.edges.size(), 4 * (kMaxIntChars + 1), what.threads, [&](std::size_t i, Text& out) {
+    const MeshEdge& e = carried.edges[i];
+    out.integer(static_cast<std::int64_t>(i) + base) << ' ';
     out.integer(number[e.a]) << ' ';
     out.integer(number[e.b]);
     if (markers) {
@@ -533,25 +334,22 @@ std::string edge_file(const MeshArrays& mesh, const Carried& carried, const Vert
       (out << ' ').integer(marker);
     }
     out << '\n';
-  }
-  return out.take();
+  });
 }
 
 // PREFIX.neigh: per triangle the triangles across its edges opposite corners 0, 1, 2 (-1: none).
-std::string neigh_file(const MeshArrays& mesh, std::int64_t base) {
+std::vector<std::string> neigh_file(const MeshArrays& mesh, const TriangleOutput& what) {
+  const std::int64_t base = what.first_index;
   const std::size_t nt = mesh.triangle_count();
-  Text out;
-  out.reserve(32 + nt * 40);
-  out.integer(static_cast<std::int64_t>(nt)) << " 3\n";
-  for (std::size_t t = 0; t < nt; ++t) {
-    out.integer(static_cast<std::int64_t>(t) + base);
-    for (unsigned k = 0; k < 3; ++k) {
-      const std::int32_t across = mesh.neighbours[3 * t + k];
-      (out << ' ').integer(across < 0 ? -1 : across + base);
-    }
-    out << '\n';
-  }
-  return out.take();
+  return format_records(header_line({static_cast<std::int64_t>(nt), 3}), nt, 4 * (kMaxIntChars + 1), what.threads,
+                        [&](std::size_t t, Text& out) {
+                          out.integer(static_cast<std::int64_t>(t) + base);
+                          for (unsigned k = 0; k < 3; ++k) {
+                            const std::int32_t across = mesh.neighbours[3 * t + k];
+                            (out << ' ').integer(across < 0 ? -1 : across + base);
+                          }
+                          out << '\n';
+                        });
 }
 
 // The Voronoi diagram (-v). Its vertices are the circumcentres of the triangles; each edge of the
@@ -559,72 +357,111 @@ std::string neigh_file(const MeshArrays& mesh, std::int64_t base) {
 // boundary, to a ray from the one triangle's circumcentre perpendicular to the edge, outward.
 
 // PREFIX.v.node: the circumcentre of each triangle.
-std::string voronoi_node_file(const MeshArrays& mesh, std::int64_t base) {
+std::vector<std::string> voronoi_node_file(const MeshArrays& mesh, const TriangleOutput& what) {
+  const std::int64_t base = what.first_index;
   const std::size_t nt = mesh.triangle_count();
-  Text vertices;
-  vertices.reserve(32 + nt * 48);
-  vertices.integer(static_cast<std::int64_t>(nt)) << " 2 0 0\n";
-  for (std::size_t t = 0; t < nt; ++t) {
-    const auto corner = [&](unsigned k) {
-      const std::uint32_t v = mesh.triangles[3 * t + k];
-      return Point{mesh.vertices[2 * v], mesh.vertices[2 * v + 1]};
-    };
-    const Point c = circumcenter(corner(0), corner(1), corner(2));
-    vertices.integer(static_cast<std::int64_t>(t) + base) << ' ';
-    vertices.real(c.x) << ' ';
-    vertices.real(c.y) << '\n';
-  }
-  return vertices.take();
+  const std::size_t line_bound = kMaxIntChars + 2 * kMaxDoubleChars + 3;
+  return format_records(header_line({static_cast<std::int64_t>(nt), 2, 0, 0}), nt, line_bound, what.threads,
+                        [&](std::size_t t, Text& out) {
+                          const auto corner = [&](unsigned k) {
+                            const std::uint32_t v = mesh.triangles[3 * t + k];
+                            return Point{mesh.vertices[2 * v], mesh.vertices[2 * v + 1]};
+                          };
+                          const Point c = circumcenter(corner(0), corner(1), corner(2));
+                          out.integer(static_cast<std::int64_t>(t) + base) << ' ';
+                          out.real(c.x) << ' ';
+                          out.real(c.y) << '\n';
+                        });
 }
 
 // PREFIX.v.edge: per edge of the triangulation (Carried::edges) its two Voronoi vertices, or its
 // one Voronoi vertex, -1 and the direction of the ray.
-std::string voronoi_edge_file(const MeshArrays& mesh, const Carried& carried, std::int64_t base) {
-  Text edges;
-  edges.reserve(32 + carried.edges.size() * 40);
-  edges.integer(static_cast<std::int64_t>(carried.edges.size())) << " 0\n";
-  std::int64_t index = base;
-  for (const MeshEdge& e : carried.edges) {
-    edges.integer(index++) << ' ';
-    edges.integer(static_cast<std::int64_t>(e.triangle) + base) << ' ';
+std::vector<std::string> voronoi_edge_file(const MeshArrays& mesh, const Carried& carried, const TriangleOutput& what) {
+  const std::int64_t base = what.first_index;
+  const std::size_t line_bound = 3 * (kMaxIntChars + 1) + 2 * (kMaxDoubleChars + 1) + 4;
+  const std::string header = header_line({static_cast<std::int64_t>(carried.edges.size()), 0});
+  return format_records(header, carried.edges.size(), line_bound, what.threads, [&](std::size_t i, Text& out) {
+    const MeshEdge& e = carried.edges[i];
+    out.integer(static_cast<std::int64_t>(i) + base) << ' ';
+    out.integer(static_cast<std::int64_t>(e.triangle) + base) << ' ';
     const std::int32_t across = mesh.neighbours[3 * e.triangle + e.opposite];
     if (across >= 0) {
-      edges.integer(across + base) << '\n';
+      out.integer(across + base) << '\n';
     } else {
       // The triangle lies left of a→b (counter-clockwise), so (b - a) turned clockwise,
       // (by - ay, ax - bx), points out of the triangulation.
       const double ax = mesh.vertices[2 * e.a], ay = mesh.vertices[2 * e.a + 1];
       const double bx = mesh.vertices[2 * e.b], by = mesh.vertices[2 * e.b + 1];
-      edges << "-1 ";
-      edges.real(by - ay) << ' ';
-      edges.real(ax - bx) << '\n';
+      out << "-1 ";
+      out.real(by - ay) << ' ';
+      out.real(ax - bx) << '\n';
     }
-  }
-  return edges.take();
+  });
 }
 
 }  // namespace
 
-// The steps: carry_markers, number_vertices, then one formatter per file, in Triangle's order.
+std::string TriangleFile::text() const {
+  std::size_t size = 0;
+  for (const std::string& piece : pieces) size += piece.size();
+  std::string joined;
+  joined.reserve(size);
+  for (const std::string& piece : pieces) joined += piece;
+  return joined;
+}
+
+// The steps: carry_markers, the vertex numbers, then one formatter per file, in Triangle's order.
 std::vector<TriangleFile> format_triangle_files(const MeshArrays& mesh, const std::vector<Point>& holes,
                                                 const std::vector<Region>& regions, const TriangleOutput& what) {
-  const std::int64_t base = what.first_index;
+  if (mesh.vertex_attributes.size() != mesh.attributes_per_vertex * mesh.vertex_count()) {
+    throw InternalError("format_triangle_files: vertex_attributes do not hold attributes_per_vertex per vertex");
+  }
   const Carried carried = carry_markers(mesh, what.edges || what.voronoi);
-  const bool markers = what.boundary_markers;
-  const VertexNumbers numbers = number_vertices(mesh, what);
+  const VertexNumbers numbers(mesh, what);
   std::vector<TriangleFile> files;
-  if (what.node) files.push_back({".node", node_file(mesh, carried, numbers, markers)});
+  if (what.node) files.push_back({".node", node_file(mesh, carried, numbers, what.boundary_markers, what.threads)});
   if (what.ele) files.push_back({".ele", ele_file(mesh, numbers, what)});
-  if (what.poly) files.push_back({".poly", poly_file(mesh, carried, numbers, holes, regions, base, markers)});
-  if (what.edges) files.push_back({".edge", edge_file(mesh, carried, numbers, base, markers)});
-  if (what.neighbours) files.push_back({".neigh", neigh_file(mesh, base)});
+  if (what.poly) files.push_back({".poly", poly_file(mesh, carried, numbers, holes, regions, what)});
+  if (what.edges) files.push_back({".edge", edge_file(mesh, carried, numbers, what)});
+  if (what.neighbours) files.push_back({".neigh", neigh_file(mesh, what)});
   if (what.voronoi) {
-    files.push_back({".v.node", voronoi_node_file(mesh, base)});
-    files.push_back({".v.edge", voronoi_edge_file(mesh, carried, base)});
+    files.push_back({".v.node", voronoi_node_file(mesh, what)});
+    files.push_back({".v.edge", voronoi_edge_file(mesh, carried, what)});
   }
   return files;
 }
 
 // ---- the files of flat arrays end here ----------------------------------------------------------
+
+// Two files at a time (the kernel's copies of one overlap the other's); if any fails, the others
+// are removed again and the first failure (in the order of `files`) is thrown.
+void write_triangle_files(const std::string& prefix, const std::vector<TriangleFile>& files) {
+  std::vector<char> written(files.size(), 0);
+  try {
+    support::parallel_for(files.size(), 2, [&](std::size_t i) {
+      std::vector<std::string_view> pieces(files[i].pieces.begin(), files[i].pieces.end());
+      write_file_atomic(prefix + files[i].extension, pieces);
+      written[i] = 1;
+    });
+  } catch (...) {
+    for (std::size_t i = 0; i < files.size(); ++i) {
+      if (written[i]) ::unlink((prefix + files[i].extension).c_str());
+    }
+    throw;
+  }
+}
+
+void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index, const std::vector<Point>& holes,
+                const std::vector<Region>& regions) {
+  const MeshArrays arrays = to_arrays(mesh);
+  write_triangle_files(prefix, format_triangle_files(arrays, holes, regions, mesh_files(arrays, first_index)));
+}
+
+TriangleOutput mesh_files(const MeshArrays& mesh, int first_index) {
+  TriangleOutput what;
+  what.poly = mesh.segment_count() > 0;
+  what.first_index = first_index;
+  return what;
+}
 
 }  // namespace mwst::io

@@ -23,6 +23,7 @@
 
 #include "mwst/mesh/delaunay.hpp"
 #include "mesh/insertion_order.hpp"
+#include "support/huge_pages.hpp"
 #include "mwst/error.hpp"
 
 namespace mwst {
@@ -32,25 +33,9 @@ namespace {
 using insertion_order::hilbert_order;
 using insertion_order::kParallelThreshold;
 using insertion_order::run_both;
+using support::advise_huge_pages;
 
 // ==== the incremental construction begins here ===================================================
-
-// Advises the kernel to back the reserved (not yet touched) storage of v with transparent huge
-// pages. The insertion walks and flips touch triangles and points all over arrays of tens of
-// megabytes, so with 4 KiB pages nearly every access misses the TLB; 2 MiB pages also cut the page
-// faults of first touch 512-fold. Advice only: without THP (or if it fails) nothing changes.
-template <class T>
-void advise_huge_pages(const std::vector<T>& v) {
-#ifdef MADV_HUGEPAGE
-  constexpr std::uintptr_t kHuge = std::uintptr_t{2} << 20;
-  const auto begin = reinterpret_cast<std::uintptr_t>(v.data());
-  const std::uintptr_t end = begin + v.capacity() * sizeof(T);
-  const std::uintptr_t first = (begin + kHuge - 1) / kHuge * kHuge, last = end / kHuge * kHuge;
-  if (last > first) ::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
-#else
-  (void)v;
-#endif
-}
 
 // Builds the first real triangle on vertices (a, b, c), counter-clockwise, with its three ghosts.
 void make_first_triangle(Mesh& m, VertexId a, VertexId b, VertexId c) {

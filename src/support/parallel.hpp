@@ -4,13 +4,16 @@
 //                                      time to `workers` threads (the caller is one of them).
 //   parallel_ranges(workers, n, f)   — f(k, begin, end) on `workers` contiguous ranges of [0, n).
 // Either way the first exception thrown by f (by index order for parallel_for, by range for
-// parallel_ranges) is rethrown in the caller after every thread has joined.
+// parallel_ranges) is rethrown in the caller after every thread has joined. A thread that cannot
+// be started (no memory for its stack, as under an address-space limit) leaves its work to the
+// calling thread: fewer threads, the same results.
 #pragma once
 
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
 #include <exception>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -36,7 +39,13 @@ void parallel_for(std::size_t count, std::size_t workers, Task&& task) {
   };
   std::vector<std::thread> threads;
   threads.reserve(workers - 1);
-  for (std::size_t w = 1; w < workers; ++w) threads.emplace_back(work);
+  for (std::size_t w = 1; w < workers; ++w) {
+    try {
+      threads.emplace_back(work);
+    } catch (const std::system_error&) {
+      break;  // the threads started (and this one) share the indices
+    }
+  }
   work();
   for (std::thread& t : threads) t.join();
   for (const std::exception_ptr& e : errors) {
@@ -54,14 +63,19 @@ void parallel_ranges(std::size_t workers, std::size_t n, Body&& body) {
   std::vector<std::exception_ptr> errors(workers);
   std::vector<std::thread> threads;
   threads.reserve(workers);
+  const auto range = [&](std::size_t k) {
+    try {
+      body(k, n * k / workers, n * (k + 1) / workers);
+    } catch (...) {
+      errors[k] = std::current_exception();
+    }
+  };
   for (std::size_t k = 0; k < workers; ++k) {
-    threads.emplace_back([&, k] {
-      try {
-        body(k, n * k / workers, n * (k + 1) / workers);
-      } catch (...) {
-        errors[k] = std::current_exception();
-      }
-    });
+    try {
+      threads.emplace_back(range, k);
+    } catch (const std::system_error&) {
+      range(k);  // no thread for it: this one does it
+    }
   }
   for (std::thread& t : threads) t.join();
   for (const std::exception_ptr& e : errors) {

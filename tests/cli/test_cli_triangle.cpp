@@ -223,3 +223,40 @@ TEST(CliTriangle, IterationNumbersGoUp) {
 }
 
 }  // namespace
+
+namespace {
+
+// The rows of a file's text, split into fields.
+std::vector<std::vector<double>> number_rows(const std::string& text) {
+  std::vector<std::vector<double>> rows;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream fields(line);
+    std::vector<double> row;
+    for (double f; fields >> f;) row.push_back(f);
+    if (!row.empty()) rows.push_back(row);
+  }
+  return rows;
+}
+
+}  // namespace
+
+// A .node with one attribute (a = 2x - y, linear): `mwst triangle -q30a` and `mwst triangulate`
+// write "N 2 1 1", the input vertices' own attribute, and at every Steiner point the attribute
+// interpolated linearly (so still 2x - y).
+TEST(CliTriangle, VertexAttributesReachTheOutputNode) {
+  Sandbox box;
+  box.put("sq.node", "4 2 1 0\n1 0 0 0\n2 1 0 2\n3 1 1 1\n4 0 1 -1\n");
+  ASSERT_EQ(box.run({"triangle", "-q30a0.05Q", "sq.node"}).exit_code, 0);
+  ASSERT_EQ(box.run({"triangulate", "sq.node", "--method", "dr", "--min-angle", "30", "--max-area", "0.05", "-o", "t",
+                     "--quiet"}).exit_code, 0);
+  for (const std::string name : {"sq.1.node", "t.node"}) {
+    const auto rows = number_rows(box.get(name));
+    ASSERT_GT(rows.size(), 5u) << name << ": no Steiner point";
+    EXPECT_EQ(rows[0], (std::vector<double>{static_cast<double>(rows.size() - 1), 2, 1, 1})) << name;
+    for (std::size_t i = 1; i < rows.size(); ++i) {
+      ASSERT_EQ(rows[i].size(), 5u) << name << " line " << i + 1;
+      EXPECT_NEAR(rows[i][3], 2 * rows[i][1] - rows[i][2], 1e-12) << name << " line " << i + 1;
+    }
+  }
+}

@@ -67,13 +67,12 @@ std::vector<std::vector<std::string>> records(const std::string& text) {
   return out;
 }
 
-const std::string& text_of(const std::vector<io::TriangleFile>& files, const std::string& extension) {
+std::string text_of(const std::vector<io::TriangleFile>& files, const std::string& extension) {
   for (const io::TriangleFile& f : files) {
-    if (f.extension == extension) return f.text;
+    if (f.extension == extension) return f.text();
   }
-  static const std::string none;
   ADD_FAILURE() << "no " << extension << " file";
-  return none;
+  return {};
 }
 
 std::vector<std::string> extensions(const std::vector<io::TriangleFile>& files) {
@@ -83,7 +82,7 @@ std::vector<std::string> extensions(const std::vector<io::TriangleFile>& files) 
 }
 
 void write_all(const std::vector<io::TriangleFile>& files, const std::string& prefix) {
-  for (const io::TriangleFile& f : files) io::write_file_atomic(prefix + f.extension, f.text);
+  io::write_triangle_files(prefix, files);
 }
 
 io::TriangleOutput every_file() {
@@ -483,3 +482,82 @@ TEST(TriangleFiles, ReadTrianglesAndAreasFillThePslg) {
 }
 
 }  // namespace
+
+namespace {
+
+// A square with a square hole whose .node has two attributes per vertex, both linear in the
+// coordinates (a = x + 2y, b = 3 - y): interpolated linearly, they stay those functions at every
+// Steiner point.
+constexpr const char* kAttributedPoly =
+    "8 2 2 1\n"
+    "1 0 0 0 3 1\n2 4 0 4 3 1\n3 4 4 12 -1 1\n4 0 4 8 -1 1\n"
+    "5 1 1 3 2 2\n6 3 1 5 2 2\n7 3 3 9 0 2\n8 1 3 7 0 2\n"
+    "8 1\n1 1 2 1\n2 2 3 1\n3 3 4 1\n4 4 1 1\n5 5 6 2\n6 6 7 2\n7 7 8 2\n8 8 5 2\n"
+    "1\n1 2 2\n";
+
+}  // namespace
+
+// Triangle's vertex attributes: read from the .node header's A, kept by the input vertices,
+// interpolated linearly to the Steiner points, written to the .node as "N 2 A B" and read back.
+TEST(TriangleFiles, VertexAttributesAreCarriedAndInterpolated) {
+  const Pslg input = io::parse_poly(kAttributedPoly, "attributed.poly");
+  ASSERT_EQ(input.attributes_per_point, 2u);
+  ASSERT_EQ(input.point_attributes.size(), 16u);
+  EXPECT_EQ(input.point_attributes[4], 12.0);
+  TriangulateOptions options;
+  options.method = Method::kDr;
+  options.min_angle_deg = 30.0;
+  options.max_area = 0.2;
+  const MeshArrays mesh = triangulate_arrays(input, options);
+  ASSERT_GT(mesh.vertex_count(), 8u) << "no Steiner point was added";
+  ASSERT_EQ(mesh.attributes_per_vertex, 2u);
+  ASSERT_EQ(mesh.vertex_attributes.size(), 2 * mesh.vertex_count());
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    const double x = mesh.vertices[2 * v], y = mesh.vertices[2 * v + 1];
+    EXPECT_NEAR(mesh.vertex_attributes[2 * v], x + 2 * y, 1e-12) << "vertex " << v;
+    EXPECT_NEAR(mesh.vertex_attributes[2 * v + 1], 3 - y, 1e-12) << "vertex " << v;
+  }
+  for (std::size_t i = 0; i < 16; ++i) EXPECT_EQ(mesh.vertex_attributes[i], input.point_attributes[i]);
+
+  io::TriangleOutput what;
+  const std::string node = text_of(io::format_triangle_files(mesh, input.holes, input.regions, what), ".node");
+  const auto rows = records(node);
+  ASSERT_EQ(rows[0], (std::vector<std::string>{std::to_string(mesh.vertex_count()), "2", "2", "1"}));
+  ASSERT_EQ(rows[1].size(), 6u);  // i x y a b marker
+  const Pslg back = io::parse_node(node, "back.node");
+  EXPECT_EQ(back.attributes_per_point, 2u);
+  EXPECT_EQ(back.point_attributes, mesh.vertex_attributes);
+}
+
+// Without attributes nothing is added, and a .node's "N 2 0 B" is unchanged.
+TEST(TriangleFiles, NoVertexAttributesWithoutThem) {
+  const Pslg input = io::parse_node("3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n", "t.node");
+  EXPECT_EQ(input.attributes_per_point, 0u);
+  const MeshArrays mesh = triangulate_arrays(input, TriangulateOptions{});
+  EXPECT_EQ(mesh.attributes_per_vertex, 0u);
+  EXPECT_TRUE(mesh.vertex_attributes.empty());
+  EXPECT_EQ(records(text_of(io::format_triangle_files(mesh, {}, {}, io::TriangleOutput{}), ".node"))[0],
+            (std::vector<std::string>{"3", "2", "0", "1"}));
+}
+
+// A large file is formatted in pieces on several threads: the same text as one thread writes.
+TEST(TriangleFiles, ThreadsDoNotChangeTheText) {
+  Pslg input;
+  for (int i = 0; i < 200; ++i) {
+    for (int j = 0; j < 200; ++j) input.points.push_back({i + 0.001 * j * j, j + 0.0007 * i * i});
+  }
+  const MeshArrays mesh = triangulate_arrays(input, TriangulateOptions{});
+  io::TriangleOutput one = every_file(), many = every_file();
+  one.threads = 1;
+  many.threads = 3;
+  const std::vector<io::TriangleFile> a = io::format_triangle_files(mesh, {}, {}, one);
+  const std::vector<io::TriangleFile> b = io::format_triangle_files(mesh, {}, {}, many);
+  ASSERT_EQ(extensions(a), extensions(b));
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].text(), b[i].text()) << a[i].extension;
+    // (The .poly holds only the hull's few edges: too few records to cut.)
+    if (a[i].extension != ".poly") {
+      EXPECT_LT(a[i].pieces.size(), b[i].pieces.size()) << a[i].extension << " was not cut into ranges";
+    }
+  }
+}

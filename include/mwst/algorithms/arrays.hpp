@@ -36,6 +36,10 @@ struct MeshArrays {
   std::vector<double> vertices;               // 2 per vertex: x, y
   std::vector<ArrayVertexKind> vertex_kinds;  // 1 per vertex
   std::vector<std::int32_t> vertex_markers;   // 1 per vertex: Triangle's boundary markers
+  // Triangle's vertex attributes (the A of a .node's "N 2 A B"): attributes_per_vertex per vertex,
+  // vertex v's at [v * attributes_per_vertex, (v + 1) * attributes_per_vertex). Empty when 0.
+  std::size_t attributes_per_vertex = 0;
+  std::vector<double> vertex_attributes;
   std::vector<std::uint32_t> triangles;       // 3 per triangle: vertex indices, counter-clockwise
   std::vector<std::int32_t> neighbours;       // 3 per triangle: across the edge opposite corner i; -1 none
   std::vector<std::uint32_t> segments;        // 2 per subsegment bounding a domain triangle
@@ -65,8 +69,21 @@ MWST_API std::vector<std::int32_t> region_of_triangles(const Mesh& mesh, const s
 MWST_API MeshArrays to_arrays(const Mesh& mesh, const std::vector<Region>& regions = {},
                               const std::string& source = {});
 
-// triangulate(pslg, options) (mwst/algorithms/pipeline.hpp) and to_arrays of its mesh, with its report. If
-// `mesh` is not null the mesh itself is moved there too.
+// Triangle's vertex attributes of `input` (Pslg::point_attributes) carried to `arrays`, a
+// triangulation of it: each input point keeps its own; every other vertex (a Steiner point) gets
+// them interpolated linearly from the constrained Delaunay triangulation of the input (with
+// `convex_hull` as the triangulation had it): barycentric in the triangle holding the point, along
+// the edge or hull edge nearest it when it lies on an edge or outside by rounding. (Triangle
+// interpolates at each insertion in the mesh of that moment; with piecewise linear attributes over
+// the input's triangulation, as here, a Steiner point's attributes do not depend on the order of
+// insertion or on the method.) A crossing of input segments, a vertex of that triangulation but
+// not an input point, takes them linearly along the input segment through it. Nothing happens
+// when the input has no attributes.
+MWST_API void interpolate_vertex_attributes(const Pslg& input, bool convex_hull, MeshArrays& arrays);
+
+// triangulate(pslg, options) (mwst/algorithms/pipeline.hpp) and to_arrays of its mesh, with its
+// report, and the input's vertex attributes (interpolate_vertex_attributes). If `mesh` is not
+// null the mesh itself is moved there too.
 MWST_API MeshArrays triangulate_arrays(const Pslg& pslg, const TriangulateOptions& options, Mesh* mesh = nullptr);
 
 }  // namespace mwst

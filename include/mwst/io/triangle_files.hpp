@@ -42,10 +42,11 @@ struct MeshFiles {
 };
 MWST_API MeshFiles read_mesh(const std::string& prefix);
 
-// Writes PREFIX.node, PREFIX.ele and (if the mesh has subsegments) PREFIX.poly, numbering from
-// `first_index`. Only live, finite, in-domain triangles are written. The .poly lists the `holes`
-// and `regions` of the input after its subsegments, so that re-meshing it gives the same domain.
-// Atomic per file.
+// Writes PREFIX.node, PREFIX.ele and (if the mesh has subsegments) PREFIX.poly of the domain
+// triangles of `mesh`, numbered from `first_index`: to_arrays (mwst/algorithms/arrays.hpp), then
+// format_triangle_files with mesh_files' choice and write_triangle_files. The .poly lists the
+// `holes` and `regions` of the input after its subsegments, so that re-meshing it gives the same
+// domain. A failure leaves none of the files behind.
 MWST_API void write_mesh(const Mesh& mesh, const std::string& prefix, int first_index = 1,
                          const std::vector<Point>& holes = {}, const std::vector<Region>& regions = {});
 
@@ -78,16 +79,23 @@ struct TriangleOutput {
   bool triangle_attributes = false;  // the regional attribute of each triangle in .ele (-A)
   bool jettison = false;             // leave vertices in no triangle out (-j), renumbering the rest
   int first_index = 1;               // the number of the first item of every file
+  unsigned threads = 0;              // threads formatting a large file (0: one per hardware thread)
 };
 
-// One output file: its extension (".node", ".v.edge", ...) and its text.
-struct TriangleFile {
+// The files of a mesh as `mwst triangulate` and write_mesh write them: PREFIX.node, PREFIX.ele and,
+// when it has subsegments, PREFIX.poly, with boundary markers, numbered from `first_index`.
+MWST_API TriangleOutput mesh_files(const MeshArrays& mesh, int first_index);
+
+// One output file: its extension (".node", ".v.edge", ...) and its text, in pieces (a large file
+// is formatted in parts on several threads; the pieces are never joined on the way to the disk).
+struct MWST_API TriangleFile {
   std::string extension;
-  std::string text;
+  std::vector<std::string> pieces;  // the text is their concatenation
+  std::string text() const;         // that concatenation
 };
 
 // The files `what` asks for, in Triangle's formats and layouts:
-//   .node   "N 2 0 B", then "i x y [marker]"
+//   .node   "N 2 A B", then "i x y [attributes] [marker]" (A = MeshArrays::attributes_per_vertex)
 //   .ele    "T 3 A", then "i a b c [attribute]" (corners counter-clockwise)
 //   .poly   "0 2 0 B" (the vertices are the .node's), "S B", "i a b [marker]" for every subsegment
 //           and every boundary edge, then the holes "H", "i x y" and the regions "R",
@@ -104,10 +112,15 @@ struct TriangleFile {
 // Boundary markers are carried as Triangle carries them: an edge keeps a nonzero marker of the
 // segment it lies on, else it is 1 on the boundary of the triangulation (holes included) and 0
 // inside; a vertex keeps a nonzero marker of its own, else takes a nonzero marker of a segment
-// through it, else 1 on the boundary and 0 inside. Vertex attributes are not carried (0 per vertex).
+// through it, else 1 on the boundary and 0 inside. Vertex attributes are MeshArrays::vertex_attributes.
+// The files are the same text whatever TriangleOutput::threads.
 MWST_API std::vector<TriangleFile> format_triangle_files(const MeshArrays& mesh, const std::vector<Point>& holes,
                                                         const std::vector<Region>& regions,
                                                         const TriangleOutput& what);
+
+// Writes PREFIX + extension of each file, each atomically (write_file_atomic), two at a time; if
+// one fails, those already written are removed again and the first failure is thrown.
+MWST_API void write_triangle_files(const std::string& prefix, const std::vector<TriangleFile>& files);
 
 // Writes `content` (the concatenation of `pieces`) to `path` atomically (temporary name in the
 // same directory, then rename).

@@ -28,6 +28,11 @@ struct Region {
 struct Pslg {
   std::vector<Point> points;            // as read; duplicates are kept here and merged by the mesher
   std::vector<std::int32_t> point_markers;  // per point (0 when the file had none)
+  // Triangle's vertex attributes (the A of "N 2 A B"): attributes_per_point per point, point i's at
+  // [i * attributes_per_point, (i + 1) * attributes_per_point); empty when 0. The output carries
+  // them (interpolate_vertex_attributes, mwst/algorithms/arrays.hpp).
+  std::size_t attributes_per_point = 0;
+  std::vector<double> point_attributes;
   std::vector<Segment> segments;        // empty for a .node input
   std::vector<Point> holes;             // hole seeds
   std::vector<Region> regions;
