@@ -490,7 +490,7 @@ TEST(Bundle, LatticeDiagonalPatternsMatchOracle) {
     std::vector<Tri> tris;
     for (int i = 0; i + 1 < nx; ++i) {
       for (int j = 0; j + 1 < ny; ++j) {
-        const auto id = [ny](int a, int b) { return static_cast<std::uint32_t>(a * ny + b); };
+        const auto id = [](int a, int b) { return static_cast<std::uint32_t>(a * ny + b); };
         const int pattern = c % 3;
         const bool slash = pattern == 0 || (pattern == 2 && (i + j) % 2 == 0);
         if (slash) {
