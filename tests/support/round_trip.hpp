@@ -69,12 +69,20 @@ inline std::vector<std::string> round_trip_differences(const Mesh& mesh, const i
   // Triangles, in the order written, corner by corner.
   std::size_t written_triangles = 0;
   std::set<std::pair<PointBits, PointBits>> written_segments;
+  bool has_subsegments = false;
+  for (TriangleId t = 0; t < mesh.triangles.size() && !has_subsegments; ++t) {
+    if (!mesh.in_domain(t)) continue;
+    for (unsigned e = 0; e < 3; ++e) has_subsegments = has_subsegments || mesh.is_segment(make_handle(t, e));
+  }
   for (TriangleId t = 0; t < mesh.triangles.size(); ++t) {
     if (!mesh.in_domain(t)) continue;
     const std::size_t i = written_triangles++;
     for (unsigned e = 0; e < 3; ++e) {
       const Handle h = make_handle(t, e);
-      if (!mesh.is_segment(h)) continue;
+      // A mesh with subsegments gets a .poly, which lists every subsegment and every boundary
+      // edge of the domain (as Triangle's does: the hull edges of a -c / convex_hull mesh too).
+      const bool boundary = has_subsegments && !mesh.in_domain(mesh.sym(h) >> 2);
+      if (!mesh.is_segment(h) && !boundary) continue;
       PointBits a = point_bits(mesh.points[mesh.org(h)]), b = point_bits(mesh.points[mesh.dest(h)]);
       if (b < a) std::swap(a, b);
       written_segments.insert({a, b});
