@@ -9,6 +9,7 @@
 
 #include "mwst/error.hpp"
 #include "support/huge_pages.hpp"
+#include "support/parallel.hpp"
 
 namespace mwst {
 
@@ -143,32 +144,55 @@ inline ArrayVertexKind array_kind_of(VertexKind kind, const std::vector<std::uin
                                 : ArrayVertexKind::kCrossing;
 }
 
+// Below this many vertices or triangle slots a step runs on one thread: starting threads costs
+// more than the copy.
+inline constexpr std::size_t kParallelCopy = std::size_t{1} << 16;
+
+// The number of contiguous ranges a copy of n items is cut into (one per thread, or one).
+std::size_t copy_ranges(std::size_t n, unsigned threads) {
+  return n >= kParallelCopy ? support::worker_count(threads) : 1;
+}
+
 // Copies the vertices into `out`: all but removed Steiner points, in order (input points keep
 // their indices), with their array kinds and markers. Returns the array index of each mesh vertex
-// (kNone for a removed one); without a removed point every vertex keeps its index and the table
-// stays empty.
+// (kNone for a removed one); without a removed point every vertex keeps its index, the table stays
+// empty, and the copy runs in ranges on `threads` threads.
 std::vector<std::uint32_t> copy_kept_vertices(const Mesh& mesh, const VertexCensus& census,
-                                              const std::vector<std::uint32_t>& segment_ends, MeshArrays& out) {
+                                              const std::vector<std::uint32_t>& segment_ends, unsigned threads,
+                                              MeshArrays& out) {
   const std::size_t point_count = mesh.points.size();
-  const bool has_removed = census.removed_count != 0;
+  const std::size_t marked = mesh.vertex_marker.size();
+  const auto marker_of = [&](VertexId v) { return v < marked ? mesh.vertex_marker[v] : 0; };
   std::vector<std::uint32_t> index_of_vertex;
-  if (has_removed) {
-    support::reserve_on_huge_pages(index_of_vertex, point_count);
-    index_of_vertex.assign(point_count, kNone);
+  if (census.removed_count == 0) {
+    support::resize_on_huge_pages(out.vertices, 2 * point_count);
+    support::resize_on_huge_pages(out.vertex_kinds, point_count);
+    support::resize_on_huge_pages(out.vertex_markers, point_count);
+    support::parallel_ranges(copy_ranges(point_count, threads), point_count,
+                             [&](std::size_t, std::size_t begin, std::size_t end) {
+                               for (VertexId v = static_cast<VertexId>(begin); v < end; ++v) {
+                                 out.vertices[2 * v] = mesh.points[v].x;
+                                 out.vertices[2 * v + 1] = mesh.points[v].y;
+                                 out.vertex_kinds[v] = array_kind_of(mesh.vertex_kind[v], segment_ends, v);
+                                 out.vertex_markers[v] = marker_of(v);
+                               }
+                             });
+    return index_of_vertex;
   }
+  support::reserve_on_huge_pages(index_of_vertex, point_count);
+  index_of_vertex.assign(point_count, kNone);
   const std::size_t kept = point_count - census.removed_count;
   support::reserve_on_huge_pages(out.vertices, 2 * kept);
   support::reserve_on_huge_pages(out.vertex_kinds, kept);
   support::reserve_on_huge_pages(out.vertex_markers, kept);
-  const std::size_t marked = mesh.vertex_marker.size();
   for (VertexId v = 0; v < point_count; ++v) {
     const VertexKind kind = mesh.vertex_kind[v];
     if (kind == VertexKind::kRemoved) continue;
-    if (has_removed) index_of_vertex[v] = static_cast<std::uint32_t>(out.vertex_kinds.size());
+    index_of_vertex[v] = static_cast<std::uint32_t>(out.vertex_kinds.size());
     out.vertices.push_back(mesh.points[v].x);
     out.vertices.push_back(mesh.points[v].y);
     out.vertex_kinds.push_back(array_kind_of(kind, segment_ends, v));
-    out.vertex_markers.push_back(v < marked ? mesh.vertex_marker[v] : 0);
+    out.vertex_markers.push_back(marker_of(v));
   }
   return index_of_vertex;
 }
@@ -185,46 +209,79 @@ struct ArrayVertex {
 };
 
 // The array index of each triangle slot: the domain triangles numbered in slot order, kNoTriangle
-// elsewhere. Sets `count` to the number of domain triangles.
-std::vector<std::int32_t> number_domain_triangles(const Mesh& mesh, std::size_t& count) {
+// elsewhere. Sets `count` to the number of domain triangles. In `ranges` contiguous ranges of
+// slots: each range counts its domain triangles, and numbers them from the sum of the counts
+// before it.
+std::vector<std::int32_t> number_domain_triangles(const Mesh& mesh, std::size_t ranges, std::size_t& count) {
   const std::size_t slots = mesh.triangle_slots();
+  std::vector<std::size_t> first_of_range(ranges + 1, 0);
+  support::parallel_ranges(ranges, slots, [&](std::size_t k, std::size_t begin, std::size_t end) {
+    std::size_t in_range = 0;
+    for (TriangleId t = static_cast<TriangleId>(begin); t < end; ++t) in_range += mesh.in_domain(t);
+    first_of_range[k + 1] = in_range;
+  });
+  for (std::size_t k = 0; k < ranges; ++k) first_of_range[k + 1] += first_of_range[k];
+  count = first_of_range[ranges];
   std::vector<std::int32_t> index_of_slot;
-  support::reserve_on_huge_pages(index_of_slot, slots);
-  count = 0;
-  for (TriangleId t = 0; t < slots; ++t) {
-    index_of_slot.push_back(mesh.in_domain(t) ? static_cast<std::int32_t>(count++) : kNoTriangle);
-  }
+  support::resize_on_huge_pages(index_of_slot, slots);
+  support::parallel_ranges(ranges, slots, [&](std::size_t k, std::size_t begin, std::size_t end) {
+    auto next = static_cast<std::int32_t>(first_of_range[k]);
+    for (TriangleId t = static_cast<TriangleId>(begin); t < end; ++t) {
+      index_of_slot[t] = mesh.in_domain(t) ? next++ : kNoTriangle;
+    }
+  });
   return index_of_slot;
 }
 
+// The subsegments one range of slots contributes, in slot order.
+struct RangeSegments {
+  std::vector<std::uint32_t> ends;
+  std::vector<std::int32_t> markers;
+};
+
 // Copies the `count` domain triangles into `out`: corners, neighbours and the subsegments (each
-// once, from the lower-numbered domain triangle beside it) with their markers.
+// once, from the lower-numbered domain triangle beside it) with their markers. Each of `ranges`
+// contiguous ranges of slots writes its triangles at their numbers and collects its subsegments,
+// which are appended range by range: the arrays do not depend on the number of ranges.
 void copy_domain_triangles(const Mesh& mesh, const std::vector<std::int32_t>& index_of_slot, std::size_t count,
-                           const ArrayVertex& array_vertex, MeshArrays& out) {
-  const std::size_t slots = mesh.triangle_slots();
+                           const ArrayVertex& array_vertex, std::size_t ranges, MeshArrays& out) {
   // The array index of the triangle of handle h: kNoTriangle outside the domain, and for an edge
   // with no triangle across (kNone: a mesh put together by hand, not closed by ghosts).
   const auto slot_index = [&](Handle h) { return h == kNone ? kNoTriangle : index_of_slot[triangle_of(h)]; };
-  support::reserve_on_huge_pages(out.triangles, 3 * count);
-  support::reserve_on_huge_pages(out.neighbours, 3 * count);
-  for (TriangleId t = 0; t < slots; ++t) {
-    if (index_of_slot[t] == kNoTriangle) continue;
-    const Triangle& triangle = mesh.triangles[t];
-    for (unsigned i = 0; i < 3; ++i) {
-      out.triangles.push_back(array_vertex(triangle.v[i]));
-      // Edge i of t is opposite corner i; its neighbour is the triangle of sym (-1 outside).
-      out.neighbours.push_back(slot_index(triangle.n[i]));
+  support::resize_on_huge_pages(out.triangles, 3 * count);
+  support::resize_on_huge_pages(out.neighbours, 3 * count);
+  std::vector<RangeSegments> segments(ranges);
+  support::parallel_ranges(ranges, mesh.triangle_slots(), [&](std::size_t k, std::size_t begin, std::size_t end) {
+    for (TriangleId t = static_cast<TriangleId>(begin); t < end; ++t) {
+      const std::int32_t index = index_of_slot[t];
+      if (index == kNoTriangle) continue;
+      const Triangle& triangle = mesh.triangles[t];
+      const std::size_t at = 3 * static_cast<std::size_t>(index);
+      for (unsigned i = 0; i < 3; ++i) {
+        out.triangles[at + i] = array_vertex(triangle.v[i]);
+        // Edge i of t is opposite corner i; its neighbour is the triangle of sym (-1 outside).
+        out.neighbours[at + i] = slot_index(triangle.n[i]);
+      }
+      if ((mesh.flags[t] & kSegmentEdges) == 0) continue;
+      for (unsigned e = 0; e < 3; ++e) {
+        const Handle h = make_handle(t, e);
+        if (!mesh.is_segment(h)) continue;
+        const std::int32_t other = slot_index(mesh.sym(h));
+        if (other != kNoTriangle && other < index) continue;
+        segments[k].ends.push_back(array_vertex(mesh.org(h)));
+        segments[k].ends.push_back(array_vertex(mesh.dest(h)));
+        segments[k].markers.push_back(mesh.marker(h));
+      }
     }
-    if ((mesh.flags[t] & kSegmentEdges) == 0) continue;
-    for (unsigned e = 0; e < 3; ++e) {
-      const Handle h = make_handle(t, e);
-      if (!mesh.is_segment(h)) continue;
-      const std::int32_t other = slot_index(mesh.sym(h));
-      if (other != kNoTriangle && other < index_of_slot[t]) continue;
-      out.segments.push_back(array_vertex(mesh.org(h)));
-      out.segments.push_back(array_vertex(mesh.dest(h)));
-      out.segment_markers.push_back(mesh.marker(h));
-    }
+  });
+  if (ranges == 1) {
+    out.segments = std::move(segments[0].ends);
+    out.segment_markers = std::move(segments[0].markers);
+    return;
+  }
+  for (const RangeSegments& range : segments) {
+    out.segments.insert(out.segments.end(), range.ends.begin(), range.ends.end());
+    out.segment_markers.insert(out.segment_markers.end(), range.markers.begin(), range.markers.end());
   }
 }
 
@@ -232,14 +289,17 @@ void copy_domain_triangles(const Mesh& mesh, const std::vector<std::int32_t>& in
 
 // The steps: census_of_vertices, subsegment_ends (only for Steiner points' kinds),
 // copy_kept_vertices, number_domain_triangles, copy_domain_triangles, spread_region_attributes.
-MeshArrays to_arrays(const Mesh& mesh, const std::vector<Region>& regions, const std::string& source) {
+MeshArrays to_arrays(const Mesh& mesh, const std::vector<Region>& regions, const std::string& source,
+                     unsigned threads) {
   MeshArrays out;
   const VertexCensus census = census_of_vertices(mesh);
   const std::vector<std::uint32_t> segment_ends = census.has_steiner ? subsegment_ends(mesh) : std::vector<std::uint32_t>();
-  const std::vector<std::uint32_t> index_of_vertex = copy_kept_vertices(mesh, census, segment_ends, out);
+  const std::vector<std::uint32_t> index_of_vertex = copy_kept_vertices(mesh, census, segment_ends, threads, out);
+  const std::size_t ranges = copy_ranges(mesh.triangle_slots(), threads);
   std::size_t count = 0;
-  const std::vector<std::int32_t> index_of_slot = number_domain_triangles(mesh, count);
-  copy_domain_triangles(mesh, index_of_slot, count, ArrayVertex{index_of_vertex, census.removed_count != 0}, out);
+  const std::vector<std::int32_t> index_of_slot = number_domain_triangles(mesh, ranges, count);
+  copy_domain_triangles(mesh, index_of_slot, count, ArrayVertex{index_of_vertex, census.removed_count != 0}, ranges,
+                        out);
   if (!regions.empty()) spread_region_attributes(mesh, regions, source, index_of_slot, out);
   return out;
 }
@@ -349,7 +409,7 @@ void interpolate_vertex_attributes(const Pslg& input, bool convex_hull, MeshArra
 MeshArrays triangulate_arrays(const Pslg& pslg, const TriangulateOptions& options, Mesh* mesh) {
   Mesh result;
   Report report = triangulate(pslg, options, &result);
-  MeshArrays out = to_arrays(result, pslg.regions, pslg.source);
+  MeshArrays out = to_arrays(result, pslg.regions, pslg.source, options.threads);
   interpolate_vertex_attributes(pslg, options.convex_hull, out);
   for (std::string& warning : out.report.warnings) report.warnings.push_back(std::move(warning));
   out.report = std::move(report);

@@ -331,4 +331,36 @@ TEST(Arrays, RemovedVerticesAreLeftOut) {
   EXPECT_EQ(std::count(a.triangles.begin(), a.triangles.end(), 4u), 4);
 }
 
+// to_arrays copies a large mesh in ranges on several threads; the arrays are the same with any
+// number of them, subsegments (here with Steiner points on them) in the same order. Superior's
+// lake refined to a small area bound gives over 2^16 triangle slots, enough to be cut.
+TEST(Arrays, AnyNumberOfThreadsGivesTheSameArrays) {
+  const mwst::Pslg input = mwst::io::read_input(std::string(MWST_DATA_DIR) + "/Superior.poly");
+  mwst::TriangulateOptions options = options_for(mwst::Method::kDr);
+  double min_x = input.points[0].x, max_x = min_x, min_y = input.points[0].y, max_y = min_y;
+  for (const Point& p : input.points) {
+    min_x = std::min(min_x, p.x), max_x = std::max(max_x, p.x);
+    min_y = std::min(min_y, p.y), max_y = std::max(max_y, p.y);
+  }
+  options.max_area = (max_x - min_x) * (max_y - min_y) / 150000.0;
+  Mesh mesh;
+  const mwst::Report report = mwst::triangulate(input, options, &mesh);
+  ASSERT_GT(mesh.triangle_slots(), std::size_t{1} << 16);
+  MeshArrays one = mwst::to_arrays(mesh, {}, {}, 1);
+  one.report = report;  // what expect_arrays_match_mesh checks the counts against
+  expect_arrays_match_mesh(input, one, mesh);
+  ASSERT_GT(one.segment_count(), input.segments.size());
+  for (const unsigned threads : {2u, 3u, 7u}) {
+    SCOPED_TRACE(threads);
+    const MeshArrays many = mwst::to_arrays(mesh, {}, {}, threads);
+    EXPECT_EQ(many.vertices, one.vertices);
+    EXPECT_EQ(many.vertex_kinds, one.vertex_kinds);
+    EXPECT_EQ(many.vertex_markers, one.vertex_markers);
+    EXPECT_EQ(many.triangles, one.triangles);
+    EXPECT_EQ(many.neighbours, one.neighbours);
+    EXPECT_EQ(many.segments, one.segments);
+    EXPECT_EQ(many.segment_markers, one.segment_markers);
+  }
+}
+
 }  // namespace

@@ -65,9 +65,10 @@ MWST_API std::vector<std::int32_t> region_of_triangles(const Mesh& mesh, const s
 // The domain triangles of `mesh` as flat arrays. Vertices removed from the mesh
 // (VertexKind::kRemoved) are left out and the rest numbered in order. `regions` (a Pslg's) give
 // triangle_attributes; a region seed outside the domain is an InputError naming `source` (the
-// input's file) and the region's line (region_of_triangles).
+// input's file) and the region's line (region_of_triangles). Large meshes are copied in ranges on
+// `threads` threads (0: one per hardware thread); the arrays do not depend on the number.
 MWST_API MeshArrays to_arrays(const Mesh& mesh, const std::vector<Region>& regions = {},
-                              const std::string& source = {});
+                              const std::string& source = {}, unsigned threads = 0);
 
 // Triangle's vertex attributes of `input` (Pslg::point_attributes) carried to `arrays`, a
 // triangulation of it: each input point keeps its own; every other vertex (a Steiner point) gets
