@@ -127,6 +127,7 @@ class LocalBundleTest {
     std::uint64_t max_visits = 0;      // the most one flood popped
     std::uint64_t stopped_at_k = 0;    // Delaunay floods that stopped on reaching K
     std::uint64_t capped = 0;          // floods that gave up past cap_ visits
+    std::uint64_t known_not_empty = 0; // disks not flooded: an earlier flood found a vertex inside
   };
 
   // A flood pops at most cap_ + 1 triangles, so it adds at most 3 (cap_ + 1) + 1 triangles and
@@ -204,12 +205,25 @@ class LocalBundleTest {
     return d.version == mesh_version(m) && d.v == m.triangles[c].v ? d.count : 0;
   }
 
+  // A disk found to hold a vertex strictly inside holds it for good: the refinement only adds
+  // vertices, and the disk is the circumdisk of the slot's corners. Such a slot is not flooded
+  // again while it keeps its corners, whatever the mesh version (on polygons with circular holes,
+  // the disks of the triangles inside a hole, or across its boundary, were flooded after every
+  // insertion nearby, each time with exact incircle tests on the hole's near-cocircular vertices).
   std::uint32_t disk_count(const Mesh& m, TriangleId c) {
     const std::uint64_t version = mesh_version(m);
     if (disk_cache_.size() < m.triangle_slots()) disk_cache_.resize(m.triangle_slots() + m.triangle_slots() / 4 + 64);
     DiskCount& d = disk_cache_[c];
-    if (d.version == version && d.v == m.triangles[c].v) return d.count;
-    d = {m.triangles[c].v, version, circumdisk_count(m, c)};
+    if (d.v == m.triangles[c].v) {
+      if (d.holds_vertex) {
+        ++stats_.known_not_empty;
+        return 0;
+      }
+      if (d.version == version) return d.count;
+    }
+    holds_vertex_ = false;
+    const std::uint32_t count = circumdisk_count(m, c);
+    d = {m.triangles[c].v, version, count, holds_vertex_};
     return d.count;
   }
 
@@ -293,8 +307,10 @@ class LocalBundleTest {
           // The sign of the incircle determinant decides (exactly: incircle's filter, then its exact
           // stage only when the filter cannot vouch); its rounded value serves the edge tests.
           const detail::FilteredDeterminant det = detail::incircle_determinant(a, b, d, m.points[x]);
-          if (det.value > det.bound) return 0;  // the disk is not vertex-empty
-          if (!(-det.value > det.bound) && detail::incircle_exact(a, b, d, m.points[x]) > 0) return 0;
+          if (det.value > det.bound || (!(-det.value > det.bound) && detail::incircle_exact(a, b, d, m.points[x]) > 0)) {
+            holds_vertex_ = true;  // the disk is not vertex-empty, for good
+            return 0;
+          }
           value_[x % kValueCache] = {x, stamp_, det.value};
         }
         stack_.push_back(n);
@@ -321,8 +337,10 @@ class LocalBundleTest {
     std::array<VertexId, 3> v{kNone, kNone, kNone};
     std::uint64_t version = 0;
     std::uint32_t count = 0;
+    bool holds_vertex = false;  // a vertex lies strictly inside: count 0 whatever the version
   };
   std::vector<DiskCount> disk_cache_;
+  bool holds_vertex_ = false;  // the last flood found a vertex strictly inside its disk
   std::uint16_t epoch_ = 1;
   bool delaunay_known_ = false;
   bool delaunay_ = false;  // every segment is a hull edge: circumdisks are vertex-empty
