@@ -307,7 +307,7 @@ class LocalBundleTest {
           // The sign of the incircle determinant decides (exactly: incircle's filter, then its exact
           // stage only when the filter cannot vouch); its rounded value serves the edge tests.
           const detail::FilteredDeterminant det = detail::incircle_determinant(a, b, d, m.points[x]);
-          if (det.value > det.bound || (!(-det.value > det.bound) && detail::incircle_exact(a, b, d, m.points[x]) > 0)) {
+          if (det.value > det.bound || (!(-det.value > det.bound) && exact_sign(m, cv, x) > 0)) {
             holds_vertex_ = true;  // the disk is not vertex-empty, for good
             return 0;
           }
@@ -318,6 +318,27 @@ class LocalBundleTest {
     }
     return count;
   }
+
+  // The exact incircle sign of x against the circle through corners cv, remembered in a small
+  // direct-mapped table: the filter fails on near-cocircular vertices (a circular hole's), and the
+  // disks through them (a hole's triangles) are flooded again after every insertion nearby, each
+  // time asking the same vertices.
+  int exact_sign(const Mesh& m, const std::array<VertexId, 3>& cv, VertexId x) {
+    std::uint64_t h = (std::uint64_t{cv[0]} * 0x9E3779B97F4A7C15ull) ^ (std::uint64_t{cv[1]} * 0xC2B2AE3D27D4EB4Full) ^
+                      (std::uint64_t{cv[2]} * 0x165667B19E3779F9ull) ^ (std::uint64_t{x} * 0xD6E8FEB86659FD93ull);
+    ExactSlot& e = exact_[(h >> 40) & (kExactCache - 1)];
+    if (e.filled && e.v == cv && e.x == x) return e.sign;
+    e = {cv, x, static_cast<std::int8_t>(detail::incircle_exact(m.points[cv[0]], m.points[cv[1]], m.points[cv[2]], m.points[x])), true};
+    return e.sign;
+  }
+  struct ExactSlot {
+    std::array<VertexId, 3> v{};
+    VertexId x = 0;
+    std::int8_t sign = 0;
+    bool filled = false;
+  };
+  static constexpr std::size_t kExactCache = 4096;
+  std::vector<ExactSlot> exact_ = std::vector<ExactSlot>(kExactCache);
 
   struct ValueSlot {
     VertexId v = kNone;
