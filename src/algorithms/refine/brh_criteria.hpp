@@ -140,7 +140,7 @@ class LocalBundleTest {
   // it cannot make a segment that is not a hull edge).
   void clear() {
     if (++epoch_ == 0) {
-      std::fill(cache_.begin(), cache_.end(), Cached{});
+      for (SlotCache& c : cache_) c.epoch = 0;
       epoch_ = 1;
     }
     delaunay_known_ = false;
@@ -154,9 +154,8 @@ class LocalBundleTest {
       delaunay_ = only_hull_segments(m);
       delaunay_known_ = true;
     }
-    if (cache_.size() < m.triangle_slots()) cache_.resize(m.triangle_slots() + m.triangle_slots() / 4 + 64);
-    Cached& c = cache_[t];
-    if (c.epoch == epoch_ && c.v == m.triangles[t].v) return c.value == 2;
+    SlotCache& c = slot_cache(m, t);
+    if (c.epoch == epoch_) return c.value == 2;
     // The disks of t and of its live finite neighbours. A disk's count is its cached one if it has
     // one, else a flood's, whichever disk is asked first, so asking the cached ones first (a star's
     // triangles share neighbours) changes no answer, only saves floods.
@@ -172,13 +171,24 @@ class LocalBundleTest {
     for (const TriangleId d : disks) {
       if (d != kNone && !found) found = disk_count(m, d) >= k_;
     }
-    c.v = m.triangles[t].v;
-    c.value = found ? 2 : 1;
-    c.epoch = epoch_;
+    SlotCache& done = slot_cache(m, t);  // (the floods may have grown cache_)
+    done.value = found ? 2 : 1;
+    done.epoch = epoch_;
     return found;
   }
 
  private:
+  // Per slot, for the triangle its corners `v` make (24 bytes): in_bundle's answer in this epoch,
+  // and the count of its circumdisk at a mesh version (disk_count).
+  struct SlotCache {
+    std::array<VertexId, 3> v{kNone, kNone, kNone};
+    std::uint32_t version = 0;  // the count's mesh version (0: none; a mesh has 3 vertices or more)
+    std::uint32_t count = 0;
+    std::uint16_t epoch = 0;    // in_bundle's answer is valid if equal to epoch_
+    std::uint8_t value = 0;     // in_bundle's answer: 1 no, 2 yes
+    bool holds_vertex = false;  // a vertex lies strictly inside the disk: count 0 whatever the version
+  };
+
   // circumdisk_count(m, c), remembered while the mesh is unchanged: the refinement only inserts
   // vertices, so the mesh is the same while its vertex and slot counts are (the triangles made by
   // one insertion are tested one after another, each with its neighbours, many of them made by the
@@ -196,12 +206,22 @@ class LocalBundleTest {
     return true;
   }
 
-  static std::uint64_t mesh_version(const Mesh& m) { return std::uint64_t{m.points.size()} << 32 | m.triangles.size(); }
+  // The refinement changes the mesh only by inserting vertices, so the vertex count is its version.
+  static std::uint32_t mesh_version(const Mesh& m) { return static_cast<std::uint32_t>(m.points.size()); }
+
+  // What is remembered of slot t, for its corners now: an entry made for other corners (the slot
+  // held another triangle) is reset.
+  SlotCache& slot_cache(const Mesh& m, TriangleId t) {
+    if (cache_.size() < m.triangle_slots()) cache_.resize(m.triangle_slots() + m.triangle_slots() / 4 + 64);
+    SlotCache& c = cache_[t];
+    if (c.v != m.triangles[t].v) c = SlotCache{m.triangles[t].v};
+    return c;
+  }
 
   // disk_count's remembered value, or 0 if it has none.
   std::uint32_t cached_count(const Mesh& m, TriangleId c) const {
-    if (c >= disk_cache_.size()) return 0;
-    const DiskCount& d = disk_cache_[c];
+    if (c >= cache_.size()) return 0;
+    const SlotCache& d = cache_[c];
     return d.version == mesh_version(m) && d.v == m.triangles[c].v ? d.count : 0;
   }
 
@@ -211,10 +231,9 @@ class LocalBundleTest {
   // the disks of the triangles inside a hole, or across its boundary, were flooded after every
   // insertion nearby, each time with exact incircle tests on the hole's near-cocircular vertices).
   std::uint32_t disk_count(const Mesh& m, TriangleId c) {
-    const std::uint64_t version = mesh_version(m);
-    if (disk_cache_.size() < m.triangle_slots()) disk_cache_.resize(m.triangle_slots() + m.triangle_slots() / 4 + 64);
-    DiskCount& d = disk_cache_[c];
-    if (d.v == m.triangles[c].v) {
+    const std::uint32_t version = mesh_version(m);
+    {
+      const SlotCache& d = slot_cache(m, c);
       if (d.holds_vertex) {
         ++stats_.known_not_empty;
         return 0;
@@ -223,15 +242,12 @@ class LocalBundleTest {
     }
     holds_vertex_ = false;
     const std::uint32_t count = circumdisk_count(m, c);
-    d = {m.triangles[c].v, version, count, holds_vertex_};
-    return d.count;
+    SlotCache& d = slot_cache(m, c);  // (a reference taken before the flood would do as well)
+    d.version = version;
+    d.count = count;
+    d.holds_vertex = holds_vertex_;
+    return count;
   }
-
-  struct Cached {
-    std::array<VertexId, 3> v{kNone, kNone, kNone};
-    std::uint8_t value = 0;   // 1 no, 2 yes
-    std::uint16_t epoch = 0;  // valid if equal to epoch_
-  };
 
   // The number of in-domain triangles meeting the open circumdisk of c, by a flood across the
   // edges meeting it; 0 if a vertex lies strictly inside the disk (exact incircle), or if the
@@ -353,14 +369,7 @@ class LocalBundleTest {
   FloodSet seen_triangles_, seen_vertices_;
   std::vector<TriangleId> stack_;
   std::array<ValueSlot, kValueCache> value_{};
-  std::vector<Cached> cache_;
-  struct DiskCount {
-    std::array<VertexId, 3> v{kNone, kNone, kNone};
-    std::uint64_t version = 0;
-    std::uint32_t count = 0;
-    bool holds_vertex = false;  // a vertex lies strictly inside: count 0 whatever the version
-  };
-  std::vector<DiskCount> disk_cache_;
+  std::vector<SlotCache> cache_;
   bool holds_vertex_ = false;  // the last flood found a vertex strictly inside its disk
   std::uint16_t epoch_ = 1;
   bool delaunay_known_ = false;
