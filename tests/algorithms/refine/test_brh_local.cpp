@@ -139,6 +139,7 @@ TEST(BrhLocalTest, RememberedDisksAnswerAsAFreshTestAfterInsertions) {
     EXPECT_GT(yes, 0u);
     if (fan) {
       EXPECT_GT(kept.stats().known_not_empty, 0u);
+      EXPECT_GT(fresh.stats().recent_inside, 0u);  // disks found holding a vertex another one held
     }
   }
 }
