@@ -127,6 +127,8 @@ class LocalBundleTest {
     std::uint64_t max_visits = 0;      // the most one flood popped
     std::uint64_t stopped_at_k = 0;    // Delaunay floods that stopped on reaching K
     std::uint64_t capped = 0;          // floods that gave up past cap_ visits
+    std::uint64_t known_not_empty = 0; // disks not flooded: an earlier flood found a vertex inside
+    std::uint64_t recent_inside = 0;   // disks not flooded: a vertex found inside another disk is in
   };
 
   // A flood pops at most cap_ + 1 triangles, so it adds at most 3 (cap_ + 1) + 1 triangles and
@@ -139,7 +141,7 @@ class LocalBundleTest {
   // it cannot make a segment that is not a hull edge).
   void clear() {
     if (++epoch_ == 0) {
-      std::fill(cache_.begin(), cache_.end(), Cached{});
+      for (SlotCache& c : cache_) c.epoch = 0;
       epoch_ = 1;
     }
     delaunay_known_ = false;
@@ -153,9 +155,8 @@ class LocalBundleTest {
       delaunay_ = only_hull_segments(m);
       delaunay_known_ = true;
     }
-    if (cache_.size() < m.triangle_slots()) cache_.resize(m.triangle_slots() + m.triangle_slots() / 4 + 64);
-    Cached& c = cache_[t];
-    if (c.epoch == epoch_ && c.v == m.triangles[t].v) return c.value == 2;
+    SlotCache& c = slot_cache(m, t);
+    if (c.epoch == epoch_) return c.value == 2;
     // The disks of t and of its live finite neighbours. A disk's count is its cached one if it has
     // one, else a flood's, whichever disk is asked first, so asking the cached ones first (a star's
     // triangles share neighbours) changes no answer, only saves floods.
@@ -171,13 +172,24 @@ class LocalBundleTest {
     for (const TriangleId d : disks) {
       if (d != kNone && !found) found = disk_count(m, d) >= k_;
     }
-    c.v = m.triangles[t].v;
-    c.value = found ? 2 : 1;
-    c.epoch = epoch_;
+    SlotCache& done = slot_cache(m, t);  // (the floods may have grown cache_)
+    done.value = found ? 2 : 1;
+    done.epoch = epoch_;
     return found;
   }
 
  private:
+  // Per slot, for the triangle its corners `v` make (24 bytes): in_bundle's answer in this epoch,
+  // and the count of its circumdisk at a mesh version (disk_count).
+  struct SlotCache {
+    std::array<VertexId, 3> v{kNone, kNone, kNone};
+    std::uint32_t version = 0;  // the count's mesh version (0: none; a mesh has 3 vertices or more)
+    std::uint32_t count = 0;
+    std::uint16_t epoch = 0;    // in_bundle's answer is valid if equal to epoch_
+    std::uint8_t value = 0;     // in_bundle's answer: 1 no, 2 yes
+    bool holds_vertex = false;  // a vertex lies strictly inside the disk: count 0 whatever the version
+  };
+
   // circumdisk_count(m, c), remembered while the mesh is unchanged: the refinement only inserts
   // vertices, so the mesh is the same while its vertex and slot counts are (the triangles made by
   // one insertion are tested one after another, each with its neighbours, many of them made by the
@@ -195,29 +207,48 @@ class LocalBundleTest {
     return true;
   }
 
-  static std::uint64_t mesh_version(const Mesh& m) { return std::uint64_t{m.points.size()} << 32 | m.triangles.size(); }
+  // The refinement changes the mesh only by inserting vertices, so the vertex count is its version.
+  static std::uint32_t mesh_version(const Mesh& m) { return static_cast<std::uint32_t>(m.points.size()); }
+
+  // What is remembered of slot t, for its corners now: an entry made for other corners (the slot
+  // held another triangle) is reset.
+  SlotCache& slot_cache(const Mesh& m, TriangleId t) {
+    if (cache_.size() < m.triangle_slots()) cache_.resize(m.triangle_slots() + m.triangle_slots() / 4 + 64);
+    SlotCache& c = cache_[t];
+    if (c.v != m.triangles[t].v) c = SlotCache{m.triangles[t].v};
+    return c;
+  }
 
   // disk_count's remembered value, or 0 if it has none.
   std::uint32_t cached_count(const Mesh& m, TriangleId c) const {
-    if (c >= disk_cache_.size()) return 0;
-    const DiskCount& d = disk_cache_[c];
+    if (c >= cache_.size()) return 0;
+    const SlotCache& d = cache_[c];
     return d.version == mesh_version(m) && d.v == m.triangles[c].v ? d.count : 0;
   }
 
+  // A disk found to hold a vertex strictly inside holds it for good: the refinement only adds
+  // vertices, and the disk is the circumdisk of the slot's corners. Such a slot is not flooded
+  // again while it keeps its corners, whatever the mesh version (on polygons with circular holes,
+  // the disks of the triangles inside a hole, or across its boundary, were flooded after every
+  // insertion nearby, each time with exact incircle tests on the hole's near-cocircular vertices).
   std::uint32_t disk_count(const Mesh& m, TriangleId c) {
-    const std::uint64_t version = mesh_version(m);
-    if (disk_cache_.size() < m.triangle_slots()) disk_cache_.resize(m.triangle_slots() + m.triangle_slots() / 4 + 64);
-    DiskCount& d = disk_cache_[c];
-    if (d.version == version && d.v == m.triangles[c].v) return d.count;
-    d = {m.triangles[c].v, version, circumdisk_count(m, c)};
-    return d.count;
+    const std::uint32_t version = mesh_version(m);
+    {
+      const SlotCache& d = slot_cache(m, c);
+      if (d.holds_vertex) {
+        ++stats_.known_not_empty;
+        return 0;
+      }
+      if (d.version == version) return d.count;
+    }
+    holds_vertex_ = false;
+    const std::uint32_t count = circumdisk_count(m, c);
+    SlotCache& d = slot_cache(m, c);  // (a reference taken before the flood would do as well)
+    d.version = version;
+    d.count = count;
+    d.holds_vertex = holds_vertex_;
+    return count;
   }
-
-  struct Cached {
-    std::array<VertexId, 3> v{kNone, kNone, kNone};
-    std::uint8_t value = 0;   // 1 no, 2 yes
-    std::uint16_t epoch = 0;  // valid if equal to epoch_
-  };
 
   // The number of in-domain triangles meeting the open circumdisk of c, by a flood across the
   // edges meeting it; 0 if a vertex lies strictly inside the disk (exact incircle), or if the
@@ -244,6 +275,7 @@ class LocalBundleTest {
     const Point& b = m.points[cv[1]];
     const Point& d = m.points[cv[2]];
     const double orient = (a.x - d.x) * (b.y - d.y) - (a.y - d.y) * (b.x - d.x);
+    if (!delaunay_ && recent_holds_vertex(m, cv)) return 0;
     for (const VertexId v : cv) {
       seen_vertices_.insert(v);
       value_[v % kValueCache] = {v, stamp_, 0.0};
@@ -293,8 +325,13 @@ class LocalBundleTest {
           // The sign of the incircle determinant decides (exactly: incircle's filter, then its exact
           // stage only when the filter cannot vouch); its rounded value serves the edge tests.
           const detail::FilteredDeterminant det = detail::incircle_determinant(a, b, d, m.points[x]);
-          if (det.value > det.bound) return 0;  // the disk is not vertex-empty
-          if (!(-det.value > det.bound) && detail::incircle_exact(a, b, d, m.points[x]) > 0) return 0;
+          if (det.value > det.bound || (!(-det.value > det.bound) && exact_sign(m, cv, x) > 0)) {
+            holds_vertex_ = true;  // the disk is not vertex-empty, for good
+            if (std::find(recent_inside_.begin(), recent_inside_.end(), x) == recent_inside_.end()) {
+              recent_inside_[recent_next_++ % kRecentInside] = x;
+            }
+            return 0;
+          }
           value_[x % kValueCache] = {x, stamp_, det.value};
         }
         stack_.push_back(n);
@@ -302,6 +339,50 @@ class LocalBundleTest {
     }
     return count;
   }
+
+  // Does one of the vertices recently found inside a disk lie strictly inside the circumdisk of
+  // corners cv? Then the flood's answer is 0 whatever it would visit first (a vertex strictly
+  // inside is a corner of a triangle meeting the disk; the flood answers 0 when it finds one or
+  // when it passes its cap), so it is not run. On a fan of narrow wedges the slivers near the apex
+  // have disks reaching across hundreds of wedges, holding the apex's neighbours: their floods
+  // passed the cap before finding one (10,000 vertices: 250k floods of 376 visits).
+  bool recent_holds_vertex(const Mesh& m, const std::array<VertexId, 3>& cv) {
+    for (const VertexId x : recent_inside_) {
+      if (x == kNone || x == cv[0] || x == cv[1] || x == cv[2]) continue;
+      const detail::FilteredDeterminant det =
+          detail::incircle_determinant(m.points[cv[0]], m.points[cv[1]], m.points[cv[2]], m.points[x]);
+      if (det.value > det.bound || (!(-det.value > det.bound) && exact_sign(m, cv, x) > 0)) {
+        holds_vertex_ = true;
+        ++stats_.recent_inside;
+        return true;
+      }
+    }
+    return false;
+  }
+  static constexpr std::size_t kRecentInside = 8;
+  std::array<VertexId, kRecentInside> recent_inside_{kNone, kNone, kNone, kNone, kNone, kNone, kNone, kNone};
+  std::size_t recent_next_ = 0;
+
+  // The exact incircle sign of x against the circle through corners cv, remembered in a small
+  // direct-mapped table: the filter fails on near-cocircular vertices (a circular hole's), and the
+  // disks through them (a hole's triangles) are flooded again after every insertion nearby, each
+  // time asking the same vertices.
+  int exact_sign(const Mesh& m, const std::array<VertexId, 3>& cv, VertexId x) {
+    std::uint64_t h = (std::uint64_t{cv[0]} * 0x9E3779B97F4A7C15ull) ^ (std::uint64_t{cv[1]} * 0xC2B2AE3D27D4EB4Full) ^
+                      (std::uint64_t{cv[2]} * 0x165667B19E3779F9ull) ^ (std::uint64_t{x} * 0xD6E8FEB86659FD93ull);
+    ExactSlot& e = exact_[(h >> 40) & (kExactCache - 1)];
+    if (e.filled && e.v == cv && e.x == x) return e.sign;
+    e = {cv, x, static_cast<std::int8_t>(detail::incircle_exact(m.points[cv[0]], m.points[cv[1]], m.points[cv[2]], m.points[x])), true};
+    return e.sign;
+  }
+  struct ExactSlot {
+    std::array<VertexId, 3> v{};
+    VertexId x = 0;
+    std::int8_t sign = 0;
+    bool filled = false;
+  };
+  static constexpr std::size_t kExactCache = 4096;
+  std::vector<ExactSlot> exact_ = std::vector<ExactSlot>(kExactCache);
 
   struct ValueSlot {
     VertexId v = kNone;
@@ -316,13 +397,8 @@ class LocalBundleTest {
   FloodSet seen_triangles_, seen_vertices_;
   std::vector<TriangleId> stack_;
   std::array<ValueSlot, kValueCache> value_{};
-  std::vector<Cached> cache_;
-  struct DiskCount {
-    std::array<VertexId, 3> v{kNone, kNone, kNone};
-    std::uint64_t version = 0;
-    std::uint32_t count = 0;
-  };
-  std::vector<DiskCount> disk_cache_;
+  std::vector<SlotCache> cache_;
+  bool holds_vertex_ = false;  // the last flood found a vertex strictly inside its disk
   std::uint16_t epoch_ = 1;
   bool delaunay_known_ = false;
   bool delaunay_ = false;  // every segment is a hull edge: circumdisks are vertex-empty

@@ -248,5 +248,28 @@ TEST(Brh, FanOfTinyWedgesStopsAtTheSmallInputAnglesAsDrDoes) {
   EXPECT_TRUE(check.ok()) << (check.messages.empty() ? "" : check.messages.front());
 }
 
+// Issue 32: after each pass the exact test skips the triangles it marked that the pass left (the
+// MPW rule: on a fan nearly all skinny triangles, asked again 20 times before), and asks every
+// skinny triangle again before BRH stops. So the stop still counts every skinny triangle in a
+// K-bundle (the exact sweep's count, not fewer), all of them left by the MPW rule.
+TEST(Brh, FanStopCountsEverySkinnyTriangleInAKBundle) {
+  const Pslg fan = generate_input(Distribution::kFan, 101, 1);
+  Mesh m = constrained_delaunay(fan);
+  BrhOptions o;
+  o.bundle_k = default_bundle_k(o.min_angle_deg);
+  const BrhStats stats = bundle_removal(m, o);
+  ASSERT_EQ(stats.stop.kind, StopKind::kSmallInputAngles) << to_string(stats.stop);
+  EXPECT_GT(stats.rounds, 2u);  // several passes, so some exact tests skipped left triangles
+  const BundleResult exact = bundle_number(m, {.per_triangle = true});
+  std::size_t in_bundles = 0;
+  for (TriangleId t = 0; t < m.triangles.size(); ++t) {
+    if (m.in_domain(t) && test::min_angle_of(m, t) < o.min_angle_deg && exact.per_triangle[t] >= o.bundle_k) {
+      ++in_bundles;
+    }
+  }
+  EXPECT_GT(in_bundles, 0u);
+  EXPECT_EQ(in_bundles, stats.stop.count);
+}
+
 }  // namespace
 }  // namespace mwst

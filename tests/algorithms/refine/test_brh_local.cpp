@@ -1,7 +1,8 @@
-// Tests of BRH's local bundle test (LocalBundleTest, brh_criteria.hpp): it asks only "is this
-// triangle in a K-bundle?", so on a Delaunay mesh its flood stops on counting K triangles (O(K)
-// visits, however many triangles the disk meets), and on a constrained mesh it gives up past its
-// cap. Whatever it answers yes must be a K-bundle by the exact test (in_k_bundle).
+// Tests of BRH's local bundle test (LocalBundleTest, brh_criteria.hpp): it asks
+// only "is this triangle in a K-bundle?", so on a Delaunay mesh its flood stops
+// on counting K triangles (O(K) visits, however many triangles the disk meets),
+// and on a constrained mesh it gives up past its cap. Whatever it answers yes
+// must be a K-bundle by the exact test (in_k_bundle).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,6 +12,8 @@
 
 #include "algorithms/refine/brh_criteria.hpp"
 #include "mwst/algorithms/bundle.hpp"
+#include "mwst/algorithms/refine.hpp"
+#include "mwst/io/generate.hpp"
 #include "mwst/io/triangle_files.hpp"
 #include "mwst/mesh/delaunay.hpp"
 #include "support/regression_files.hpp"
@@ -18,48 +21,56 @@
 namespace mwst {
 namespace {
 
-std::vector<TriangleId> domain_triangles(const Mesh& m) {
+std::vector<TriangleId> domain_triangles(const Mesh &m) {
   std::vector<TriangleId> out;
   for (TriangleId t = 0; t < m.triangle_slots(); ++t) {
-    if (m.in_domain(t)) out.push_back(t);
+    if (m.in_domain(t))
+      out.push_back(t);
   }
   return out;
 }
 
-// Points on an ellipse: every Delaunay triangle is a sliver whose circumdisk meets a large share
-// of the mesh (hundreds of triangles), the input class where BRH's floods used to run to their cap.
+// Points on an ellipse: every Delaunay triangle is a sliver whose circumdisk
+// meets a large share of the mesh (hundreds of triangles), the input class
+// where BRH's floods used to run to their cap.
 std::vector<Point> ellipse_points(std::size_t n) {
   std::vector<Point> p;
   for (std::size_t i = 0; i < n; ++i) {
-    const double a = 2.0 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(n);
+    const double a = 2.0 * std::numbers::pi * static_cast<double>(i) /
+                     static_cast<double>(n);
     p.push_back({std::cos(a), 0.5 * std::sin(a)});
   }
   return p;
 }
 
 // Every local yes is an exact yes, and returns the number of local yeses.
-std::size_t expect_local_yes_is_exact(const Mesh& m, brh::LocalBundleTest& local, std::uint32_t k) {
+std::size_t expect_local_yes_is_exact(const Mesh &m,
+                                      brh::LocalBundleTest &local,
+                                      std::uint32_t k) {
   const std::vector<TriangleId> all = domain_triangles(m);
   const std::vector<std::uint8_t> exact = in_k_bundle(m, k, all);
   std::size_t yes = 0;
   for (std::size_t i = 0; i < all.size(); ++i) {
-    if (!local.in_bundle(m, all[i])) continue;
+    if (!local.in_bundle(m, all[i]))
+      continue;
     ++yes;
-    EXPECT_TRUE(exact[i]) << "triangle " << all[i] << ": local witness but in no " << k << "-bundle";
+    EXPECT_TRUE(exact[i]) << "triangle " << all[i]
+                          << ": local witness but in no " << k << "-bundle";
   }
   return yes;
 }
 
 TEST(BrhLocalTest, DelaunayFloodStopsOnCountingK) {
-  // 2,000 points on an ellipse: the Delaunay triangulation of a point set, so every circumdisk is
-  // vertex-empty, and the circumdisks of the slivers meet far more than K = 12 triangles. Each
-  // flood must stop after exactly K visits when it finds K (every finite triangle is in the domain
-  // here) and never visit more than K.
+  // 2,000 points on an ellipse: the Delaunay triangulation of a point set, so
+  // every circumdisk is vertex-empty, and the circumdisks of the slivers meet
+  // far more than K = 12 triangles. Each flood must stop after exactly K visits
+  // when it finds K (every finite triangle is in the domain here) and never
+  // visit more than K.
   const Mesh m = delaunay(ellipse_points(2000));
   constexpr std::uint32_t kK = 12;
   brh::LocalBundleTest local(kK);
   const std::size_t yes = expect_local_yes_is_exact(m, local, kK);
-  const auto& s = local.stats();
+  const auto &s = local.stats();
   EXPECT_GT(yes, 100u);
   EXPECT_GT(s.stopped_at_k, 100u);
   EXPECT_EQ(s.capped, 0u);
@@ -68,45 +79,84 @@ TEST(BrhLocalTest, DelaunayFloodStopsOnCountingK) {
 }
 
 TEST(BrhLocalTest, VisitsPerQueryDoNotGrowWithTheMesh) {
-  // The same class at 1,000 and 8,000 points, default K at 20°: the visits per flood are bounded
-  // by K on both (O(K) per query), though the largest circumdisks meet ~8× more triangles.
+  // The same class at 1,000 and 8,000 points, default K at 20°: the visits per
+  // flood are bounded by K on both (O(K) per query), though the largest
+  // circumdisks meet ~8× more triangles.
   const std::uint32_t k = static_cast<std::uint32_t>(default_bundle_k(20.0));
   for (const std::size_t n : {1000u, 8000u}) {
     const Mesh m = delaunay(ellipse_points(n));
     brh::LocalBundleTest local(k);
-    for (const TriangleId t : domain_triangles(m)) local.in_bundle(m, t);
-    const auto& s = local.stats();
+    for (const TriangleId t : domain_triangles(m))
+      local.in_bundle(m, t);
+    const auto &s = local.stats();
     EXPECT_GT(s.stopped_at_k, 0u) << n;
     EXPECT_LE(s.max_visits, k) << n;
   }
 }
 
 TEST(BrhLocalTest, ConstrainedMeshFloodIsCappedAndSound) {
-  // A polygon (Plate: a circular hole, so vertices behind segments can lie in a circumdisk): the
-  // flood must see the whole disk, so it does not stop at K, but no flood pops more than cap + 1
-  // triangles, and every yes is exact.
+  // A polygon (Plate: a circular hole, so vertices behind segments can lie in a
+  // circumdisk): the flood must see the whole disk, so it does not stop at K,
+  // but no flood pops more than cap + 1 triangles, and every yes is exact.
   const Pslg g = io::read_input(std::string(MWST_DATA_DIR) + "/Plate.poly");
   const Mesh m = constrained_delaunay(g);
   constexpr std::uint32_t kK = 6;
   brh::LocalBundleTest local(kK);
   expect_local_yes_is_exact(m, local, kK);
-  const auto& s = local.stats();
+  const auto &s = local.stats();
   EXPECT_EQ(s.stopped_at_k, 0u);
   EXPECT_GT(s.floods, 0u);
   EXPECT_LE(s.max_visits, local.cap() + 1);
 }
 
+TEST(BrhLocalTest, RememberedDisksAnswerAsAFreshTestAfterInsertions) {
+  // Plate (a circular hole: near-cocircular vertices, whose exact incircle
+  // signs the test remembers) and a fan of narrow wedges (disks behind its
+  // segments hold vertices) at K = 6: one test asks every triangle, the mesh is
+  // refined a little (vertices only added), then the same test, cleared, and a
+  // fresh one must answer alike. On the fan, disks the first round found
+  // holding a vertex are not flooded again (a vertex inside stays inside).
+  for (const bool fan : {false, true}) {
+    const Pslg g =
+        fan ? generate_input(Distribution::kFan, 101, 1)
+            : io::read_input(std::string(MWST_DATA_DIR) + "/Plate.poly");
+    Mesh m = constrained_delaunay(g);
+    constexpr std::uint32_t kK = 6;
+    brh::LocalBundleTest kept(kK);
+    for (const TriangleId t : domain_triangles(m))
+      kept.in_bundle(m, t);
+    RefineOptions ro;
+    ro.max_steiner = 60;
+    refine(m, ro);
+    kept.clear();
+    brh::LocalBundleTest fresh(kK);
+    std::size_t yes = 0;
+    for (const TriangleId t : domain_triangles(m)) {
+      const bool answer = fresh.in_bundle(m, t);
+      yes += answer ? 1 : 0;
+      EXPECT_EQ(kept.in_bundle(m, t), answer) << "triangle " << t;
+    }
+    EXPECT_GT(yes, 0u);
+    if (fan) {
+      EXPECT_GT(kept.stats().known_not_empty, 0u);
+      EXPECT_GT(fresh.stats().recent_inside, 0u);  // disks found holding a vertex another one held
+    }
+  }
+}
+
 TEST(BrhLocalTest, UniformPointsSound) {
-  // Random points at a small K, where many disks reach K and many do not: every yes is exact.
+  // Random points at a small K, where many disks reach K and many do not: every
+  // yes is exact.
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   std::vector<Point> p;
-  for (int i = 0; i < 3000; ++i) p.push_back({u(rng), u(rng)});
+  for (int i = 0; i < 3000; ++i)
+    p.push_back({u(rng), u(rng)});
   const Mesh m = delaunay(p);
   brh::LocalBundleTest local(5);
   EXPECT_GT(expect_local_yes_is_exact(m, local, 5), 0u);
   EXPECT_LE(local.stats().max_visits, 5u);
 }
 
-}  // namespace
-}  // namespace mwst
+} // namespace
+} // namespace mwst
