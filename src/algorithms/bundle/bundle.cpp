@@ -226,6 +226,12 @@ CompactTriangles compact_triangles(const std::vector<Point>& points,
 
 // Every edge of T is a segment: the constrained Delaunay triangulation then contains every
 // triangle of T and fills the holes and concavities, so the mesh covers the convex hull.
+// Each segment is inserted from its end of lower degree in T, grouped by that end: inserting a→b
+// finds b by turning around a (detail::find_wedge), which costs the degree of a. A fan, whose apex
+// is an end of half the edges of T, cost the square of its size when its edges were inserted from
+// the apex; from the other end the turns cost O(1) each (the sum over the edges of the smaller end
+// degree is O(n) in a planar graph: Chiba and Nishizeki, "Arboricity and subgraph listing
+// algorithms", 1985).
 Mesh covering_mesh(CompactTriangles& c) {
   Pslg& pslg = c.pslg;
   const std::vector<std::array<std::uint32_t, 3>>& tris = c.tris;
@@ -237,6 +243,17 @@ Mesh covering_mesh(CompactTriangles& c) {
   }
   std::sort(edges.begin(), edges.end());
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  std::vector<std::uint32_t> degree(pslg.points.size(), 0);
+  for (const std::uint64_t e : edges) {
+    ++degree[e >> 32];
+    ++degree[e & 0xFFFFFFFFu];
+  }
+  for (std::uint64_t& e : edges) {
+    const auto u = static_cast<std::uint32_t>(e >> 32), v = static_cast<std::uint32_t>(e & 0xFFFFFFFFu);
+    if (degree[v] < degree[u]) e = std::uint64_t{v} << 32 | u;  // from the end of lower degree
+  }
+  degree = {};
+  std::sort(edges.begin(), edges.end());
   pslg.segments.reserve(edges.size());
   for (const std::uint64_t e : edges) {
     pslg.segments.push_back({static_cast<std::uint32_t>(e >> 32), static_cast<std::uint32_t>(e & 0xFFFFFFFFu), 1});
@@ -260,21 +277,27 @@ Mesh covering_mesh(CompactTriangles& c) {
 }
 
 // Finds every triangle of T among the faces of the covering mesh (slot → index into the list);
-// everything else is marked outside the domain.
+// everything else is marked outside the domain. Each triangle is looked for around its corner of
+// lowest degree in the mesh: O(n) turns in all (see covering_mesh), where turning around the first
+// corner cost the square of a fan's size.
 std::vector<std::uint32_t> find_input_triangles(Mesh& mesh, const std::vector<std::array<std::uint32_t, 3>>& tris) {
   std::vector<Handle> vertex_edge(mesh.points.size(), kNone);
+  std::vector<std::uint32_t> degree(mesh.points.size(), 0);
   for (TriangleId t = 0; t < mesh.triangle_slots(); ++t) {
     if (mesh.is_dead(t)) continue;
     for (unsigned e = 0; e < 3; ++e) {
       const Handle h = make_handle(t, e);
       const VertexId o = mesh.org(h);
-      if (o != kInfinite && vertex_edge[o] == kNone) vertex_edge[o] = h;
+      if (o == kInfinite) continue;
+      ++degree[o];
+      if (vertex_edge[o] == kNone) vertex_edge[o] = h;
     }
     if (!mesh.is_ghost(t)) mesh.flags[t] = static_cast<std::uint8_t>(mesh.flags[t] | kOutside);
   }
   std::vector<std::uint32_t> slot_to_input(mesh.triangle_slots(), kNone);
   for (std::size_t i = 0; i < tris.size(); ++i) {
-    const auto& t = tris[i];
+    std::array<std::uint32_t, 3> t = tris[i];
+    while (degree[t[0]] > degree[t[1]] || degree[t[0]] > degree[t[2]]) t = {t[1], t[2], t[0]};
     TriangleId found = kNone;
     const Handle start = vertex_edge[t[0]];
     Handle h = start;
