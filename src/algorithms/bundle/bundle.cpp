@@ -224,6 +224,39 @@ CompactTriangles compact_triangles(const std::vector<Point>& points,
   return c;
 }
 
+// The vertex ids in Morton (Z-)order of a 2^31 × 2^31 grid over their bounding box.
+std::vector<std::uint32_t> morton_order(const std::vector<Point>& points) {
+  using bundle::kInf;
+  double x0 = kInf, y0 = kInf, x1 = -kInf, y1 = -kInf;
+  for (const Point& p : points) {
+    x0 = std::min(x0, p.x);
+    y0 = std::min(y0, p.y);
+    x1 = std::max(x1, p.x);
+    y1 = std::max(y1, p.y);
+  }
+  const double extent = std::max(x1 - x0, y1 - y0);
+  const double scale = extent > 0.0 ? 2147483647.0 / extent : 0.0;
+  auto spread = [](std::uint64_t v) {
+    v = (v | (v << 16)) & 0x0000FFFF0000FFFFull;
+    v = (v | (v << 8)) & 0x00FF00FF00FF00FFull;
+    v = (v | (v << 4)) & 0x0F0F0F0F0F0F0F0Full;
+    v = (v | (v << 2)) & 0x3333333333333333ull;
+    v = (v | (v << 1)) & 0x5555555555555555ull;
+    return v;
+  };
+  auto cell = [scale](double v, double v0) {
+    return static_cast<std::uint64_t>(std::clamp((v - v0) * scale, 0.0, 2147483647.0));
+  };
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(points.size());
+  for (std::uint32_t v = 0; v < points.size(); ++v) {
+    keyed[v] = {spread(cell(points[v].x, x0)) | (spread(cell(points[v].y, y0)) << 1), v};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<std::uint32_t> order(points.size());
+  for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = keyed[i].second;
+  return order;
+}
+
 // Every edge of T is a segment: the constrained Delaunay triangulation then contains every
 // triangle of T and fills the holes and concavities, so the mesh covers the convex hull.
 // Each segment is inserted from its end of lower degree in T, grouped by that end: inserting a→b
@@ -248,15 +281,23 @@ Mesh covering_mesh(CompactTriangles& c) {
     ++degree[e >> 32];
     ++degree[e & 0xFFFFFFFFu];
   }
+  // Keyed (Morton rank of the first end, second end): the segments of one first end follow each
+  // other (the last one's edge is where the next starts), and the walks (Mesh::locate) from one
+  // first end to the next are short.
+  const std::vector<std::uint32_t> by_rank = morton_order(pslg.points);
+  std::vector<std::uint32_t> rank(by_rank.size());
+  for (std::uint32_t r = 0; r < by_rank.size(); ++r) rank[by_rank[r]] = r;
   for (std::uint64_t& e : edges) {
-    const auto u = static_cast<std::uint32_t>(e >> 32), v = static_cast<std::uint32_t>(e & 0xFFFFFFFFu);
-    if (degree[v] < degree[u]) e = std::uint64_t{v} << 32 | u;  // from the end of lower degree
+    auto u = static_cast<std::uint32_t>(e >> 32), v = static_cast<std::uint32_t>(e & 0xFFFFFFFFu);
+    if (degree[v] < degree[u]) std::swap(u, v);  // from the end of lower degree
+    e = std::uint64_t{rank[u]} << 32 | v;
   }
   degree = {};
+  rank = {};
   std::sort(edges.begin(), edges.end());
   pslg.segments.reserve(edges.size());
   for (const std::uint64_t e : edges) {
-    pslg.segments.push_back({static_cast<std::uint32_t>(e >> 32), static_cast<std::uint32_t>(e & 0xFFFFFFFFu), 1});
+    pslg.segments.push_back({by_rank[e >> 32], static_cast<std::uint32_t>(e & 0xFFFFFFFFu), 1});
   }
   edges = {};
   ConstrainOptions constrain;
