@@ -6,6 +6,7 @@
 //   Worker::sweep            (worker_sweep.cpp)  each pencil's best disk, on worker threads
 //   merge_workers                                the largest count, ties to the first pencil
 //   bound_cut_lists                              with a budget that cut lists short: exact bounds
+//   bound_cut_pencils        (upper_bound.cpp)   (the upper one, per pencil not swept)
 // For a triangle list: compact_triangles, covering_mesh and find_input_triangles make the Mesh.
 // in_k_bundle (k_bundle.cpp) asks "is this triangle in a k-bundle?" near a few triangles only.
 #include "mwst/algorithms/bundle.hpp"
@@ -19,6 +20,7 @@
 
 #include "algorithms/bundle/lists.hpp"
 #include "algorithms/bundle/shared.hpp"
+#include "algorithms/bundle/upper_bound.hpp"
 #include "algorithms/bundle/worker.hpp"
 #include "mesh/keys.hpp"
 #include "mwst/error.hpp"
@@ -65,8 +67,8 @@ void merge_workers(const Workers& workers, BundleResult& result) {
 // every circumdisk is about the whole circle). The pencils with a list cut short were not swept;
 // what was swept is exact. Lower bound: that, or a circumdisk counted in full (those whose cut
 // lists met the most triangles; a circumdisk of DT(V) is vertex-empty, so it is a witness). Upper
-// bound: no disk meets more than every triangle.
-void bound_cut_lists(const Shared& sh, Worker& worker, BundleResult& result) {
+// bound: bound_cut_pencils (upper_bound.cpp), which may also raise the lower bound.
+void bound_cut_lists(Shared& sh, Worker& worker, std::size_t work_budget, BundleResult& result) {
   std::vector<std::pair<std::uint32_t, TriangleId>> cut;  // (met within the cut list, slot)
   for (TriangleId d = 0; d < sh.truncated.size(); ++d) {
     if (!sh.truncated[d]) continue;
@@ -89,9 +91,9 @@ void bound_cut_lists(const Shared& sh, Worker& worker, BundleResult& result) {
     result.disk_radius = distance(result.disk_center, sh.pts[v[0]]);
     result.triangles = met;
   }
-  std::uint32_t domain = 0;
-  for (TriangleId t = 0; t < sh.slots.size(); ++t) domain += sh.in_domain(t) ? 1 : 0;
-  result.upper_bound = std::max(domain, result.lower_bound);
+  result.bundle_number = result.lower_bound;
+  sh.list = {};  // the cut lists are read no more
+  bundle::bound_cut_pencils(sh, worker, work_budget, result);
   result.bundle_number = result.lower_bound;
   result.exact = result.lower_bound == result.upper_bound;
 }
@@ -144,7 +146,7 @@ BundleResult bundle_number_of(const Mesh& mesh, const BundleOptions& options, Re
   merge_workers(workers, result);
   if (!complete) {
     for (auto& w : workers) w->release_sweep_scratch();
-    bound_cut_lists(sh, *workers[0], result);
+    bound_cut_lists(sh, *workers[0], options.candidate_budget, result);
   }
   std::sort(result.triangles.begin(), result.triangles.end());
   if (options.per_triangle) result.per_triangle = merge_per_triangle(workers);

@@ -209,6 +209,15 @@ class Worker {
   // largest count of a disk meeting each candidate.
   void sweep(std::size_t index);
 
+  // sweep() with the candidates of the pencil's two Delaunay triangles given (full floods, where
+  // their lists in Shared were cut at the budget's cap; `right` empty on a hull edge), not pruned.
+  void sweep_with_lists(std::size_t index, const std::vector<TriangleId>& left, const std::vector<TriangleId>& right) {
+    given_[0] = &left;
+    given_[1] = &right;
+    sweep(index);
+    given_[0] = given_[1] = nullptr;
+  }
+
  private:
   struct FloodVertex {
     std::uint32_t stamp = 0;
@@ -300,6 +309,7 @@ class Worker {
   const Shared& sh_;
   bool per_triangle_enabled_;
   bool prune_;
+  const std::vector<TriangleId>* given_[2] = {nullptr, nullptr};  // sweep_with_lists's candidates
   std::vector<std::uint32_t> per_triangle_;
 
   // Flood scratch.
