@@ -40,6 +40,9 @@ using Workers = std::vector<std::unique_ptr<Worker>>;
 
 // How many circumdisks cut short bundle_number counts in full for its lower bound.
 constexpr std::size_t kFullCounts = 4;
+// The floods of the pencils bound_cut_pencils sweeps in full visit at most this share of the
+// candidate budget (an eighth: their sweeps cost several times a flood, in time and in memory).
+constexpr std::size_t kRefineShare = 8;
 
 // ---- bundle_number(Mesh) begins here ---------------------------------------------------------------
 
@@ -145,8 +148,11 @@ BundleResult bundle_number_of(const Mesh& mesh, const BundleOptions& options, Re
   });
   merge_workers(workers, result);
   if (!complete) {
-    for (auto& w : workers) w->release_sweep_scratch();
-    bound_cut_lists(sh, *workers[0], options.candidate_budget, result);
+    for (auto& w : workers) {
+      w->release_sweep_scratch();
+      w->release_disk_scratch();
+    }
+    bound_cut_lists(sh, *workers[0], options.candidate_budget / kRefineShare, result);
   }
   std::sort(result.triangles.begin(), result.triangles.end());
   if (options.per_triangle) result.per_triangle = merge_per_triangle(workers);

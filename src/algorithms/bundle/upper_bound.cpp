@@ -32,10 +32,10 @@ class Fenwick {
 };
 
 // Number of values of the ascending `v` below x / above x.
-std::size_t count_below(const std::vector<double>& v, double x) {
+std::size_t count_below(const std::vector<float>& v, float x) {
   return static_cast<std::size_t>(std::lower_bound(v.begin(), v.end(), x) - v.begin());
 }
-std::size_t count_above(const std::vector<double>& v, double x) {
+std::size_t count_above(const std::vector<float>& v, float x) {
   return static_cast<std::size_t>(v.end() - std::upper_bound(v.begin(), v.end(), x));
 }
 
@@ -51,7 +51,7 @@ std::size_t count_above(const std::vector<double>& v, double x) {
 // disk lies in the disk of centre ĉ and radius |ô| + 2δ (δ bounding |ĉ − c| in each coordinate,
 // added over both), whose box is returned, widened by a few ulps for its own rounding. The factor 2
 // on every bound is a margin.
-bool circumdisk_box(const Point& a, const Point& b, const Point& c, Box& out) {
+bool circumdisk_box(const Point& a, const Point& b, const Point& c, std::array<double, 4>& out) {
   constexpr double eps = std::numeric_limits<double>::epsilon() / 2.0;
   const double ux = b.x - a.x, uy = b.y - a.y, vx = c.x - a.x, vy = c.y - a.y;
   const double u2 = ux * ux + uy * uy, v2 = vx * vx + vy * vy;
@@ -73,12 +73,27 @@ bool circumdisk_box(const Point& a, const Point& b, const Point& c, Box& out) {
   return std::isfinite(out[0]) && std::isfinite(out[1]) && std::isfinite(out[2]) && std::isfinite(out[3]);
 }
 
+float round_down(double v) {
+  float f = static_cast<float>(v);
+  if (static_cast<double>(f) > v) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+  return f;
+}
+float round_up(double v) {
+  float f = static_cast<float>(v);
+  if (static_cast<double>(f) < v) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+  return f;
+}
+
 }  // namespace
+
+Box outward_box(double x0, double y0, double x1, double y1) {
+  return {round_down(x0), round_down(y0), round_up(x1), round_up(y1)};
+}
 
 // ---- BoxCounter begins here -----------------------------------------------------------------------
 
 BoxCounter::BoxCounter(const std::vector<Box>& boxes) : n_(boxes.size()) {
-  std::vector<std::pair<double, std::uint32_t>> order(n_);
+  std::vector<std::pair<float, std::uint32_t>> order(n_);
   std::vector<std::uint32_t> rank_top(n_), rank_bottom(n_);
   ys_top_.resize(n_);
   ys_bottom_.resize(n_);
@@ -165,16 +180,19 @@ std::vector<std::uint32_t> box_bounds(const Shared& sh, const std::vector<std::u
   triangle_boxes.reserve(domain);
   for (TriangleId t = 0; t < sh.slots.size(); ++t) {
     if (!sh.in_domain(t)) continue;
-    Box b{kInf, kInf, -kInf, -kInf};
+    double x0 = kInf, y0 = kInf, x1 = -kInf, y1 = -kInf;
     for (const VertexId v : sh.slots[t].v) {
       const Point& p = sh.pts[v];
-      b = {std::min(b[0], p.x), std::min(b[1], p.y), std::max(b[2], p.x), std::max(b[3], p.y)};
+      x0 = std::min(x0, p.x);
+      y0 = std::min(y0, p.y);
+      x1 = std::max(x1, p.x);
+      y1 = std::max(y1, p.y);
     }
-    triangle_boxes.push_back(b);
+    triangle_boxes.push_back(outward_box(x0, y0, x1, y1));
   }
   const BoxCounter counter(triangle_boxes);
   triangle_boxes = {};
-  constexpr std::size_t kChunk = std::size_t{1} << 20;  // queries per pass (40 bytes each)
+  constexpr std::size_t kChunk = std::size_t{1} << 18;  // queries per pass (about 36 bytes each)
   std::vector<std::uint32_t> bound(cut.size(), domain);
   std::vector<Box> queries;
   std::vector<std::uint32_t> which;
@@ -184,18 +202,18 @@ std::vector<std::uint32_t> box_bounds(const Shared& sh, const std::vector<std::u
     which.clear();
     for (std::size_t k = begin; k < end; ++k) {
       const Handle h = sh.pencils[cut[k]], hs = sh.dt.sym(h);
-      Box box{kInf, kInf, -kInf, -kInf};
+      std::array<double, 4> box{kInf, kInf, -kInf, -kInf};
       bool placed = true;
       for (const TriangleId d : {triangle_of(h), triangle_of(hs)}) {
         if (sh.dt.is_ghost(d)) continue;
         const auto& v = sh.dt.triangles[d].v;
-        Box one;
+        std::array<double, 4> one;
         placed = placed && circumdisk_box(sh.pts[v[0]], sh.pts[v[1]], sh.pts[v[2]], one);
         if (!placed) break;
         box = {std::min(box[0], one[0]), std::min(box[1], one[1]), std::max(box[2], one[2]), std::max(box[3], one[3])};
       }
       if (!placed) continue;  // every triangle
-      queries.push_back(box);
+      queries.push_back(outward_box(box[0], box[1], box[2], box[3]));
       which.push_back(static_cast<std::uint32_t>(k));
     }
     const std::vector<std::uint32_t> counts = counter.count(queries);
@@ -211,6 +229,8 @@ void bound_cut_pencils(Shared& sh, Worker& worker, std::size_t work_budget, Bund
   for (TriangleId t = 0; t < sh.slots.size(); ++t) domain += sh.in_domain(t) ? 1 : 0;
   result.upper_bound = std::max(domain, result.lower_bound);
   if (result.lower_bound >= domain) return;
+  worker.release_flood_scratch();  // bound_cut_lists's counts: allocated again by the sweeps below
+  worker.release_disk_scratch();
   const std::vector<std::uint32_t> cut = cut_pencils(sh);
   const std::vector<std::uint32_t> bound = box_bounds(sh, cut, domain);
   std::vector<std::pair<std::uint32_t, std::uint32_t>> order;  // (bound, pencil), largest first
@@ -222,17 +242,30 @@ void bound_cut_pencils(Shared& sh, Worker& worker, std::size_t work_budget, Bund
   });
   // Sweep the pencils of the largest bounds exactly, from full floods: their true counts replace
   // their bounds. The first pencil not swept bounds the rest.
+  // A sweep holds about 250 bytes per candidate: a pencil whose floods exceed a sixteenth of the
+  // triangles is not swept (its bound stays, and bounds the rest).
+  const std::size_t largest_flood = std::max<std::size_t>(std::size_t{1} << 12, domain / 16);
   worker.best_count = result.lower_bound;
   std::vector<TriangleId> left, right;
+  auto flood_within = [&](TriangleId d, std::vector<TriangleId>& out) {
+    out.clear();
+    if (sh.dt.is_ghost(d)) return true;
+    bool fits = true;
+    worker.flood_each(d, [&](TriangleId t) {
+      fits = out.size() < largest_flood;
+      if (fits) out.push_back(t);
+      return fits;
+    });
+    return fits;
+  };
   std::size_t work = 0, next = 0;
   for (; next < order.size() && order[next].first > result.lower_bound; ++next) {
     const Handle h = sh.pencils[order[next].second], hs = sh.dt.sym(h);
     if (work >= work_budget) break;
     sh.check_deadline();
-    worker.flood(triangle_of(h), left);
-    right.clear();
-    if (!sh.dt.is_ghost(triangle_of(hs))) worker.flood(triangle_of(hs), right);
+    const bool fits = flood_within(triangle_of(h), left) && flood_within(triangle_of(hs), right);
     work += left.size() + right.size();
+    if (!fits) break;
     worker.sweep_with_lists(order[next].second, left, right);
     if (worker.best_count > result.lower_bound) {
       result.lower_bound = result.bundle_number = worker.best_count;

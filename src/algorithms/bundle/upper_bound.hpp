@@ -18,8 +18,12 @@
 
 namespace mwst::bundle {
 
-// A closed axis-parallel box: x0, y0, x1, y1.
-using Box = std::array<double, 4>;
+// A closed axis-parallel box: x0, y0, x1, y1 (floats, 16 bytes: the boxes of every triangle are held
+// at once; rounded outward from doubles, so that a box only grows, and the counts only grow).
+using Box = std::array<float, 4>;
+
+// The box [x0, x1] × [y0, y1] of doubles rounded outward to floats (beyond float's range: ±∞).
+Box outward_box(double x0, double y0, double x1, double y1);
 
 // How many of a set of boxes (the bounding boxes of the triangles) meet each query box, offline:
 // a box misses the query iff it lies wholly left of it (L), right (R), below (D) or above (U); L
@@ -35,11 +39,11 @@ class BoxCounter {
 
  private:
   struct Keyed {
-    double x;
+    float x;
     std::uint32_t y_top, y_bottom;  // ranks of the box's y1 (in ys_top_) and y0 (in ys_bottom_)
   };
   std::size_t n_ = 0;
-  std::vector<double> ys_top_, ys_bottom_;  // every box's y1 / y0, ascending
+  std::vector<float> ys_top_, ys_bottom_;  // every box's y1 / y0, ascending
   std::vector<Keyed> by_right_;             // by x1 ascending
   std::vector<Keyed> by_left_;              // by x0 descending
 };

@@ -115,6 +115,7 @@ class Worker {
   // if used again.
   void release_flood_scratch();
   void release_sweep_scratch();
+  void release_disk_scratch();  // circumdisk_count's
 
   // ---- floods ----
 
@@ -357,6 +358,11 @@ inline void Worker::release_flood_scratch() {
   flood_vertex_ = {};
   triangle_stamp_ = {};
   stack_ = {};
+}
+
+inline void Worker::release_disk_scratch() {
+  disk_side_ = {};
+  edge_meets_ = {};
 }
 
 inline void Worker::release_sweep_scratch() {

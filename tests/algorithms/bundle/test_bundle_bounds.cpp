@@ -78,8 +78,7 @@ TEST(BundleBounds, BoxCountsMatchBruteForce) {
   std::uniform_int_distribution<int> coordinate(0, 20);  // small integers: many ties
   auto random_box = [&] {
     const int x0 = coordinate(rng), x1 = coordinate(rng), y0 = coordinate(rng), y1 = coordinate(rng);
-    return bundle::Box{static_cast<double>(std::min(x0, x1)), static_cast<double>(std::min(y0, y1)),
-                       static_cast<double>(std::max(x0, x1)), static_cast<double>(std::max(y0, y1))};
+    return bundle::outward_box(std::min(x0, x1), std::min(y0, y1), std::max(x0, x1), std::max(y0, y1));
   };
   std::vector<bundle::Box> boxes(300), queries(200);
   for (auto& b : boxes) b = random_box();
