@@ -95,7 +95,8 @@ void bound_cut_lists(Shared& sh, Worker& worker, std::size_t work_budget, Bundle
     result.triangles = met;
   }
   result.bundle_number = result.lower_bound;
-  sh.list = {};  // the cut lists are read no more
+  bundle::release(sh.list);  // the cut lists are read no more
+  bundle::release(sh.list_begin);
   bundle::bound_cut_pencils(sh, worker, work_budget, result);
   result.bundle_number = result.lower_bound;
   result.exact = result.lower_bound == result.upper_bound;
@@ -124,9 +125,9 @@ BundleResult bundle_number_of(const Mesh& mesh, const BundleOptions& options, Re
   release();
   result.disks = sh.share_cocircular_disks();
   // DT(V)'s coordinates are sh.pts; from here on only its topology is read.
-  sh.dt.points = {};
-  sh.dt.vertex_kind = {};
-  sh.dt.vertex_marker = {};
+  bundle::release(sh.dt.points);
+  bundle::release(sh.dt.vertex_kind);
+  bundle::release(sh.dt.vertex_marker);
   const unsigned threads = bundle::worker_threads(options.threads, sh.pencils.size());
   // Without per-triangle values, a pencil with no more candidates than the best count so far
   // cannot improve it and is skipped (the first pencil reaching the maximum is never skipped, so
@@ -300,14 +301,14 @@ Mesh covering_mesh(CompactTriangles& c) {
     if (degree[v] < degree[u]) std::swap(u, v);  // from the end of lower degree
     e = std::uint64_t{rank[u]} << 32 | v;
   }
-  degree = {};
-  rank = {};
+  bundle::release(degree);
+  bundle::release(rank);
   std::sort(edges.begin(), edges.end());
   pslg.segments.reserve(edges.size());
   for (const std::uint64_t e : edges) {
     pslg.segments.push_back({by_rank[e >> 32], static_cast<std::uint32_t>(e & 0xFFFFFFFFu), 1});
   }
-  edges = {};
+  bundle::release(edges);
   ConstrainOptions constrain;
   constrain.strict = true;
   constrain.convex_hull = true;
@@ -381,9 +382,9 @@ BundleResult bundle_number_of_list(const std::vector<Point>& points,
   release_input();
   Mesh mesh = covering_mesh(compact);
   compact.pslg = {};  // the mesh holds the points; what is not needed is freed as soon as it is not
-  compact.original = {};
+  bundle::release(compact.original);
   const std::vector<std::uint32_t> slot_to_input = find_input_triangles(mesh, compact.tris);
-  compact.tris = {};
+  bundle::release(compact.tris);
   BundleResult r = bundle_number_of(mesh, options, [&mesh] { mesh = Mesh{}; });
   for (std::uint32_t& t : r.triangles) t = slot_to_input[t];
   std::sort(r.triangles.begin(), r.triangles.end());
@@ -408,8 +409,8 @@ BundleResult bundle_number(const std::vector<Point>& points,
 BundleResult bundle_number(std::vector<Point>&& points, std::vector<std::array<std::uint32_t, 3>>&& triangles,
                            const BundleOptions& options) {
   return bundle_number_of_list(points, triangles, options, [&] {
-    points = {};
-    triangles = {};
+    bundle::release(points);
+    bundle::release(triangles);
   });
 }
 

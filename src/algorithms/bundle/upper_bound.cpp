@@ -191,7 +191,7 @@ std::vector<std::uint32_t> box_bounds(const Shared& sh, const std::vector<std::u
     triangle_boxes.push_back(outward_box(x0, y0, x1, y1));
   }
   const BoxCounter counter(triangle_boxes);
-  triangle_boxes = {};
+  release(triangle_boxes);
   constexpr std::size_t kChunk = std::size_t{1} << 18;  // queries per pass (about 36 bytes each)
   std::vector<std::uint32_t> bound(cut.size(), domain);
   std::vector<Box> queries;

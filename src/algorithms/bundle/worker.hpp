@@ -34,6 +34,13 @@ namespace mwst {
 
 namespace bundle {
 
+// Frees a vector's memory. (`v = {}` does not: it assigns an empty initializer list, which keeps
+// the capacity.)
+template <class T>
+void release(std::vector<T>& v) {
+  std::vector<T>().swap(v);
+}
+
 enum : std::uint8_t { kRoleLo = 0, kRoleA = 1, kRoleB = 2, kRoleHi = 3 };
 
 struct Event {
@@ -355,24 +362,24 @@ inline Worker::Worker(const Shared& shared, bool per_triangle, bool prune)
 }
 
 inline void Worker::release_flood_scratch() {
-  flood_vertex_ = {};
-  triangle_stamp_ = {};
-  stack_ = {};
+  release(flood_vertex_);
+  release(triangle_stamp_);
+  release(stack_);
 }
 
 inline void Worker::release_disk_scratch() {
-  disk_side_ = {};
-  edge_meets_ = {};
+  release(disk_side_);
+  release(edge_meets_);
 }
 
 inline void Worker::release_sweep_scratch() {
-  pencil_vertex_ = {};
-  candidate_stamp_ = {};
-  candidate_index_ = {};
-  candidates_ = {};
-  edge_info_ = {};
-  edge_ref_ = {};
-  events_ = {};
+  release(pencil_vertex_);
+  release(candidate_stamp_);
+  release(candidate_index_);
+  release(candidates_);
+  release(edge_info_);
+  release(edge_ref_);
+  release(events_);
 }
 
 // The finite mesh triangle around vertex a whose closed corner at a contains the direction
