@@ -13,22 +13,18 @@ namespace mwst::bundle {
 
 namespace {
 
-// Fenwick tree of counts over positions 0 .. n−1.
-class Fenwick {
- public:
-  explicit Fenwick(std::size_t n) : tree_(n + 1, 0) {}
+// Fenwick tree of counts over positions 0 .. n−1, in `tree` (n + 1 entries, zero to start).
+struct Fenwick {
+  std::vector<std::uint32_t>& tree;
   void add(std::size_t i) {
-    for (++i; i < tree_.size(); i += i & (~i + 1)) ++tree_[i];
+    for (++i; i < tree.size(); i += i & (~i + 1)) ++tree[i];
   }
   // The count at positions below i.
   std::uint32_t below(std::size_t i) const {
     std::uint32_t s = 0;
-    for (; i > 0; i -= i & (~i + 1)) s += tree_[i];
+    for (; i > 0; i -= i & (~i + 1)) s += tree[i];
     return s;
   }
-
- private:
-  std::vector<std::uint32_t> tree_;
 };
 
 // Number of values of the ascending `v` below x / above x.
@@ -134,7 +130,10 @@ std::vector<std::uint32_t> BoxCounter::count(const std::vector<Box>& queries) co
     } else {
       std::sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) { return queries[x][2] > queries[y][2]; });
     }
-    Fenwick tops(n_), bottoms(n_);
+    // (Reused from call to call: fresh arrays of this size would be fresh mappings, faulted in.)
+    fenwick_top_.assign(n_ + 1, 0);
+    fenwick_bottom_.assign(n_ + 1, 0);
+    Fenwick tops{fenwick_top_}, bottoms{fenwick_bottom_};
     std::size_t inserted = 0;
     for (const std::uint32_t i : order) {
       const Box& b = queries[i];
@@ -192,7 +191,9 @@ std::vector<std::uint32_t> box_bounds(const Shared& sh, const std::vector<std::u
   }
   const BoxCounter counter(triangle_boxes);
   release(triangle_boxes);
-  constexpr std::size_t kChunk = std::size_t{1} << 18;  // queries per pass (about 36 bytes each)
+  // Queries per pass (about 36 bytes each): each pass inserts every triangle into the Fenwick
+  // trees, so fewer passes cost less time and more memory.
+  constexpr std::size_t kChunk = std::size_t{1} << 19;
   std::vector<std::uint32_t> bound(cut.size(), domain);
   std::vector<Box> queries;
   std::vector<std::uint32_t> which;

@@ -34,7 +34,8 @@ Box outward_box(double x0, double y0, double x1, double y1);
 class BoxCounter {
  public:
   explicit BoxCounter(const std::vector<Box>& boxes);
-  // The number of boxes meeting each query box (closed boxes; touching counts).
+  // The number of boxes meeting each query box (closed boxes; touching counts). Not thread-safe
+  // (scratch is kept from call to call).
   std::vector<std::uint32_t> count(const std::vector<Box>& queries) const;
 
  private:
@@ -46,6 +47,7 @@ class BoxCounter {
   std::vector<float> ys_top_, ys_bottom_;  // every box's y1 / y0, ascending
   std::vector<Keyed> by_right_;             // by x1 ascending
   std::vector<Keyed> by_left_;              // by x0 descending
+  mutable std::vector<std::uint32_t> fenwick_top_, fenwick_bottom_;  // count()'s scratch
 };
 
 // With lists cut at the budget's cap (sh.truncated), replaces the upper bound "every triangle" by
