@@ -114,11 +114,15 @@ BoxCounter::BoxCounter(const std::vector<Box>& boxes) : n_(boxes.size()) {
 std::vector<std::uint32_t> BoxCounter::count(const std::vector<Box>& queries) const {
   const std::size_t q = queries.size();
   std::vector<std::int64_t> met(q);
+  // Per query: how many boxes lie wholly below it (y1 < query y0) and how many do not lie wholly
+  // above it (y0 ≤ query y1): positions in ys_top_ / ys_bottom_, found once.
+  std::vector<std::array<std::uint32_t, 2>> y_rank(q);
   for (std::size_t i = 0; i < q; ++i) {
     const Box& b = queries[i];
-    // − D − U: boxes wholly below (y1 < query y0) or above (y0 > query y1).
-    met[i] = static_cast<std::int64_t>(n_) - static_cast<std::int64_t>(count_below(ys_top_, b[1])) -
-             static_cast<std::int64_t>(count_above(ys_bottom_, b[3]));
+    y_rank[i] = {static_cast<std::uint32_t>(count_below(ys_top_, b[1])),
+                 static_cast<std::uint32_t>(n_ - count_above(ys_bottom_, b[3]))};
+    // − D − U.
+    met[i] = static_cast<std::int64_t>(n_) - y_rank[i][0] - static_cast<std::int64_t>(n_ - y_rank[i][1]);
   }
   std::vector<std::uint32_t> order(q);
   // One sweep per side: left (x1 < query x0, ascending) and right (x0 > query x1, descending).
@@ -143,8 +147,8 @@ std::vector<std::uint32_t> BoxCounter::count(const std::vector<Box>& queries) co
         ++inserted;
       }
       // − L (or R), + LD (RD): also wholly below, + LU (RU): also wholly above.
-      const std::uint32_t below = tops.below(count_below(ys_top_, b[1]));
-      const std::uint32_t above = static_cast<std::uint32_t>(inserted) - bottoms.below(n_ - count_above(ys_bottom_, b[3]));
+      const std::uint32_t below = tops.below(y_rank[i][0]);
+      const std::uint32_t above = static_cast<std::uint32_t>(inserted) - bottoms.below(y_rank[i][1]);
       met[i] += -static_cast<std::int64_t>(inserted) + below + above;
     }
   }
