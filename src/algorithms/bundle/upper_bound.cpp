@@ -35,10 +35,20 @@ std::size_t count_above(const std::vector<float>& v, float x) {
   return static_cast<std::size_t>(v.end() - std::upper_bound(v.begin(), v.end(), x));
 }
 
-// A box holding the open circumdisk of a, b, c (counter-clockwise), with the rounding of its centre
-// and radius bounded rigorously; false if the rounding cannot place it (a nearly flat triangle,
-// whose disk is huge: the caller then takes every triangle).
-//
+
+float round_down(double v) {
+  float f = static_cast<float>(v);
+  if (static_cast<double>(f) > v) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+  return f;
+}
+float round_up(double v) {
+  float f = static_cast<float>(v);
+  if (static_cast<double>(f) < v) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+  return f;
+}
+
+}  // namespace
+
 // With u = b − a, v = c − a, the centre is a + o, o = (v_y|u|² − u_y|v|², u_x|v|² − v_x|u|²) / d,
 // d = 2 (u_x v_y − u_y v_x). Each term of a numerator is a product of three rounded differences
 // rounded twice and summed once: relative error below 8ε (with ε = 2⁻⁵³), so the numerators are off
@@ -68,19 +78,6 @@ bool circumdisk_box(const Point& a, const Point& b, const Point& c, std::array<d
          cx + wx + 4.0 * eps * std::fabs(cx), cy + wy + 4.0 * eps * std::fabs(cy)};
   return std::isfinite(out[0]) && std::isfinite(out[1]) && std::isfinite(out[2]) && std::isfinite(out[3]);
 }
-
-float round_down(double v) {
-  float f = static_cast<float>(v);
-  if (static_cast<double>(f) > v) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
-  return f;
-}
-float round_up(double v) {
-  float f = static_cast<float>(v);
-  if (static_cast<double>(f) < v) f = std::nextafter(f, std::numeric_limits<float>::infinity());
-  return f;
-}
-
-}  // namespace
 
 Box outward_box(double x0, double y0, double x1, double y1) {
   return {round_down(x0), round_down(y0), round_up(x1), round_up(y1)};

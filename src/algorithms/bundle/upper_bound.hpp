@@ -25,6 +25,11 @@ using Box = std::array<float, 4>;
 // The box [x0, x1] × [y0, y1] of doubles rounded outward to floats (beyond float's range: ±∞).
 Box outward_box(double x0, double y0, double x1, double y1);
 
+// A box [x0, x1] × [y0, y1] holding the open circumdisk of a, b, c (counter-clockwise), with the
+// rounding of its centre and radius bounded rigorously; false if rounding cannot place it (a nearly
+// flat triangle: the caller then counts every triangle).
+bool circumdisk_box(const Point& a, const Point& b, const Point& c, std::array<double, 4>& out);
+
 // How many of a set of boxes (the bounding boxes of the triangles) meet each query box, offline:
 // a box misses the query iff it lies wholly left of it (L), right (R), below (D) or above (U); L
 // and R exclude each other, so do D and U, and by inclusion and exclusion

@@ -4,6 +4,7 @@
 // Also the fan (a polygon whose apex is a corner of every triangle), which cost the square of its
 // size before the floods and the covering mesh turned around their ends of smaller degree.
 #include <gtest/gtest.h>
+#include <gmpxx.h>
 
 #include <array>
 #include <cmath>
@@ -91,6 +92,42 @@ TEST(BundleBounds, BoxCountsMatchBruteForce) {
     for (const auto& b : boxes) brute += (b[2] >= q[0] && b[0] <= q[2] && b[3] >= q[1] && b[1] <= q[3]) ? 1 : 0;
     EXPECT_EQ(counts[i], brute) << "query " << i;
   }
+}
+
+// circumdisk_box holds the exact circumdisk (rationals) of random triangles, nearly flat ones and
+// ones far from the origin included, whenever it places one: the exact centre lies at least the
+// exact radius inside each side.
+TEST(BundleBounds, CircumdiskBoxHoldsTheExactDisk) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::size_t placed = 0, placed_flat = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const double offset = i % 3 == 0 ? 0.0 : (i % 3 == 1 ? 1e6 : -3e9);
+    const double scale = i % 5 == 0 ? 1e-6 : 1.0;
+    Point a{offset + unit(rng) * scale, offset + unit(rng) * scale};
+    Point b{offset + unit(rng) * scale, offset + unit(rng) * scale};
+    Point c{offset + unit(rng) * scale, offset + unit(rng) * scale};
+    if (i % 4 == 0) c = {0.5 * a.x + 0.5 * b.x + unit(rng) * 1e-12 * scale, 0.5 * a.y + 0.5 * b.y};  // nearly flat
+    if (orient2d(a, b, c) == 0) continue;
+    if (orient2d(a, b, c) < 0) std::swap(b, c);
+    std::array<double, 4> box;
+    if (!bundle::circumdisk_box(a, b, c, box)) continue;
+    ++placed;
+    if (i % 4 == 0) ++placed_flat;
+    const mpq_class ux = mpq_class(b.x) - a.x, uy = mpq_class(b.y) - a.y;
+    const mpq_class vx = mpq_class(c.x) - a.x, vy = mpq_class(c.y) - a.y;
+    const mpq_class u2 = ux * ux + uy * uy, v2 = vx * vx + vy * vy;
+    const mpq_class d = 2 * (ux * vy - uy * vx);
+    const mpq_class ox = (vy * u2 - uy * v2) / d, oy = (ux * v2 - vx * u2) / d;
+    const mpq_class cx = ox + a.x, cy = oy + a.y, r2 = ox * ox + oy * oy;
+    const mpq_class gaps[4] = {cx - box[0], cy - box[1], mpq_class(box[2]) - cx, mpq_class(box[3]) - cy};
+    for (const mpq_class& g : gaps) {
+      ASSERT_GE(sgn(g), 0) << "triangle " << i;
+      ASSERT_GE(g * g, r2) << "triangle " << i;
+    }
+  }
+  EXPECT_GT(placed, 2000u);
+  EXPECT_GT(placed_flat, 100u);  // nearly flat triangles with huge disks are placed too
 }
 
 // Points on an ellipse: with a budget far too small, the lower and upper bounds bracket the exact
