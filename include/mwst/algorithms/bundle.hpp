@@ -53,8 +53,11 @@ struct BundleResult {
   // lower_bound ≤ the bundle number ≤ upper_bound, both exact; exact is true if they meet. The
   // pencils with no list cut short are swept exactly; the lower bound is the best of those and of
   // a few circumdisks cut short counted in full (one flood each, no list kept); the witness below
-  // is then its disk and triangles. The upper bound is the number of triangles (a vertex-empty disk
-  // meets at most all of them). Without a cut: exact, lower_bound = upper_bound = bundle_number.
+  // is then its disk and triangles. The upper bound: per pencil not swept, the number of triangles
+  // whose bounding boxes meet a box holding its two circumdisks (all its disks lie in their union),
+  // the pencils of the largest such bounds swept exactly within the budget (which may also raise
+  // the lower bound); see docs/algorithms/bundle-number.md, "Budget". Without a cut: exact,
+  // lower_bound = upper_bound = bundle_number.
   bool exact = true;
   std::uint32_t lower_bound = 0, upper_bound = 0;
   std::size_t truncated_disks = 0;  // circumdisks whose lists were cut short

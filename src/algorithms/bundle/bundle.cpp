@@ -6,6 +6,7 @@
 //   Worker::sweep            (worker_sweep.cpp)  each pencil's best disk, on worker threads
 //   merge_workers                                the largest count, ties to the first pencil
 //   bound_cut_lists                              with a budget that cut lists short: exact bounds
+//   bound_cut_pencils        (upper_bound.cpp)   (the upper one, per pencil not swept)
 // For a triangle list: compact_triangles, covering_mesh and find_input_triangles make the Mesh.
 // in_k_bundle (k_bundle.cpp) asks "is this triangle in a k-bundle?" near a few triangles only.
 #include "mwst/algorithms/bundle.hpp"
@@ -19,6 +20,7 @@
 
 #include "algorithms/bundle/lists.hpp"
 #include "algorithms/bundle/shared.hpp"
+#include "algorithms/bundle/upper_bound.hpp"
 #include "algorithms/bundle/worker.hpp"
 #include "mesh/keys.hpp"
 #include "mwst/error.hpp"
@@ -38,6 +40,9 @@ using Workers = std::vector<std::unique_ptr<Worker>>;
 
 // How many circumdisks cut short bundle_number counts in full for its lower bound.
 constexpr std::size_t kFullCounts = 4;
+// The floods of the pencils bound_cut_pencils sweeps in full visit at most this share of the
+// candidate budget (an eighth: their sweeps cost several times a flood, in time and in memory).
+constexpr std::size_t kRefineShare = 8;
 
 // ---- bundle_number(Mesh) begins here ---------------------------------------------------------------
 
@@ -65,8 +70,8 @@ void merge_workers(const Workers& workers, BundleResult& result) {
 // every circumdisk is about the whole circle). The pencils with a list cut short were not swept;
 // what was swept is exact. Lower bound: that, or a circumdisk counted in full (those whose cut
 // lists met the most triangles; a circumdisk of DT(V) is vertex-empty, so it is a witness). Upper
-// bound: no disk meets more than every triangle.
-void bound_cut_lists(const Shared& sh, Worker& worker, BundleResult& result) {
+// bound: bound_cut_pencils (upper_bound.cpp), which may also raise the lower bound.
+void bound_cut_lists(Shared& sh, Worker& worker, std::size_t work_budget, BundleResult& result) {
   std::vector<std::pair<std::uint32_t, TriangleId>> cut;  // (met within the cut list, slot)
   for (TriangleId d = 0; d < sh.truncated.size(); ++d) {
     if (!sh.truncated[d]) continue;
@@ -89,9 +94,10 @@ void bound_cut_lists(const Shared& sh, Worker& worker, BundleResult& result) {
     result.disk_radius = distance(result.disk_center, sh.pts[v[0]]);
     result.triangles = met;
   }
-  std::uint32_t domain = 0;
-  for (TriangleId t = 0; t < sh.slots.size(); ++t) domain += sh.in_domain(t) ? 1 : 0;
-  result.upper_bound = std::max(domain, result.lower_bound);
+  result.bundle_number = result.lower_bound;
+  bundle::release(sh.list);  // the cut lists are read no more
+  bundle::release(sh.list_begin);
+  bundle::bound_cut_pencils(sh, worker, work_budget, result);
   result.bundle_number = result.lower_bound;
   result.exact = result.lower_bound == result.upper_bound;
 }
@@ -119,9 +125,9 @@ BundleResult bundle_number_of(const Mesh& mesh, const BundleOptions& options, Re
   release();
   result.disks = sh.share_cocircular_disks();
   // DT(V)'s coordinates are sh.pts; from here on only its topology is read.
-  sh.dt.points = {};
-  sh.dt.vertex_kind = {};
-  sh.dt.vertex_marker = {};
+  bundle::release(sh.dt.points);
+  bundle::release(sh.dt.vertex_kind);
+  bundle::release(sh.dt.vertex_marker);
   const unsigned threads = bundle::worker_threads(options.threads, sh.pencils.size());
   // Without per-triangle values, a pencil with no more candidates than the best count so far
   // cannot improve it and is skipped (the first pencil reaching the maximum is never skipped, so
@@ -143,8 +149,11 @@ BundleResult bundle_number_of(const Mesh& mesh, const BundleOptions& options, Re
   });
   merge_workers(workers, result);
   if (!complete) {
-    for (auto& w : workers) w->release_sweep_scratch();
-    bound_cut_lists(sh, *workers[0], result);
+    for (auto& w : workers) {
+      w->release_sweep_scratch();
+      w->release_disk_scratch();
+    }
+    bound_cut_lists(sh, *workers[0], options.candidate_budget / kRefineShare, result);
   }
   std::sort(result.triangles.begin(), result.triangles.end());
   if (options.per_triangle) result.per_triangle = merge_per_triangle(workers);
@@ -224,8 +233,47 @@ CompactTriangles compact_triangles(const std::vector<Point>& points,
   return c;
 }
 
+// The vertex ids in Morton (Z-)order of a 2^31 × 2^31 grid over their bounding box.
+std::vector<std::uint32_t> morton_order(const std::vector<Point>& points) {
+  using bundle::kInf;
+  double x0 = kInf, y0 = kInf, x1 = -kInf, y1 = -kInf;
+  for (const Point& p : points) {
+    x0 = std::min(x0, p.x);
+    y0 = std::min(y0, p.y);
+    x1 = std::max(x1, p.x);
+    y1 = std::max(y1, p.y);
+  }
+  const double extent = std::max(x1 - x0, y1 - y0);
+  const double scale = extent > 0.0 ? 2147483647.0 / extent : 0.0;
+  auto spread = [](std::uint64_t v) {
+    v = (v | (v << 16)) & 0x0000FFFF0000FFFFull;
+    v = (v | (v << 8)) & 0x00FF00FF00FF00FFull;
+    v = (v | (v << 4)) & 0x0F0F0F0F0F0F0F0Full;
+    v = (v | (v << 2)) & 0x3333333333333333ull;
+    v = (v | (v << 1)) & 0x5555555555555555ull;
+    return v;
+  };
+  auto cell = [scale](double v, double v0) {
+    return static_cast<std::uint64_t>(std::clamp((v - v0) * scale, 0.0, 2147483647.0));
+  };
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(points.size());
+  for (std::uint32_t v = 0; v < points.size(); ++v) {
+    keyed[v] = {spread(cell(points[v].x, x0)) | (spread(cell(points[v].y, y0)) << 1), v};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<std::uint32_t> order(points.size());
+  for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = keyed[i].second;
+  return order;
+}
+
 // Every edge of T is a segment: the constrained Delaunay triangulation then contains every
 // triangle of T and fills the holes and concavities, so the mesh covers the convex hull.
+// Each segment is inserted from its end of lower degree in T, grouped by that end: inserting a→b
+// finds b by turning around a (detail::find_wedge), which costs the degree of a. A fan, whose apex
+// is an end of half the edges of T, cost the square of its size when its edges were inserted from
+// the apex; from the other end the turns cost O(1) each (the sum over the edges of the smaller end
+// degree is O(n) in a planar graph: Chiba and Nishizeki, "Arboricity and subgraph listing
+// algorithms", 1985).
 Mesh covering_mesh(CompactTriangles& c) {
   Pslg& pslg = c.pslg;
   const std::vector<std::array<std::uint32_t, 3>>& tris = c.tris;
@@ -237,11 +285,30 @@ Mesh covering_mesh(CompactTriangles& c) {
   }
   std::sort(edges.begin(), edges.end());
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  std::vector<std::uint32_t> degree(pslg.points.size(), 0);
+  for (const std::uint64_t e : edges) {
+    ++degree[e >> 32];
+    ++degree[e & 0xFFFFFFFFu];
+  }
+  // Keyed (Morton rank of the first end, second end): the segments of one first end follow each
+  // other (the last one's edge is where the next starts), and the walks (Mesh::locate) from one
+  // first end to the next are short.
+  const std::vector<std::uint32_t> by_rank = morton_order(pslg.points);
+  std::vector<std::uint32_t> rank(by_rank.size());
+  for (std::uint32_t r = 0; r < by_rank.size(); ++r) rank[by_rank[r]] = r;
+  for (std::uint64_t& e : edges) {
+    auto u = static_cast<std::uint32_t>(e >> 32), v = static_cast<std::uint32_t>(e & 0xFFFFFFFFu);
+    if (degree[v] < degree[u]) std::swap(u, v);  // from the end of lower degree
+    e = std::uint64_t{rank[u]} << 32 | v;
+  }
+  bundle::release(degree);
+  bundle::release(rank);
+  std::sort(edges.begin(), edges.end());
   pslg.segments.reserve(edges.size());
   for (const std::uint64_t e : edges) {
-    pslg.segments.push_back({static_cast<std::uint32_t>(e >> 32), static_cast<std::uint32_t>(e & 0xFFFFFFFFu), 1});
+    pslg.segments.push_back({by_rank[e >> 32], static_cast<std::uint32_t>(e & 0xFFFFFFFFu), 1});
   }
-  edges = {};
+  bundle::release(edges);
   ConstrainOptions constrain;
   constrain.strict = true;
   constrain.convex_hull = true;
@@ -260,21 +327,27 @@ Mesh covering_mesh(CompactTriangles& c) {
 }
 
 // Finds every triangle of T among the faces of the covering mesh (slot → index into the list);
-// everything else is marked outside the domain.
+// everything else is marked outside the domain. Each triangle is looked for around its corner of
+// lowest degree in the mesh: O(n) turns in all (see covering_mesh), where turning around the first
+// corner cost the square of a fan's size.
 std::vector<std::uint32_t> find_input_triangles(Mesh& mesh, const std::vector<std::array<std::uint32_t, 3>>& tris) {
   std::vector<Handle> vertex_edge(mesh.points.size(), kNone);
+  std::vector<std::uint32_t> degree(mesh.points.size(), 0);
   for (TriangleId t = 0; t < mesh.triangle_slots(); ++t) {
     if (mesh.is_dead(t)) continue;
     for (unsigned e = 0; e < 3; ++e) {
       const Handle h = make_handle(t, e);
       const VertexId o = mesh.org(h);
-      if (o != kInfinite && vertex_edge[o] == kNone) vertex_edge[o] = h;
+      if (o == kInfinite) continue;
+      ++degree[o];
+      if (vertex_edge[o] == kNone) vertex_edge[o] = h;
     }
     if (!mesh.is_ghost(t)) mesh.flags[t] = static_cast<std::uint8_t>(mesh.flags[t] | kOutside);
   }
   std::vector<std::uint32_t> slot_to_input(mesh.triangle_slots(), kNone);
   for (std::size_t i = 0; i < tris.size(); ++i) {
-    const auto& t = tris[i];
+    std::array<std::uint32_t, 3> t = tris[i];
+    while (degree[t[0]] > degree[t[1]] || degree[t[0]] > degree[t[2]]) t = {t[1], t[2], t[0]};
     TriangleId found = kNone;
     const Handle start = vertex_edge[t[0]];
     Handle h = start;
@@ -309,9 +382,9 @@ BundleResult bundle_number_of_list(const std::vector<Point>& points,
   release_input();
   Mesh mesh = covering_mesh(compact);
   compact.pslg = {};  // the mesh holds the points; what is not needed is freed as soon as it is not
-  compact.original = {};
+  bundle::release(compact.original);
   const std::vector<std::uint32_t> slot_to_input = find_input_triangles(mesh, compact.tris);
-  compact.tris = {};
+  bundle::release(compact.tris);
   BundleResult r = bundle_number_of(mesh, options, [&mesh] { mesh = Mesh{}; });
   for (std::uint32_t& t : r.triangles) t = slot_to_input[t];
   std::sort(r.triangles.begin(), r.triangles.end());
@@ -336,8 +409,8 @@ BundleResult bundle_number(const std::vector<Point>& points,
 BundleResult bundle_number(std::vector<Point>&& points, std::vector<std::array<std::uint32_t, 3>>&& triangles,
                            const BundleOptions& options) {
   return bundle_number_of_list(points, triangles, options, [&] {
-    points = {};
-    triangles = {};
+    bundle::release(points);
+    bundle::release(triangles);
   });
 }
 

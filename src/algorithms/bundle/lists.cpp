@@ -47,7 +47,7 @@ class ListChunks {
   void move_into(std::vector<TriangleId>& out) {
     for (auto& chunk : chunks_) {
       out.insert(out.end(), chunk.begin(), chunk.end());
-      chunk = {};
+      release(chunk);
     }
     chunks_.clear();
     size_ = 0;

@@ -34,6 +34,13 @@ namespace mwst {
 
 namespace bundle {
 
+// Frees a vector's memory. (`v = {}` does not: it assigns an empty initializer list, which keeps
+// the capacity.)
+template <class T>
+void release(std::vector<T>& v) {
+  std::vector<T>().swap(v);
+}
+
 enum : std::uint8_t { kRoleLo = 0, kRoleA = 1, kRoleB = 2, kRoleHi = 3 };
 
 struct Event {
@@ -115,6 +122,7 @@ class Worker {
   // if used again.
   void release_flood_scratch();
   void release_sweep_scratch();
+  void release_disk_scratch();  // circumdisk_count's
 
   // ---- floods ----
 
@@ -149,8 +157,8 @@ class Worker {
     });
     bump(triangle_mark_, [this] { std::fill(triangle_stamp_.begin(), triangle_stamp_.end(), 0); });
     // The chord from v[0] to v[1] lies in the open disk, and so does the corner of the mesh
-    // triangle it leaves v[0] by.
-    const TriangleId start = triangle_towards(v[0], circle_[1]);
+    // triangle it leaves v[0] by (or v[1]: see flood_start).
+    const TriangleId start = flood_start(v[0], v[1]);
     stack_.clear();
     stack_.push_back(start);
     triangle_stamp_[start] = triangle_mark_;
@@ -209,6 +217,15 @@ class Worker {
   // largest count of a disk meeting each candidate.
   void sweep(std::size_t index);
 
+  // sweep() with the candidates of the pencil's two Delaunay triangles given (full floods, where
+  // their lists in Shared were cut at the budget's cap; `right` empty on a hull edge), not pruned.
+  void sweep_with_lists(std::size_t index, const std::vector<TriangleId>& left, const std::vector<TriangleId>& right) {
+    given_[0] = &left;
+    given_[1] = &right;
+    sweep(index);
+    given_[0] = given_[1] = nullptr;
+  }
+
  private:
   struct FloodVertex {
     std::uint32_t stamp = 0;
@@ -244,8 +261,11 @@ class Worker {
   }
 
   // The finite mesh triangle around vertex a whose closed corner at a contains the direction
-  // towards `target` (a point of the convex hull other than a).
-  TriangleId triangle_towards(VertexId a, const Point& target) const;
+  // towards b, or around b towards a (a, b: vertices of the mesh, the chord ab inside the convex
+  // hull). Turning around a costs its degree, n/2 at a fan's apex for each of n floods: after a
+  // few turns around a alone (where almost every flood of a mesh of bounded degree starts, as it
+  // always did), it turns around a and b in step, which costs the smaller degree.
+  TriangleId flood_start(VertexId a, VertexId b) const;
 
   const Approx& circle_value(VertexId v) {
     FloodVertex& f = flood_vertex_[v];
@@ -297,6 +317,7 @@ class Worker {
   const Shared& sh_;
   bool per_triangle_enabled_;
   bool prune_;
+  const std::vector<TriangleId>* given_[2] = {nullptr, nullptr};  // sweep_with_lists's candidates
   std::vector<std::uint32_t> per_triangle_;
 
   // Flood scratch.
@@ -341,35 +362,60 @@ inline Worker::Worker(const Shared& shared, bool per_triangle, bool prune)
 }
 
 inline void Worker::release_flood_scratch() {
-  flood_vertex_ = {};
-  triangle_stamp_ = {};
-  stack_ = {};
+  release(flood_vertex_);
+  release(triangle_stamp_);
+  release(stack_);
+}
+
+inline void Worker::release_disk_scratch() {
+  release(disk_side_);
+  release(edge_meets_);
 }
 
 inline void Worker::release_sweep_scratch() {
-  pencil_vertex_ = {};
-  candidate_stamp_ = {};
-  candidate_index_ = {};
-  candidates_ = {};
-  edge_info_ = {};
-  edge_ref_ = {};
-  events_ = {};
+  release(pencil_vertex_);
+  release(candidate_stamp_);
+  release(candidate_index_);
+  release(candidates_);
+  release(edge_info_);
+  release(edge_ref_);
+  release(events_);
 }
 
 // The finite mesh triangle around vertex a whose closed corner at a contains the direction
 // towards `target` (a point of the convex hull other than a).
-inline TriangleId Worker::triangle_towards(VertexId a, const Point& target) const {
-  const Point& pa = sh_.pts[a];
-  const Handle start = sh_.vertex_edge[a];
-  Handle h = start;
-  for (std::size_t turn = 0; turn < sh_.slots.size() && triangle_of(h) != sh_.outside; ++turn) {
-    const VertexId d = sh_.dest(h), x = sh_.apex(h);
-    if (d != kInfinite && x != kInfinite && orient2d(pa, sh_.pts[d], target) >= 0 &&
-        orient2d(pa, target, sh_.pts[x]) >= 0) {
-      return triangle_of(h);
+inline TriangleId Worker::flood_start(VertexId a, VertexId b) const {
+  constexpr std::size_t kAloneTurns = 64;
+  struct Turning {
+    VertexId from;
+    const Point* target;
+    Handle start, h;
+    bool live = true;
+  };
+  Turning around[2] = {{a, &sh_.pts[b], sh_.vertex_edge[a], sh_.vertex_edge[a]},
+                       {b, &sh_.pts[a], sh_.vertex_edge[b], sh_.vertex_edge[b]}};
+  // One turn around one end: the triangle if its corner faces the other end, else kNone.
+  auto turn = [this](Turning& t) {
+    if (triangle_of(t.h) == sh_.outside) {
+      t.live = false;
+      return kNone;
     }
-    h = sh_.onext(h);
-    if (h == start) break;
+    const Point& pa = sh_.pts[t.from];
+    const VertexId d = sh_.dest(t.h), x = sh_.apex(t.h);
+    if (d != kInfinite && x != kInfinite && orient2d(pa, sh_.pts[d], *t.target) >= 0 &&
+        orient2d(pa, *t.target, sh_.pts[x]) >= 0) {
+      return triangle_of(t.h);
+    }
+    t.h = sh_.onext(t.h);
+    if (t.h == t.start) t.live = false;
+    return kNone;
+  };
+  for (std::size_t k = 0; k < sh_.slots.size() + kAloneTurns && (around[0].live || around[1].live); ++k) {
+    for (int side = 0; side < 2; ++side) {
+      if (!around[side].live || (side == 1 && k < kAloneTurns)) continue;
+      const TriangleId found = turn(around[side]);
+      if (found != kNone) return found;
+    }
   }
   throw InternalError("bundle: no mesh triangle around a vertex faces its Delaunay neighbour");
 }

@@ -18,7 +18,8 @@ void Worker::sweep(std::size_t index) {
   // The two lists hold at least as many triangles as their union: a pencil that cannot beat the
   // best count is pruned before its candidates are gathered (points on a circle: a million hull
   // pencils share one list of all the triangles).
-  if (prune_ && sh_.list_size(triangle_of(h)) + (rv == kInfinite ? 0 : sh_.list_size(triangle_of(hs))) <= best_count) {
+  const bool prune = prune_ && given_[0] == nullptr;
+  if (prune && sh_.list_size(triangle_of(h)) + (rv == kInfinite ? 0 : sh_.list_size(triangle_of(hs))) <= best_count) {
     count_pencil_ends(h, hs);
     return;
   }
@@ -32,7 +33,7 @@ void Worker::sweep(std::size_t index) {
   if (cacheable && reuse_cached_sweep(lv, rv)) return;
   // No disk of this pencil meets more triangles than it has candidates. Its two circumdisks
   // are still counted (directly, when their lists could beat the best circumdisk so far).
-  if (prune_ && candidates_.size() <= best_count) {
+  if (prune && candidates_.size() <= best_count) {
     count_pencil_ends(h, hs);
     return;
   }
@@ -66,7 +67,9 @@ bool Worker::start_pencil(Handle h, VertexId rv) {
   pc_.q = sh_.pts[pc_.qv];
   pc_.points = sh_.pts.data();
   if (rv != kInfinite && incircle(pc_.p, pc_.q, sh_.pts[lv], sh_.pts[rv]) == 0) return false;
-  if (sh_.list_cut(triangle_of(h)) || (rv != kInfinite && sh_.list_cut(triangle_of(hs)))) return false;
+  if (given_[0] == nullptr && (sh_.list_cut(triangle_of(h)) || (rv != kInfinite && sh_.list_cut(triangle_of(hs))))) {
+    return false;
+  }
   return true;
 }
 
@@ -80,9 +83,10 @@ void Worker::gather_candidates(Handle h, Handle hs, VertexId rv) {
   }
   bump(candidate_mark_, [this] { std::fill(candidate_stamp_.begin(), candidate_stamp_.end(), 0); });
   candidates_.clear();
-  auto gather = [&](TriangleId dtt) {
-    const TriangleId* list = sh_.list_data(dtt);
-    for (std::uint32_t i = 0, size = sh_.list_size(dtt); i < size; ++i) {
+  auto gather = [&](TriangleId dtt, const std::vector<TriangleId>* given) {
+    const TriangleId* list = given ? given->data() : sh_.list_data(dtt);
+    const std::size_t size = given ? given->size() : sh_.list_size(dtt);
+    for (std::size_t i = 0; i < size; ++i) {
       const TriangleId t = list[i];
       if (candidate_stamp_[t] == candidate_mark_) continue;
       candidate_stamp_[t] = candidate_mark_;
@@ -92,8 +96,8 @@ void Worker::gather_candidates(Handle h, Handle hs, VertexId rv) {
       candidates_.push_back(c);
     }
   };
-  gather(triangle_of(h));
-  if (rv != kInfinite) gather(triangle_of(hs));
+  gather(triangle_of(h), given_[0]);
+  if (rv != kInfinite) gather(triangle_of(hs), given_[1]);
 }
 
 // Looks the pencil up in the cache of an earlier call (KBundleCache); true if its result was

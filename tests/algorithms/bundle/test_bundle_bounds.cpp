@@ -1,0 +1,166 @@
+// bundle_number's bounds when a candidate budget cuts lists short (upper_bound.cpp): the box
+// counts match brute force, and on inputs whose exact answer is known (solved without a budget)
+// the bounds bracket it; the upper bound is far below the triangle count where disks are bounded.
+// Also the fan (a polygon whose apex is a corner of every triangle), which cost the square of its
+// size before the floods and the covering mesh turned around their ends of smaller degree.
+#include <gtest/gtest.h>
+#include <gmpxx.h>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "algorithms/bundle/upper_bound.hpp"
+#include "mwst/algorithms/bundle.hpp"
+#include "mwst/mesh/delaunay.hpp"
+#include "mwst/mesh/mesh.hpp"
+#include "mwst/mesh/pslg.hpp"
+
+namespace mwst {
+namespace {
+
+using Tri = std::array<std::uint32_t, 3>;
+
+std::vector<Tri> domain_triangles(const Mesh& m) {
+  std::vector<Tri> out;
+  for (TriangleId t = 0; t < m.triangle_slots(); ++t) {
+    if (m.in_domain(t)) out.push_back({m.triangles[t].v[0], m.triangles[t].v[1], m.triangles[t].v[2]});
+  }
+  return out;
+}
+
+// n points on the ellipse x = cos t, y = ry sin t, and a few inside.
+std::vector<Point> ellipse_points(std::size_t n, double ry) {
+  std::vector<Point> pts;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double a = 2.0 * 3.14159265358979323846 * static_cast<double>(i) / static_cast<double>(n);
+    pts.push_back({std::cos(a), ry * std::sin(a)});
+  }
+  pts.push_back({0.1, 0.05 * ry});
+  pts.push_back({-0.3, -0.1 * ry});
+  return pts;
+}
+
+// A fan polygon: apex (0, 0), then `wedges` thin wedges alternating between radius 1 and radius
+// 0.001, as `mwst generate fan` makes; triangulated (constrained Delaunay of the polygon).
+std::vector<Tri> fan(std::size_t wedges, std::vector<Point>& pts) {
+  Pslg pslg;
+  pslg.points.push_back({0.0, 0.0});
+  const double step = 1e-4;  // radians
+  for (std::size_t i = 0; i < wedges; ++i) {
+    const double a = step * static_cast<double>(i);
+    const double r = i % 2 == 0 ? 1.0 : 0.001;
+    pslg.points.push_back({r * std::cos(a), r * std::sin(a)});
+  }
+  const auto n = static_cast<std::uint32_t>(pslg.points.size());
+  for (std::uint32_t i = 0; i < n; ++i) pslg.segments.push_back({i, (i + 1) % n, 1});
+  const Mesh m = constrained_delaunay(pslg, {});
+  pts = m.points;
+  return domain_triangles(m);
+}
+
+void expect_brackets(const std::vector<Point>& pts, const std::vector<Tri>& tris, const BundleResult& exact,
+                     std::size_t budget) {
+  SCOPED_TRACE("budget " + std::to_string(budget));
+  const BundleResult r = bundle_number(pts, tris, {.candidate_budget = budget});
+  EXPECT_LE(r.lower_bound, exact.bundle_number);
+  EXPECT_GE(r.upper_bound, exact.bundle_number);
+  EXPECT_EQ(r.exact, r.lower_bound == r.upper_bound);
+  EXPECT_EQ(r.triangles.size(), r.lower_bound);
+  if (r.exact) {
+    EXPECT_EQ(r.bundle_number, exact.bundle_number);
+  }
+}
+
+TEST(BundleBounds, BoxCountsMatchBruteForce) {
+  std::mt19937_64 rng(7);
+  std::uniform_int_distribution<int> coordinate(0, 20);  // small integers: many ties
+  auto random_box = [&] {
+    const int x0 = coordinate(rng), x1 = coordinate(rng), y0 = coordinate(rng), y1 = coordinate(rng);
+    return bundle::outward_box(std::min(x0, x1), std::min(y0, y1), std::max(x0, x1), std::max(y0, y1));
+  };
+  std::vector<bundle::Box> boxes(300), queries(200);
+  for (auto& b : boxes) b = random_box();
+  for (auto& q : queries) q = random_box();
+  const std::vector<std::uint32_t> counts = bundle::BoxCounter(boxes).count(queries);
+  ASSERT_EQ(counts.size(), queries.size());
+  for (std::size_t i = 0; i < queries.size(); ++i) {
+    const auto& q = queries[i];
+    std::uint32_t brute = 0;
+    for (const auto& b : boxes) brute += (b[2] >= q[0] && b[0] <= q[2] && b[3] >= q[1] && b[1] <= q[3]) ? 1 : 0;
+    EXPECT_EQ(counts[i], brute) << "query " << i;
+  }
+}
+
+// circumdisk_box holds the exact circumdisk (rationals) of random triangles, nearly flat ones and
+// ones far from the origin included, whenever it places one: the exact centre lies at least the
+// exact radius inside each side.
+TEST(BundleBounds, CircumdiskBoxHoldsTheExactDisk) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::size_t placed = 0, placed_flat = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const double offset = i % 3 == 0 ? 0.0 : (i % 3 == 1 ? 1e6 : -3e9);
+    const double scale = i % 5 == 0 ? 1e-6 : 1.0;
+    Point a{offset + unit(rng) * scale, offset + unit(rng) * scale};
+    Point b{offset + unit(rng) * scale, offset + unit(rng) * scale};
+    Point c{offset + unit(rng) * scale, offset + unit(rng) * scale};
+    if (i % 4 == 0) c = {0.5 * a.x + 0.5 * b.x + unit(rng) * 1e-12 * scale, 0.5 * a.y + 0.5 * b.y};  // nearly flat
+    if (orient2d(a, b, c) == 0) continue;
+    if (orient2d(a, b, c) < 0) std::swap(b, c);
+    std::array<double, 4> box;
+    if (!bundle::circumdisk_box(a, b, c, box)) continue;
+    ++placed;
+    if (i % 4 == 0) ++placed_flat;
+    const mpq_class ux = mpq_class(b.x) - a.x, uy = mpq_class(b.y) - a.y;
+    const mpq_class vx = mpq_class(c.x) - a.x, vy = mpq_class(c.y) - a.y;
+    const mpq_class u2 = ux * ux + uy * uy, v2 = vx * vx + vy * vy;
+    const mpq_class d = 2 * (ux * vy - uy * vx);
+    const mpq_class ox = (vy * u2 - uy * v2) / d, oy = (ux * v2 - vx * u2) / d;
+    const mpq_class cx = ox + a.x, cy = oy + a.y, r2 = ox * ox + oy * oy;
+    const mpq_class gaps[4] = {cx - box[0], cy - box[1], mpq_class(box[2]) - cx, mpq_class(box[3]) - cy};
+    for (const mpq_class& g : gaps) {
+      ASSERT_GE(sgn(g), 0) << "triangle " << i;
+      ASSERT_GE(g * g, r2) << "triangle " << i;
+    }
+  }
+  EXPECT_GT(placed, 2000u);
+  EXPECT_GT(placed_flat, 100u);  // nearly flat triangles with huge disks are placed too
+}
+
+// Points on an ellipse: with a budget far too small, the lower and upper bounds bracket the exact
+// number (computed without a budget), and the upper bound is not the triangle count: the disks of
+// the ellipse's Delaunay triangles each meet about a third of the triangles.
+TEST(BundleBounds, EllipseBoundsBracketTheExactNumber) {
+  for (const std::size_t n : {60u, 400u, 2000u}) {
+    SCOPED_TRACE(std::to_string(n) + " points");
+    const std::vector<Point> pts = ellipse_points(n, 0.5);
+    const std::vector<Tri> tris = domain_triangles(delaunay(pts));
+    const BundleResult exact = bundle_number(pts, tris);
+    ASSERT_TRUE(exact.exact);
+    for (const std::size_t budget : {std::size_t{1}, std::size_t{50}, 4 * tris.size()}) {
+      expect_brackets(pts, tris, exact, budget);
+    }
+    const BundleResult cut = bundle_number(pts, tris, {.candidate_budget = 4 * tris.size()});
+    EXPECT_GT(cut.truncated_disks, 0u);
+    EXPECT_LT(cut.upper_bound, tris.size() * 3 / 4);
+  }
+}
+
+// The fan: exact without a budget, bracketed with one (its apex is a corner of every triangle).
+TEST(BundleBounds, FanBoundsBracketTheExactNumber) {
+  std::vector<Point> pts;
+  const std::vector<Tri> tris = fan(301, pts);
+  ASSERT_GT(tris.size(), 290u);
+  const BundleResult exact = bundle_number(pts, tris);
+  ASSERT_TRUE(exact.exact);
+  EXPECT_GE(exact.bundle_number, tris.size() / 2);  // a disk at the apex meets about half
+  for (const std::size_t budget : {std::size_t{1}, std::size_t{300}, 8 * tris.size()}) {
+    expect_brackets(pts, tris, exact, budget);
+  }
+}
+
+}  // namespace
+}  // namespace mwst
