@@ -1194,7 +1194,8 @@ TEST(Cli, LibraryMessagesNameFieldsAndTheCliMapsThem) {
   EXPECT_TRUE(mwst::method_reads_option(mwst::Method::kDr, "max_area"));
   EXPECT_FALSE(mwst::method_reads_option(mwst::Method::kDr, "bundle_k"));
   EXPECT_TRUE(mwst::method_reads_option(mwst::Method::kBrh, "bundle_k"));
-  EXPECT_FALSE(mwst::method_reads_option(mwst::Method::kQtr, "time_budget_seconds"));
+  EXPECT_TRUE(mwst::method_reads_option(mwst::Method::kQtr, "time_budget_seconds"));
+  EXPECT_FALSE(mwst::method_reads_option(mwst::Method::kQtr, "max_area"));
   EXPECT_TRUE(mwst::method_reads_option(mwst::Method::kOpt, "opt_trials"));
   // The CLI: the refusal names the flags (exit 4, one line).
   Sandbox box;

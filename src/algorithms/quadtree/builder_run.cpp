@@ -167,8 +167,13 @@ void Builder::allocate_cell_arrays(const Mesh& mesh, support::PageFaulter& pages
 // the border and the subsegments; then carving to the domain.
 Mesh Builder::run(const std::vector<Point>& holes) {
   const auto t0 = Clock::now();
+  // (The time budget is checked between the steps, each linear in the leaves, and per chunk of
+  // cells in triangulate_cells().)
+  check_deadline(options_.deadline);
   number_vertices();
+  check_deadline(options_.deadline);
   build_loops();
+  check_deadline(options_.deadline);
   Mesh mesh;
   // The triangles are written over the nodes (NodeArray): the mesh owns their storage from here,
   // and they are read until triangulate_cells() starts.
@@ -177,7 +182,9 @@ Mesh Builder::run(const std::vector<Point>& holes) {
   ArrayHelper arrays(*this, mesh);
   arrays.start(leaves_.size() >= threaded_leaves_);
   warp();
+  check_deadline(options_.deadline);
   segments_pass();
+  check_deadline(options_.deadline);
   arrays.wait_for_vertex_arrays();
   const std::size_t steiner = give_final_ids(mesh);
   move_points_into_mesh(mesh, steiner);
@@ -189,6 +196,7 @@ Mesh Builder::run(const std::vector<Point>& holes) {
   support::release_pages(mesh.triangles.data() + mesh.triangles.size(),
                          mesh.triangles.data() + mesh.triangles.capacity());
   stats_.seconds_mesh = seconds_since(t0);
+  check_deadline(options_.deadline);
   const auto t1 = Clock::now();
   carve_to_domain(mesh, holes);
   stats_.seconds_carve = seconds_since(t1);

@@ -122,6 +122,9 @@ CleanInput clean_graph(const Pslg& pslg, const QuadtreeOptions& options, Quadtre
     const auto limit = static_cast<double>(Tree::leaf_limit(options, in.vertices.size() + in.segments.size()));
     in.leaf_lower_bound = segment_leaf_lower_bound(cdt, clip, limit);
   }
+  // Under a time budget the CDT is kept: it is the fallback a route out of time returns, which
+  // then costs no second CDT past the budget.
+  if (options.deadline != Clock::time_point::max()) in.cdt_for_fallback = std::move(cdt);
   return in;
 }
 
