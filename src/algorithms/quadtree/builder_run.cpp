@@ -187,8 +187,10 @@ Mesh Builder::run(const std::vector<Point>& holes) {
   check_deadline(options_.deadline);
   arrays.wait_for_vertex_arrays();
   const std::size_t steiner = give_final_ids(mesh);
+  check_deadline(options_.deadline);
   move_points_into_mesh(mesh, steiner);
   arrays.finish();
+  check_deadline(options_.deadline);
   assemble_cells(mesh);
   // The pages of the triangle array's room that the nodes touched past the last triangle (the
   // east lane's old block) go back to the system: the room's contents are unspecified, and a

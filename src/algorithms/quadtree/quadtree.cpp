@@ -33,6 +33,13 @@ CleanInput clean_input(const Pslg& pslg, const QuadtreeOptions& options, Quadtre
   const auto t0 = Clock::now();
   const bool graph = !pslg.segments.empty();
   CleanInput in = graph ? clean_graph(pslg, options, stats) : clean_point_set(pslg, options);
+  if (!graph && options.deadline != Clock::time_point::max()) {
+    // Under a time budget a point set's Delaunay triangulation (the fallback) is made first, as a
+    // graph's cleaning CDT is: out of time, the route then stops with its answer at hand instead of
+    // building it past the deadline.
+    bool unused = false;
+    in.cdt_for_fallback = fallback_mesh(pslg, options, {}, &unused);
+  }
   if (!graph) stats.input.duplicates = in.vertices_only.duplicates.size();
   if (!graph && !pslg.holes.empty()) {
     stats.warnings.push_back("the input has no segments, so its domain is the convex hull; " +

@@ -108,8 +108,8 @@ struct CleanInput {
   double domain_area = 0.0;              // of the input's domain (in floating point)
   std::vector<Point> hole_seeds;         // where to carve the holes (see clean_graph())
   double leaf_lower_bound = 0.0;         // leaves the tree will have at least (size_bound.cpp)
-  // A graph under a time budget (QuadtreeOptions::deadline): the cleaning CDT, which is
-  // fallback_mesh() without extra points, kept for the fallback.
+  // Under a time budget (QuadtreeOptions::deadline): fallback_mesh() without extra points, kept
+  // for the fallback (a graph's cleaning CDT; a point set's Delaunay triangulation, made first).
   std::optional<Mesh> cdt_for_fallback;
 };
 
