@@ -121,18 +121,6 @@ TEST(QuadtreeLimits, PipelineStopReasonIsTimeBudget) {
 namespace mwst_cli_test {
 namespace {
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr bool kAddressLimit = false;  // sanitizer builds set no address-space limit (limits.cpp)
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
-constexpr bool kAddressLimit = false;
-#else
-constexpr bool kAddressLimit = true;
-#endif
-#else
-constexpr bool kAddressLimit = true;
-#endif
-
 // `mwst triangulate --method qtr --time-limit`: no "has no effect" warning, the fallback's warning
 // instead, "time budget" in the report, and a mesh the independent checker accepts.
 TEST(QuadtreeLimitsCli, TimeLimitStopsQtrWithAValidMesh) {
