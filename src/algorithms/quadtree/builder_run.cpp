@@ -72,6 +72,11 @@ class Builder::ArrayHelper {
         mesh_(mesh),
         grid_room_(builder.gpos_.capacity()),
         warped_count_(builder.with_vertex_[0].size() + builder.with_vertex_[1].size()) {}
+  // (Left early — the route stopped by its time budget or a failure — the helper touches no more
+  // pages before it is joined.)
+  ~ArrayHelper() { pages_.stop(); }
+  ArrayHelper(const ArrayHelper&) = delete;
+  ArrayHelper& operator=(const ArrayHelper&) = delete;
   // Starts the helper (large trees), or allocates the vertex arrays in line.
   void start(bool threaded) {
     if (!threaded) {
