@@ -186,8 +186,9 @@ void register_triangulate(CLI::App& app, Action& action) {
   sub->add_flag("--strict", args->strict, "Refuse crossing segments instead of splitting them");
   sub->add_flag("--bundle", args->bundle, "Add the exact bundle number to the report");
   sub->add_option("--time-limit", args->time_limit,
-                  "Stop dr, brh and opt after about this many seconds in all, counted from the start of the "
-                  "run (opt: its starts, refinements and searches; --bundle: the bundle number too); the mesh is "
+                  "Stop dr, brh, qtr and opt after about this many seconds in all, counted from the start of the "
+                  "run (opt: its starts, refinements and searches; qtr: its quadtree and mesh, then the mesh is the "
+                  "constrained Delaunay triangulation of the input; --bundle: the bundle number too); the mesh is "
                   "still valid and the report's stop_reason says \"time budget\"")
       ->type_name("SECONDS")
       ->check(number_above(0.0));

@@ -45,6 +45,9 @@ class PageFaulter {
     }
   }
 
+  // Hands out no more blocks (those being populated finish): the work is no longer wanted.
+  void stop() { next_.store(blocks_.size(), std::memory_order_relaxed); }
+
  private:
   static constexpr std::uintptr_t kBlock = std::uintptr_t{1} << 21;
   std::vector<std::pair<std::uintptr_t, std::uintptr_t>> blocks_;

@@ -536,18 +536,6 @@ TEST(Cli, AreaBoundThatCannotFitIsRefusedUpFront) {
   EXPECT_EQ(ok.exit_code, 0) << describe(ok);
 }
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr bool kAddressLimit = false;  // sanitizer builds set no address-space limit (limits.cpp)
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
-constexpr bool kAddressLimit = false;
-#else
-constexpr bool kAddressLimit = true;
-#endif
-#else
-constexpr bool kAddressLimit = true;
-#endif
-
 // A run that passes the estimate but needs more than --max-memory: 1e-5 on the unit square (about
 // 1.5e5 triangles, some 20 MB of mesh, more of address space) under a budget of 40 MB stops with
 // std::bad_alloc at the address-space limit: exit code 4, one line saying what ran out and what to
@@ -1194,7 +1182,8 @@ TEST(Cli, LibraryMessagesNameFieldsAndTheCliMapsThem) {
   EXPECT_TRUE(mwst::method_reads_option(mwst::Method::kDr, "max_area"));
   EXPECT_FALSE(mwst::method_reads_option(mwst::Method::kDr, "bundle_k"));
   EXPECT_TRUE(mwst::method_reads_option(mwst::Method::kBrh, "bundle_k"));
-  EXPECT_FALSE(mwst::method_reads_option(mwst::Method::kQtr, "time_budget_seconds"));
+  EXPECT_TRUE(mwst::method_reads_option(mwst::Method::kQtr, "time_budget_seconds"));
+  EXPECT_FALSE(mwst::method_reads_option(mwst::Method::kQtr, "max_area"));
   EXPECT_TRUE(mwst::method_reads_option(mwst::Method::kOpt, "opt_trials"));
   // The CLI: the refusal names the flags (exit 4, one line).
   Sandbox box;

@@ -111,4 +111,18 @@ inline std::string describe(const Outcome& r) {
 
 inline std::string data(const std::string& name) { return std::string(MWST_DATA_DIR) + "/" + name; }
 
+// Does the binary run under an address-space limit (--max-memory)? Not in sanitizer builds
+// (src/cli/limits.cpp sets none there): tests of running out of memory skip.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+inline constexpr bool kAddressLimit = false;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
+inline constexpr bool kAddressLimit = false;
+#else
+inline constexpr bool kAddressLimit = true;
+#endif
+#else
+inline constexpr bool kAddressLimit = true;
+#endif
+
 }  // namespace mwst_cli_test

@@ -152,9 +152,9 @@ MWST_API void check_options(const TriangulateOptions& options);
 
 // Does `method` read the TriangulateOptions field named `option` ("min_angle_deg", "steiner",
 // "bundle_k", "max_area", "max_steiner", "time_budget_seconds", "exact_polish", "opt_trials")?
-// dt and qtr read none of them; dr the angle, rule and budgets; brh also bundle_k; opt all of
-// them (its BRH and DR starts, its search). Fields every method reads (flip, convex_hull,
-// strict, bundle, ...) and names not listed: true.
+// dt reads none of them, qtr only time_budget_seconds; dr the angle, rule and budgets; brh also
+// bundle_k; opt all of them (its BRH and DR starts, its search). Fields every method reads (flip,
+// convex_hull, strict, bundle, ...) and names not listed: true.
 MWST_API bool method_reads_option(Method method, std::string_view option);
 
 // What the phases of a run did beyond the common measures: the method-specific part of the report.
@@ -241,7 +241,7 @@ struct MWST_API Report {
   double max_triangle_area = 0.0;  // the largest domain triangle's area (what max_area bounds)
   // Wall-clock seconds of each phase, in the order the phases ran.
   std::vector<std::pair<std::string, double>> seconds;
-  StopReason stop;               // refinement methods only (settle_stop_reason)
+  StopReason stop;               // refinement methods (settle_stop_reason); qtr: "time budget" or none
   std::string stop_reason;       // to_string(stop)
   std::size_t duplicates = 0;    // duplicate input points merged
   std::size_t crossings = 0;     // crossing points inserted where segments cross

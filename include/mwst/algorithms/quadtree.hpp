@@ -9,12 +9,14 @@
 // has s ≤ 2·lfs; untouched cells have all angles in [26.57°, 90°]; cut cells have no proven angle
 // bound. The output is byte-identical whatever the number of threads. If the quadtree route cannot
 // finish (QuadtreeStats::fallback), the output is the CDT of the input plus the quadtree's free
-// corners: valid, without the guarantees.
+// corners: valid, without the guarantees. A route stopped by QuadtreeOptions::deadline falls back
+// to the CDT of the input alone (QuadtreeStats::out_of_time).
 // The route, the case table, the guarantees with their measurements, and the data layout:
 // docs/algorithms/quadtree.md.
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -44,6 +46,11 @@ struct QuadtreeOptions {
   // 0: two threads on large inputs (about 10^4 points and up); 1: one thread; 2: two threads
   // whatever the size (testing). The output is byte-identical in all three.
   unsigned threads = 0;
+  // The time budget: past it the route stops at its next clock check (every few thousand cells,
+  // features or work items of the tree, the mesh's chunks) and the output is the carved CDT of the
+  // input (QuadtreeStats::out_of_time). The cleaning CDT and that fallback CDT are not
+  // interrupted: a run takes at least their time. time_point::max(): no budget.
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
 };
 
 struct QuadtreeStats {
@@ -65,6 +72,7 @@ struct QuadtreeStats {
   std::size_t program_cells = 0;     // warped or cut leaves triangulated by the dynamic program
   bool fallback = false;             // the quadtree route failed; the output is the CDT of the
   std::string fallback_reason;       //   input plus the quadtree's corners (valid, no guarantees)
+  bool out_of_time = false;          // QuadtreeOptions::deadline passed: the fallback, no corners
   std::vector<std::string> warnings;
   double seconds_input = 0.0;        // cleaning (CDT or, for a point set, sort + hull)
   double seconds_tree = 0.0;         // splitting, balancing

@@ -13,7 +13,7 @@ namespace mwst {
 // Why a refinement method (dr, brh, opt) stopped, checked against the final mesh (after the flips and
 // opt's moves) and the budgets: see settle_stop_reason().
 enum class StopKind {
-  kUnset,                 // dt, qtr: no stop reason
+  kUnset,                 // dt, and qtr unless out of time: no stop reason
   kBoundReached,          // every triangle meets the angle and area bounds ("bound reached")
   kSmallInputAngles,      // all but `count` triangles next to input angles under 60° do
   kSteinerBudget,         // max_steiner ran out first

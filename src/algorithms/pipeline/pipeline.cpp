@@ -319,8 +319,8 @@ bool method_reads_option(Method method, std::string_view option) {
   const bool optimiser = option == "exact_polish" || option == "opt_trials";
   if (!refinement && !bundle_size && !optimiser) return true;
   switch (method) {
-    case Method::kDt:
-    case Method::kQtr: return false;
+    case Method::kDt: return false;
+    case Method::kQtr: return option == "time_budget_seconds";
     case Method::kDr: return refinement;
     case Method::kBrh: return refinement || bundle_size;
     case Method::kOpt: return true;
@@ -361,14 +361,16 @@ void check_method_supports_options(const Pslg& pslg, const TriangulateOptions& o
 }
 
 // Quadtree refinement (include/mwst/algorithms/quadtree.hpp): phases "input", "quadtree", "mesh",
-// "carve". It cleans the input with the CDT itself.
-Mesh quadtree_phase(const Pslg& pslg, const TriangulateOptions& options, Report& report) {
+// "carve". It cleans the input with the CDT itself. Out of time it returns the carved CDT of the
+// input, and the stop reason is "time budget".
+Mesh quadtree_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::time_point start, Report& report) {
   QuadtreeOptions quadtree_options;
   quadtree_options.convex_hull = options.convex_hull;
   quadtree_options.strict = options.strict;
   quadtree_options.max_leaves = options.quadtree_max_leaves;
   // QuadtreeOptions::threads: 1 is one thread, 0 two on large inputs (its most).
   quadtree_options.threads = options.threads == 1 ? 1u : 0u;
+  quadtree_options.deadline = detail::deadline_after(start, options.time_budget_seconds);
   QuadtreeStats qs;
   Mesh mesh = quadtree_refinement(pslg, quadtree_options, &qs);
   report.seconds.emplace_back("input", qs.seconds_input);
@@ -387,6 +389,7 @@ Mesh quadtree_phase(const Pslg& pslg, const TriangulateOptions& options, Report&
   for (std::string& w : qs.input.warnings) report.warnings.push_back(std::move(w));
   for (std::string& w : qs.warnings) report.warnings.push_back(std::move(w));
   report.qtr = QuadtreeSummary{qs.leaves, qs.depth, qs.warped, qs.snapped, qs.crossings, qs.centres, qs.fallback};
+  if (qs.out_of_time) report.stop.kind = StopKind::kTimeBudget;
   return mesh;
 }
 
@@ -472,7 +475,7 @@ Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* ou
       break;
     case Method::kQtr:
       announce(options, start, "quadtree", phase_number++, phases);
-      mesh = quadtree_phase(pslg, options, report);
+      mesh = quadtree_phase(pslg, options, start, report);
       break;
     case Method::kOpt:
       announce(options, start, "optimize", phase_number++, phases);

@@ -200,11 +200,14 @@ class Builder {
     });
   }
   // Calls visit(k, loop, s, a, b) for every leaf k in `near` (its loop read once, before the
-  // visits) and every segment s = ab of k's feature list.
+  // visits) and every segment s = ab of k's feature list. (The time budget is checked here: these
+  // passes are most of segments_pass().)
   template <class Visit>
   void for_each_leaf_segment(const std::vector<std::uint32_t>& near, Visit&& visit) const {
     const std::uint32_t nv = tree_.vertex_count();
-    for (const std::uint32_t k : near) {
+    for (std::size_t i_near = 0; i_near < near.size(); ++i_near) {
+      check_deadline_at(i_near, options_.deadline);
+      const std::uint32_t k = near[i_near];
       const Node& n = tree_.nodes[leaves_[k]];
       const std::array<std::uint32_t, 8> loop = loop_of(k);
       for (std::uint32_t i = 0; i < n.feat_count; ++i) {

@@ -27,6 +27,7 @@ std::size_t Builder::own_storage_bytes() const {
 void Builder::number_vertices() {
   tree_.lend_dead_room(spare_);
   leaves_ = tree_.leaves_in_order();
+  check_deadline(options_.deadline);
   // (The two largest borrowers first: the regions lent so far are the tree's dead blocks.)
   west_south_ = make_spare_array<std::array<std::uint32_t, 2>>(spare_, leaves_.size());
   leaf_shape_ = make_spare_array<std::uint16_t>(spare_, leaves_.size());
@@ -43,6 +44,7 @@ void Builder::number_vertices() {
     split_pairs.clear();
     if (begin != 0) split_half_ = begin;
     for (std::size_t k = begin; k < end; ++k) {
+      check_deadline_at(k - begin, options_.deadline);
       prefetch_neighbours(k, end, 2, 3);  // west, south
       own_vertices_of_leaf(k, split_pairs);
     }
@@ -53,6 +55,7 @@ void Builder::number_vertices() {
     next += bits_in_byte(own_mask_[k]);
   }
   grid_count_ = next;
+  check_deadline(options_.deadline);
   gpos_.clear();
   // (Room for the crossing points and centres made later, and for the duplicate input points: the
   // array becomes the mesh's points in run(), without being copied.)
@@ -178,6 +181,7 @@ void Builder::build_loops() {
     const std::uint32_t lo = own_base_[begin], hi = end == leaf_count ? grid_count_ : own_base_[end];
     auto& later = across_halves[half];
     for (auto k = static_cast<std::uint32_t>(begin); k < end; ++k) {
+      check_deadline_at(k - begin, options_.deadline);
       prefetch_neighbours(k, end, 0, 1);  // east, north
       const std::uint32_t a = leaves_[k];
       const Node& n = tree_.nodes[a];

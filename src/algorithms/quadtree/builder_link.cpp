@@ -147,6 +147,8 @@ void Builder::write_chunks(Mesh& mesh, ChunkSchedule& schedule, unsigned t) {
   };
   std::uint32_t pending = kNone;
   for (std::uint32_t c = t; c < schedule.chunks; c += schedule.thread_count) {
+    // (Out of time on two threads: both stop, and the redo on one stops at its first chunk.)
+    check_deadline(options_.deadline);
     const std::uint32_t begin = c * kCellChunk, end = std::min(leaf_count, begin + kCellChunk);
     std::size_t next_crossing = static_cast<std::size_t>(
         std::lower_bound(crossings_.begin(), crossings_.end(), begin,

@@ -72,6 +72,11 @@ class Builder::ArrayHelper {
         mesh_(mesh),
         grid_room_(builder.gpos_.capacity()),
         warped_count_(builder.with_vertex_[0].size() + builder.with_vertex_[1].size()) {}
+  // (Left early — the route stopped by its time budget or a failure — the helper touches no more
+  // pages before it is joined.)
+  ~ArrayHelper() { pages_.stop(); }
+  ArrayHelper(const ArrayHelper&) = delete;
+  ArrayHelper& operator=(const ArrayHelper&) = delete;
   // Starts the helper (large trees), or allocates the vertex arrays in line.
   void start(bool threaded) {
     if (!threaded) {
@@ -167,8 +172,13 @@ void Builder::allocate_cell_arrays(const Mesh& mesh, support::PageFaulter& pages
 // the border and the subsegments; then carving to the domain.
 Mesh Builder::run(const std::vector<Point>& holes) {
   const auto t0 = Clock::now();
+  // (The time budget is checked between the steps, each linear in the leaves, and per chunk of
+  // cells in triangulate_cells().)
+  check_deadline(options_.deadline);
   number_vertices();
+  check_deadline(options_.deadline);
   build_loops();
+  check_deadline(options_.deadline);
   Mesh mesh;
   // The triangles are written over the nodes (NodeArray): the mesh owns their storage from here,
   // and they are read until triangulate_cells() starts.
@@ -177,11 +187,15 @@ Mesh Builder::run(const std::vector<Point>& holes) {
   ArrayHelper arrays(*this, mesh);
   arrays.start(leaves_.size() >= threaded_leaves_);
   warp();
+  check_deadline(options_.deadline);
   segments_pass();
+  check_deadline(options_.deadline);
   arrays.wait_for_vertex_arrays();
   const std::size_t steiner = give_final_ids(mesh);
+  check_deadline(options_.deadline);
   move_points_into_mesh(mesh, steiner);
   arrays.finish();
+  check_deadline(options_.deadline);
   assemble_cells(mesh);
   // The pages of the triangle array's room that the nodes touched past the last triangle (the
   // east lane's old block) go back to the system: the room's contents are unspecified, and a
@@ -189,6 +203,7 @@ Mesh Builder::run(const std::vector<Point>& holes) {
   support::release_pages(mesh.triangles.data() + mesh.triangles.size(),
                          mesh.triangles.data() + mesh.triangles.capacity());
   stats_.seconds_mesh = seconds_since(t0);
+  check_deadline(options_.deadline);
   const auto t1 = Clock::now();
   carve_to_domain(mesh, holes);
   stats_.seconds_carve = seconds_since(t1);

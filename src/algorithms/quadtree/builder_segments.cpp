@@ -30,6 +30,7 @@ void Builder::segments_pass() {
   corners_on_segments(near);
   snap_corners_to_segments(near);
   add_crossing_points(near);
+  check_deadline(options_.deadline);
   build_chains();
 }
 

@@ -18,6 +18,35 @@
 
 namespace mwst::qtr {
 
+// ==== the size bound's call begins here ==========================================================
+
+namespace {
+
+// The leaves the tree needs at least along the segments (size_bound.cpp), from a CDT whose segments
+// are the clean input's (or some of them) and whose vertices are features: its witnesses are then
+// features of the input. The clip is at least the deepest cells' size: the root's side is at most
+// four times the input's span, the span of in.vertices in `points`. (It stops once past the leaf
+// limit.)
+double leaf_bound(const Mesh& cdt, const std::vector<Point>& points, const CleanInput& in,
+                  const QuadtreeOptions& options) {
+  if (in.segments.empty()) return 0.0;
+  double xmin = std::numeric_limits<double>::infinity(), ymin = xmin, xmax = -xmin, ymax = -xmin;
+  for (VertexId v : in.vertices) {
+    xmin = std::min(xmin, points[v].x);
+    xmax = std::max(xmax, points[v].x);
+    ymin = std::min(ymin, points[v].y);
+    ymax = std::max(ymax, points[v].y);
+  }
+  const int deepest = static_cast<int>(std::min(options.max_depth, 52u));
+  const double clip = std::ldexp(4.0 * std::max(xmax - xmin, ymax - ymin), -deepest);
+  const auto limit = static_cast<double>(Tree::leaf_limit(options, in.vertices.size() + in.segments.size()));
+  return segment_leaf_lower_bound(cdt, clip, limit);
+}
+
+}  // namespace
+
+// ==== the size bound's call ends here ============================================================
+
 // ==== a graph begins here ========================================================================
 
 // The centroid of finite triangle t of m, if it lies strictly inside t (exact orient2d; the
@@ -106,22 +135,10 @@ CleanInput clean_graph(const Pslg& pslg, const QuadtreeOptions& options, Quadtre
       in.segments.push_back({a, b, 1, true});
     }
   }
-  // The leaves the tree needs at least along the segments (size_bound.cpp). The clip is at least
-  // the deepest cells' size: the root's side is at most four times the input's span. (It stops
-  // once past the leaf limit.)
-  double xmin = std::numeric_limits<double>::infinity(), ymin = xmin, xmax = -xmin, ymax = -xmin;
-  for (VertexId v : in.vertices) {
-    xmin = std::min(xmin, cdt.points[v].x);
-    xmax = std::max(xmax, cdt.points[v].x);
-    ymin = std::min(ymin, cdt.points[v].y);
-    ymax = std::max(ymax, cdt.points[v].y);
-  }
-  if (!in.segments.empty()) {
-    const int deepest = static_cast<int>(std::min(options.max_depth, 52u));
-    const double clip = std::ldexp(4.0 * std::max(xmax - xmin, ymax - ymin), -deepest);
-    const auto limit = static_cast<double>(Tree::leaf_limit(options, in.vertices.size() + in.segments.size()));
-    in.leaf_lower_bound = segment_leaf_lower_bound(cdt, clip, limit);
-  }
+  in.leaf_lower_bound = leaf_bound(cdt, cdt.points, in, options);
+  // Under a time budget the CDT is kept: it is the fallback a route out of time returns, which
+  // then costs no second CDT past the budget.
+  if (options.deadline != Clock::time_point::max()) in.cdt_for_fallback = std::move(cdt);
   return in;
 }
 
@@ -292,6 +309,25 @@ std::vector<std::vector<VertexId>> points_on_hull_edges(const std::vector<Point>
 
 }  // namespace
 
+// The size bound of a point set, along its hull edges (the segments of the clean input): from the
+// CDT of the hull polygon alone (its vertices and the points on its edges), whose witnesses — hull
+// vertices and hull edges — are features of the input; the interior points, left out, could only
+// raise the bound (size_bound.cpp: every feature that does not touch a segment is a witness). A
+// long thin strip of points, whose hull edges run close, is refused before the tree is built.
+// O(h log h) for h points on the hull.
+namespace {
+double hull_leaf_bound(const CleanInput& in, const QuadtreeOptions& options) {
+  const std::vector<Point>& p = in.vertices_only.points;
+  Pslg polygon;
+  polygon.is_poly = true;
+  polygon.points.reserve(in.segments.size());
+  for (const FeatureSegment& s : in.segments) polygon.points.push_back(p[s.a]);  // (a closed chain)
+  const auto h = static_cast<VertexId>(polygon.points.size());
+  for (VertexId k = 0; k < h; ++k) polygon.segments.push_back({k, k + 1 == h ? 0 : k + 1, 1});
+  return leaf_bound(constrained_delaunay(polygon, ConstrainOptions{}), p, in, options);
+}
+}  // namespace
+
 // A point set: duplicates by sorting, the convex hull by Andrew's monotone chain (exact), and the
 // input points lying on hull edges inserted into them (the hull edges are the domain boundary, and
 // a feature segment must not contain a vertex). O(n log n); the Delaunay triangulation of the CDT
@@ -338,6 +374,7 @@ CleanInput clean_point_set(const Pslg& pslg, const QuadtreeOptions& options) {
   for (VertexId v = 0; v < n; ++v) {
     if (m.vertex_kind[v] != VertexKind::kDuplicate) in.vertices.push_back(v);
   }
+  in.leaf_lower_bound = hull_leaf_bound(in, options);
   return in;
 }
 

@@ -22,7 +22,7 @@ namespace mwst::qtr {
 // domain are taken: the domain, its segments and their crossing points stay exactly the CDT's
 // (taking the points as input points of a new CDT changed the segments' rounded crossings, and
 // with them the domain, on inputs whose segments overlap and cross many times).
-Mesh fallback_mesh(const Pslg& pslg, const QuadtreeOptions& options, std::vector<Point> extra) {
+Mesh fallback_mesh(const Pslg& pslg, const QuadtreeOptions& options, std::vector<Point> extra, bool* out_of_time) {
   ConstrainOptions constrain;
   constrain.strict = options.strict;
   constrain.convex_hull = options.convex_hull;
@@ -37,8 +37,13 @@ Mesh fallback_mesh(const Pslg& pslg, const QuadtreeOptions& options, std::vector
   std::size_t left_count = 0;
   const std::vector<std::uint32_t> order = insertion_order::hilbert_order(extra, &left_count, false);
   Handle hint = kNone;
-  for (const std::uint32_t k : order) {
-    const Point& p = extra[k];
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    // (Past the time budget the mesh as it stands is the answer: every insertion keeps it valid.)
+    if (i % kClockStride == 0 && options.deadline != Clock::time_point::max() && Clock::now() >= options.deadline) {
+      *out_of_time = true;
+      break;
+    }
+    const Point& p = extra[order[i]];
     if (!in_supported_range(p)) continue;  // a grid corner finer than the range (see quadtree.cpp)
     const Location at = m.locate(p, hint);
     hint = at.handle;

@@ -2,12 +2,13 @@
 // balanced quadtree, build the mesh from its leaves, drop the corners outside the domain; if any
 // step fails (features closer than the deepest level separates, rounding at the scale of an ulp,
 // a tree beyond the leaf limit), the fallback: the CDT of the input plus the quadtree's free
-// corners. The steps and their files are listed in route.hpp; docs/algorithms/quadtree.md explains
+// corners; if the time budget (QuadtreeOptions::deadline) runs out, the CDT alone. The steps and their files are listed in route.hpp; docs/algorithms/quadtree.md explains
 // the method, its guarantees and its data layout.
 #include "mwst/algorithms/quadtree.hpp"
 
 #include <cstdint>
 #include <cstdio>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -32,6 +33,13 @@ CleanInput clean_input(const Pslg& pslg, const QuadtreeOptions& options, Quadtre
   const auto t0 = Clock::now();
   const bool graph = !pslg.segments.empty();
   CleanInput in = graph ? clean_graph(pslg, options, stats) : clean_point_set(pslg, options);
+  if (!graph && options.deadline != Clock::time_point::max()) {
+    // Under a time budget a point set's Delaunay triangulation (the fallback) is made first, as a
+    // graph's cleaning CDT is: out of time, the route then stops with its answer at hand instead of
+    // building it past the deadline.
+    bool unused = false;
+    in.cdt_for_fallback = fallback_mesh(pslg, options, {}, &unused);
+  }
   if (!graph) stats.input.duplicates = in.vertices_only.duplicates.size();
   if (!graph && !pslg.holes.empty()) {
     stats.warnings.push_back("the input has no segments, so its domain is the convex hull; " +
@@ -91,6 +99,7 @@ Mesh quadtree_route(const CleanInput& in, const QuadtreeOptions& options, const 
   Mesh mesh;
   const auto t1 = Clock::now();
   try {
+    check_deadline(options.deadline);  // (the cleaning CDT may have used it all)
     Tree tree(in, options, stats);
     tree.build();
     tree.finish();
@@ -100,6 +109,7 @@ Mesh quadtree_route(const CleanInput& in, const QuadtreeOptions& options, const 
     stats.leaves = tree.leaf_count();
     stats.depth = tree.deepest();
     if (switches.keep_leaves && leaves != nullptr) collect_leaves(tree, *leaves);
+    const auto t_mesh = Clock::now();
     Builder builder(in, options, stats, tree);
     // The free corners for the fallback read the tree's nodes; once those went with the mesh
     // (NodeArray), from the same tree built again (the build is deterministic).
@@ -116,7 +126,9 @@ Mesh quadtree_route(const CleanInput& in, const QuadtreeOptions& options, const 
     } catch (const RouteFailure& failure) {
       stats.fallback = true;
       stats.fallback_reason = failure.reason;
+      stats.out_of_time = failure.out_of_time;
       if (failure.corners_usable) extra = corners();
+      stats.seconds_mesh = seconds_since(t_mesh);  // (the builder's time until it gave up)
     } catch (const InternalError& error) {
       // A broken invariant on the quadtree route (a bug; the tests assert no fallback on their
       // inputs): the user still gets a valid mesh, with a warning naming the invariant.
@@ -127,6 +139,7 @@ Mesh quadtree_route(const CleanInput& in, const QuadtreeOptions& options, const 
   } catch (const RouteFailure& failure) {  // from the tree: its time until it gave up
     stats.fallback = true;
     stats.fallback_reason = failure.reason;
+    stats.out_of_time = failure.out_of_time;
     stats.seconds_tree = seconds_since(t1);
   }
   return mesh;
@@ -147,13 +160,24 @@ Mesh refine_with_switches(const Pslg& pslg, const QuadtreeOptions& options, cons
   std::vector<Point> extra;
   Mesh mesh = quadtree_route(in, options, switches, holes, stats, leaves, extra);
   if (stats.fallback) {
+    std::optional<Mesh> cdt = std::move(in.cdt_for_fallback);
     in = CleanInput{};  // (the fallback builds its own CDT: the clean input's memory goes first)
     const auto t2 = Clock::now();
     stats.warnings.push_back("quadtree refinement fell back to the constrained Delaunay triangulation "
                              "of the input" + std::string(extra.empty() ? "" : " plus quadtree corners") + ": " +
                              stats.fallback_reason);
-    mesh = fallback_mesh(pslg, options, std::move(extra));
-    stats.seconds_mesh = seconds_since(t2);
+    bool corners_cut_short = false;
+    if (cdt && extra.empty()) {
+      mesh = std::move(*cdt);  // (the same mesh as fallback_mesh()'s, made once)
+    } else {
+      cdt.reset();
+      mesh = fallback_mesh(pslg, options, std::move(extra), &corners_cut_short);
+    }
+    if (corners_cut_short) {
+      stats.out_of_time = true;
+      stats.warnings.push_back("the time budget ran out while the fallback added quadtree corners: some were left out");
+    }
+    stats.seconds_mesh += seconds_since(t2);
   }
   if (stats_out) *stats_out = std::move(stats);
   return mesh;

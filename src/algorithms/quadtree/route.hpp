@@ -66,7 +66,25 @@ inline std::size_t threads_from(const QuadtreeOptions& options, std::size_t larg
 struct RouteFailure {
   std::string reason;
   bool corners_usable = true;  // the fallback may add the quadtree's free corners
+  bool out_of_time = false;    // QuadtreeOptions::deadline passed (check_deadline())
 };
+
+// ---- the time budget ------------------------------------------------------------------------------
+
+// QuadtreeOptions::deadline, checked by the route's long loops between their steps and every
+// kClockStride items (a clock read costs about 20 ns; a stride of items at least a few hundred
+// microseconds): past it, RouteFailure with out_of_time, and the caller falls back to the CDT
+// alone (no corners: the tree is half built).
+inline constexpr std::size_t kClockStride = 4096;
+inline void check_deadline(Clock::time_point deadline) {
+  if (deadline == Clock::time_point::max() || Clock::now() < deadline) return;
+  throw RouteFailure{"the time budget ran out", /*corners_usable=*/false,
+                     /*out_of_time=*/true};
+}
+// The check on item i of a loop: every kClockStride-th item only.
+inline void check_deadline_at(std::size_t i, Clock::time_point deadline) {
+  if (i % kClockStride == 0) check_deadline(deadline);
+}
 
 // Points the route puts on segments (crossings, snapped corners) are rounded, up to half an ulp off
 // the segment's line; the domain's boundary moves with them, by at most the sum of each subsegment's
@@ -90,6 +108,9 @@ struct CleanInput {
   double domain_area = 0.0;              // of the input's domain (in floating point)
   std::vector<Point> hole_seeds;         // where to carve the holes (see clean_graph())
   double leaf_lower_bound = 0.0;         // leaves the tree will have at least (size_bound.cpp)
+  // Under a time budget (QuadtreeOptions::deadline): fallback_mesh() without extra points, kept
+  // for the fallback (a graph's cleaning CDT; a point set's Delaunay triangulation, made first).
+  std::optional<Mesh> cdt_for_fallback;
 };
 
 // A PSLG with segments: its CDT resolves duplicates, vertices on segments and crossings; the
@@ -108,8 +129,9 @@ std::optional<Point> inner_centroid(const Mesh& m, TriangleId t);
 
 // ---- after the route (fallback.cpp) ---------------------------------------------------------------
 
-// The carved CDT of the input plus `extra` Steiner points inserted strictly inside its domain.
-Mesh fallback_mesh(const Pslg& pslg, const QuadtreeOptions& options, std::vector<Point> extra);
+// The carved CDT of the input plus `extra` Steiner points inserted strictly inside its domain;
+// past options.deadline the rest of `extra` is left out and *out_of_time is set.
+Mesh fallback_mesh(const Pslg& pslg, const QuadtreeOptions& options, std::vector<Point> extra, bool* out_of_time);
 // The vertices the output keeps: the input points and the corners of the domain's triangles.
 std::vector<char> kept_vertices(const Mesh& m);
 // The first kept vertex outside the supported coordinate range, or kNone.

@@ -86,6 +86,12 @@ double integral_lower_bound(const Point& p, const Point& q, const Witness& g, do
   const double length = distance(p, q);
   const auto at = [&](double t) { return Point{p.x + t * (q.x - p.x), p.y + t * (q.y - p.y)}; };
   const auto upper = [&](const Point& x) { return std::max(point_distance(x, g) * (1.0 + 1e-9) + slack(scale), clip); };
+  // (At most kMaxSplits splits per call: where the rounding slack is as large as the distances —
+  // features a few units apart at coordinates of 1e15 — far never comes within 3/2 of near, and
+  // the bisection to depth 60 would visit 2^60 pieces. Every piece counted as it stands is a lower
+  // bound on its part of the integral.)
+  constexpr std::size_t kMaxSplits = 4096;
+  std::size_t splits = 0;
   std::array<Piece, 128> stack;
   std::size_t top = 0;
   stack[top++] = {0.0, 1.0, upper(p), upper(q), 0};
@@ -94,10 +100,11 @@ double integral_lower_bound(const Point& p, const Point& q, const Witness& g, do
     const Piece piece = stack[--top];
     const double far = std::max(piece.d0, piece.d1);
     const double near = std::max(piece_distance(at(piece.t0), at(piece.t1), g), clip);
-    if (far <= 1.5 * near || piece.depth >= 60 || top + 2 > stack.size()) {
+    if (far <= 1.5 * near || piece.depth >= 60 || top + 2 > stack.size() || splits >= kMaxSplits) {
       sum += length * (piece.t1 - piece.t0) / far;
       continue;
     }
+    ++splits;
     const double tm = 0.5 * (piece.t0 + piece.t1), dm = upper(at(tm));
     stack[top++] = {piece.t0, tm, piece.d0, dm, piece.depth + 1};
     stack[top++] = {tm, piece.t1, dm, piece.d1, piece.depth + 1};

@@ -520,6 +520,7 @@ class Tree {
   unsigned max_level_;
   QuadtreeStats& stats_;
   std::size_t max_leaves_;
+  Clock::time_point deadline_;                       // QuadtreeOptions::deadline (check_deadline())
   double x0_ = 0.0, y0_ = 0.0;
   int exponent_ = 0;
   std::array<double, 64> step_{};  // cell size at each level

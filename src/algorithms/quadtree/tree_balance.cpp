@@ -45,6 +45,7 @@ void Tree::finish() {
       [&](std::size_t half, std::size_t begin, std::size_t end) {
     std::vector<std::uint32_t>& count = leaves_per_column[half];
     for (auto a = static_cast<std::uint32_t>(begin); a < end; ++a) {
+      check_deadline_at(a - begin, deadline_);
       if (!is_leaf(a)) continue;
       ++count[lane_column_of(nodes[a])];
       fails[a] = fails_check(a) ? 1 : 0;
@@ -212,7 +213,8 @@ bool Tree::fails_check(std::uint32_t a) const {
 // Works through the lane's list, last in first out (what it touches stays in cache). A region
 // lane that runs out of room defers the rest of its list.
 void Tree::run(Lane& lane) {
-  while (!lane.work.empty()) {
+  for (std::size_t checks = 0; !lane.work.empty(); ++checks) {
+    check_deadline_at(checks, deadline_);  // (both region lanes check: each stops on its own)
     if (lane.full) {
       lane.deferred.insert(lane.deferred.end(), lane.work.begin(), lane.work.end());
       lane.work.clear();

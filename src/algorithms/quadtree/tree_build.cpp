@@ -18,7 +18,7 @@ namespace mwst::qtr {
 Tree::Tree(const CleanInput& in, const QuadtreeOptions& options, QuadtreeStats& stats)
     : in_(in), pts_(in.vertices_only.points), nv_(static_cast<std::uint32_t>(pts_.size())),
       max_level_(std::min(options.max_depth, 52u)), stats_(stats),
-      max_leaves_(leaf_limit(options, in.vertices.size() + in.segments.size())),
+      max_leaves_(leaf_limit(options, in.vertices.size() + in.segments.size())), deadline_(options.deadline),
       threaded_items_(threads_from(options, 8192)), threaded_nodes_(threads_from(options, 65536)) {
   // Root: a power-of-two square at least twice the bounding box, its corner aligned to 1/16 of
   // its side, so every vertex lies at least 3/16 of the root inside it: a warp target or a corner
@@ -180,6 +180,7 @@ void Tree::build() {
   // the old one is copied and freed; unused room is never touched.)
   reserve_room(level.half[1].pool, 8 * feature_count + 64);
   while (!level.frontier.empty()) {
+    check_deadline(deadline_);
     decide_splits(level);
     place_level(level);
     fill_level(level);
@@ -197,6 +198,7 @@ void Tree::decide_splits(Level& level) const {
   support::parallel_ranges(workers_for(count, threaded_items_), count,
       [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
+      check_deadline_at(i - begin, deadline_);
       const Item& item = level.frontier[i];
       const Node& n = nodes[item.node];
       level.splits[i] =
@@ -247,6 +249,7 @@ void Tree::fill_level(Level& level) {
     std::vector<std::uint32_t>& lists_out = begin == 0 ? level.next_pool : out.pool;
     bool first_split = true;
     for (std::size_t i = begin; i < end; ++i) {
+      check_deadline_at(i - begin, deadline_);
       // (A split reads the nodes its hints name, scattered over the level above: they are
       // fetched a few items ahead.)
       if (i + kLookAhead < end && level.splits[i + kLookAhead]) {

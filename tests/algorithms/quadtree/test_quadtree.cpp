@@ -798,17 +798,31 @@ TEST(Quadtree, SliversThinnerThanRoundingFallBackToTheInputAlone) {
   }
 }
 
-// A strip 3.4e15 long and 10-30 wide needs about 1e14 leaves: the route stops at the leaf limit
-// and falls back (it hung).
+// A strip 3.4e15 long and 10-30 wide needs about 1e14 leaves: the route falls back (it hung). The
+// size bound of its hull edges refuses it before the build (point sets had no size bound; the
+// bound's bisection itself then ran away here, where the rounding slack of 1e15 coordinates is as
+// large as the distances); without the bound the route stops at the leaf limit.
 TEST(Quadtree, AStripTooLongForItsWidthFallsBackAtTheLeafLimit) {
   const Pslg g = test::read_regression("qtr_strip_too_long_for_its_width.node");
   const Result r = run(g, {});
   EXPECT_TRUE(r.stats.fallback);
-  EXPECT_EQ(r.stats.fallback_reason,
-            "the quadtree would need more than 1048576 leaves (features very close for their extent, as "
-            "in a long thin strip)");
+  EXPECT_EQ(r.stats.fallback_reason.rfind(
+                "the quadtree would need more than 1048576 leaves (features very close for their extent, as "
+                "in a long thin strip; at least ",
+                0),
+            0u)
+      << r.stats.fallback_reason;
+  EXPECT_EQ(r.stats.leaves, 0u) << "no tree built";
   check_output(g, r, /*expect_no_fallback=*/false);
   EXPECT_EQ(r.mesh.points.size(), 6u) << "no corners added";
+  qtr::TestSwitches no_bound;
+  no_bound.skip_size_bound = true;
+  const Result built = run(g, {}, no_bound);
+  EXPECT_EQ(built.stats.fallback_reason,
+            "the quadtree would need more than 1048576 leaves (features very close for their extent, as "
+            "in a long thin strip)");
+  EXPECT_EQ(built.mesh.points, r.mesh.points);
+  EXPECT_EQ(built.mesh.triangles.size(), r.mesh.triangles.size());
 }
 
 // The limit is an option: a data set that needs 14 482 leaves goes the quadtree route with the

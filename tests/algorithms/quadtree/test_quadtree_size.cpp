@@ -123,6 +123,42 @@ TEST(QuadtreeSizeBound, NeverExceedsTheLeavesMeetingSegments) {
   }
 }
 
+// Point sets: the bound from the hull polygon's CDT (clean_input.cpp, hull_leaf_bound) never
+// exceeds the leaves that meet the hull edges, on uniform points, points on a circle (every point
+// a hull vertex) and a thin strip of points (hull edges 0.002 apart along a length of 1).
+TEST(QuadtreeSizeBound, PointSetsBoundNeverExceedsTheLeavesMeetingTheHull) {
+  std::vector<std::pair<std::string, Pslg>> cases = {
+      {"uniform 2000", generate_input(Distribution::kUniform, 2000, 1)},
+      {"circle 2000", generate_input(Distribution::kCircle, 2000, 1)},
+  };
+  Pslg strip;
+  for (const Point& p : generate_points(Distribution::kUniform, 400, 2)) strip.points.push_back({p.x, 0.002 * p.y});
+  cases.emplace_back("strip of points", strip);
+  for (const auto& [name, g] : cases) {
+    SCOPED_TRACE(name);
+    const qtr::CleanInput in = qtr::clean_point_set(g, QuadtreeOptions{});
+    QuadtreeStats stats;
+    std::vector<qtr::QuadtreeLeaf> leaves;
+    qtr::TestSwitches switches;
+    switches.keep_leaves = true;
+    qtr::refine_with_switches(g, QuadtreeOptions{}, switches, &stats, &leaves);
+    ASSERT_FALSE(stats.fallback);
+    const std::vector<Point>& p = in.vertices_only.points;
+    std::size_t on_hull = 0;
+    for (const qtr::QuadtreeLeaf& leaf : leaves) {
+      for (const qtr::FeatureSegment& s : in.segments) {
+        if (meets(p[s.a], p[s.b], leaf.x, leaf.y, leaf.size)) {
+          ++on_hull;
+          break;
+        }
+      }
+    }
+    EXPECT_GT(in.leaf_lower_bound, 0.0);
+    EXPECT_LE(in.leaf_lower_bound, static_cast<double>(on_hull));
+    RecordProperty(name, std::to_string(static_cast<double>(on_hull) / in.leaf_lower_bound));
+  }
+}
+
 // `mwst generate fan 2002`: 1,000 spikes of 0.01° out to radius 1 from radius 1e-3. Its tree needs
 // hundreds of millions of leaves; the bound (8.4 million) exceeds the limit (2 million), so the route
 // falls back to the CDT without building any of it (before the bound: 6.5 s and 220 MB to reach
