@@ -104,9 +104,10 @@ class BucketQueue {
 // off-center takes the fan again, one ring after the other: Θ(m) per point. The circumcenter of a
 // fan triangle is the ring's centre; it takes the fan once and leaves a wheel, whose triangles
 // have circles through the centre, and points near the ring then meet only a few of them.
-// Refining 1M points on a circle at 20°: 105M cavity triangles in all and 55 s without the limit,
-// 21M and 5 s with it. The largest off-center cavity in the refinements of the 13 data sets has
-// 335 triangles (dr, bundle removal and opt, Table 1, Figure 3), so their meshes are unchanged.
+// Refining 1M points on a circle at 20°: 105M cavity triangles in all and 55 s of CPU for the
+// refinement without the limit, 21M and 5 s with it. The largest off-center cavity in the
+// refinements of the 13 data sets has 335 triangles (dr, bundle removal and opt, Table 1,
+// Figure 3), so their meshes are unchanged. docs/algorithms/refine.md, "Large cavities".
 inline constexpr std::size_t kOffCenterCavityLimit = 1024;
 inline constexpr std::size_t kNoCavityLimit = ~std::size_t{0};
 
