@@ -96,18 +96,19 @@ class BucketQueue {
   std::size_t size_ = 0;
 };
 
-// An off-center whose Bowyer–Watson cavity passes this many triangles is not inserted: its triangle
-// gets its circumcenter instead (Refiner::split_at_circumcenter). All the triangles of a fan of m
-// nearly cocircular points (the Delaunay triangulation of points on a circle, and each ring of
-// off-centers inside it) have nearly one circumcircle, so any point inside it near the ring takes
-// the whole fan, and shortest-edge-first takes the triangle beside the newest point, whose
-// off-center takes the fan again, one ring after the other: Θ(m) per point. The circumcenter of a
-// fan triangle is the ring's centre; it takes the fan once and leaves a wheel, whose triangles
-// have circles through the centre, and points near the ring then meet only a few of them.
-// Refining 1M points on a circle at 20°: 105M cavity triangles in all and 55 s of CPU for the
-// refinement without the limit, 21M and 5 s with it. The largest off-center cavity in the
-// refinements of the 13 data sets has 335 triangles (dr, bundle removal and opt, Table 1,
-// Figure 3), so their meshes are unchanged. docs/algorithms/refine.md, "Large cavities".
+// An off-center whose Bowyer–Watson cavity passes this many triangles, if that cavity is one fan of
+// nearly cocircular points (Refiner::cavity_is_one_fan), is not inserted: its triangle gets its
+// circumcenter instead (Refiner::split_at_circumcenter). All the triangles of such a fan (the
+// Delaunay triangulation of points on a circle, and each ring of off-centers inside it) have
+// nearly one circumcircle, so any point inside it near the ring takes the whole fan, and
+// shortest-edge-first takes the triangle beside the newest point, whose off-center takes the fan
+// again, one ring after the other: Θ(m) per point. The circumcenter of a fan triangle is the
+// ring's centre; it takes the fan once and leaves a wheel, whose triangles have circles through
+// the centre, and points near the ring then meet only a few of them. Refining 1M points on a
+// circle at 20°: 105M cavity triangles in all and 55 s of CPU for the refinement without the
+// limit, 33M and 5 s with it. The largest off-center cavity in the refinements of the 13 data sets
+// has 335 triangles (dr, bundle removal and opt, Table 1, Figure 3), so their meshes are
+// unchanged. docs/algorithms/refine.md, "Large cavities".
 inline constexpr std::size_t kOffCenterCavityLimit = 1024;
 inline constexpr std::size_t kNoCavityLimit = ~std::size_t{0};
 
@@ -171,6 +172,7 @@ class Refiner {
   void split_triangle(TriangleId t, const Eval& ev);
   void split_at_circumcenter(TriangleId t, const Eval& ev, const Point& offcenter, TriangleId t0);
   void split_pending_for(TriangleId t, const Eval& ev);
+  bool cavity_is_one_fan(TriangleId t, const Eval& ev) const;
   void split_at_centroid(TriangleId t, const Eval& ev);
 
   // ---- walking and inserting -------------------------------------------------------------------

@@ -88,10 +88,32 @@ void Refiner::split_triangle(TriangleId t, const Eval& ev) {
       const TriangleId t0 = w.handle >> 2;
       const InsertKind r = insert_for(t, ev, p, t0, offcenter ? kOffCenterCavityLimit : kNoCavityLimit);
       if (r == InsertKind::kProtected) split_at_centroid(t, ev);
-      if (r == InsertKind::kTooLarge) split_at_circumcenter(t, ev, p, t0);
+      if (r == InsertKind::kTooLarge) {
+        if (cavity_is_one_fan(t, ev)) {
+          split_at_circumcenter(t, ev, p, t0);
+        } else if (insert_for(t, ev, p, t0, kNoCavityLimit) == InsertKind::kProtected) {
+          split_at_centroid(t, ev);
+        }
+      }
       return;
     }
   }
+}
+
+// The cavity grown so far (cavity_, kOffCenterCavityLimit + 1 triangles) is one fan of nearly
+// cocircular points: the circumcenters of its middle and last triangles lie within 1/1000 of t's
+// circumradius of t's circumcenter.
+bool Refiner::cavity_is_one_fan(TriangleId t, const Eval& ev) const {
+  const Point c0 = circumcenter_of(t, ev);
+  const Point& a = m_.points[m_.triangles[t].v[0]];
+  const double r2 = squared_distance(c0, a);
+  for (const TriangleId u : {cavity_[cavity_.size() / 2], cavity_.back()}) {
+    Eval eu;
+    eu.apex = 0;
+    const Point cu = circumcenter_of(u, eu);
+    if (!(squared_distance(cu, c0) <= 1e-6 * r2)) return false;
+  }
+  return true;
 }
 
 // The off-center p (lying in t0) of bad triangle t would have a cavity of more than
