@@ -7,6 +7,7 @@
 // docs/algorithms/refine.md describes the method and the measurements behind its choices.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <functional>
 #include <string>
@@ -125,6 +126,16 @@ struct RefineStats {
   std::size_t conforming_splits = 0;  // conforming_delaunay: splits of subsegments not locally Delaunay
   std::size_t precision_skips = 0;    // points not insertable at double precision (duplicate
                                       // vertex, or no valid rounded split point)
+  // The Bowyer–Watson cavities grown for free Steiner points (inserted or not): how many, the
+  // triangles in them all, the largest, and cavity_histogram[k], the number of cavities of 2^k to
+  // 2^(k+1) − 1 triangles. Their total is the insertion cost that ordinary inputs keep at a few
+  // triangles per point and nearly cocircular rings (points on a circle) can make quadratic.
+  std::size_t cavities = 0;
+  std::size_t cavity_triangles = 0;
+  std::size_t largest_cavity = 0;
+  std::array<std::size_t, 32> cavity_histogram{};
+  std::size_t circumcenters_for_large_cavities = 0;  // off-centers whose cavity was too large,
+                                                     // replaced by the circumcenter
   StopReason stop;                    // kBoundReached, kSteinerBudget, kTimeBudget,
                                       // kSmallInputAngles (count left), kProtectedSegments (count
                                       // left), kBeyondFeatureSize (the termination guard)

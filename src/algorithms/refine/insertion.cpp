@@ -85,18 +85,21 @@ Refiner::WalkResult Refiner::walk(const Point& p, TriangleId start) {
 
 // ---- Bowyer–Watson insertion begins here ----------------------------------------------------------
 
-// Bowyer–Watson insertion of a free Steiner point p lying in (or on a non-segment edge of) t0.
-Refiner::InsertKind Refiner::insert_free(const Point& p, TriangleId t0) {
-  if (!grow_cavity(p, t0)) return InsertKind::kFailed;
+// Bowyer–Watson insertion of a free Steiner point p lying in (or on a non-segment edge of) t0;
+// kTooLarge, with nothing changed, if its cavity would exceed cavity_limit triangles.
+Refiner::InsertKind Refiner::insert_free(const Point& p, TriangleId t0, std::size_t cavity_limit) {
+  const InsertKind grown = grow_cavity(p, t0, cavity_limit);
+  if (grown != InsertKind::kInserted) return grown;
   const InsertKind boundary = check_cavity_boundary(p);
   if (boundary != InsertKind::kInserted) return boundary;
   fill_star(p);
   return InsertKind::kInserted;
 }
 
-// The cavity of p (cavity_) and its boundary as a counter-clockwise ring of handles (boundary_);
-// false if the growth meets a cavity triangle again.
-bool Refiner::grow_cavity(const Point& p, TriangleId t0) {
+// The cavity of p (cavity_) and its boundary as a counter-clockwise ring of handles (boundary_):
+// kInserted when grown, kFailed if the growth meets a cavity triangle again, kTooLarge once it
+// passes cavity_limit triangles.
+Refiner::InsertKind Refiner::grow_cavity(const Point& p, TriangleId t0, std::size_t cavity_limit) {
   cavity_.clear();
   boundary_.clear();
   stack_.clear();
@@ -124,9 +127,13 @@ bool Refiner::grow_cavity(const Point& p, TriangleId t0) {
         // The cavity of a point in a constrained Delaunay triangulation is a triangulated disk
         // with no interior vertex, so its dual is a tree: meeting a cavity triangle again means
         // the exact invariants failed somewhere; fall back to Lawson flips.
-        if (cavity_stamp_[u] == cavity_round_) return false;
+        if (cavity_stamp_[u] == cavity_round_) return InsertKind::kFailed;
         cavity_stamp_[u] = cavity_round_;
         cavity_.push_back(u);
+        if (cavity_.size() > cavity_limit) {
+          count_cavity(cavity_.size());
+          return InsertKind::kTooLarge;
+        }
         stack_.push_back(Mesh::lprev(s));
         stack_.push_back(Mesh::lnext(s));
         continue;
@@ -134,7 +141,8 @@ bool Refiner::grow_cavity(const Point& p, TriangleId t0) {
     }
     boundary_.push_back(h);
   }
-  return true;
+  count_cavity(cavity_.size());
+  return InsertKind::kInserted;
 }
 
 // The cavity must be star-shaped from p (p strictly inside every boundary edge), and p must not
@@ -251,26 +259,17 @@ void Refiner::insert_lawson(const Point& p, TriangleId t0) {
 }
 
 // Inserts the Steiner point p (lying in t0) of bad triangle t. If p encroaches subsegments they are
-// split instead and t is queued again; if it lies on or beyond a protected one, t gets its
-// centroid when `centroid_next` (split_at_centroid), else it is left and counted.
-void Refiner::insert_for(TriangleId t, const Eval& ev, const Point& p, TriangleId t0, bool centroid_next) {
-  const InsertKind r = insert_free(p, t0);
-  if (r == InsertKind::kProtected) {
-    if (centroid_next) {
-      split_at_centroid(t, ev);
-    } else {
-      ++protected_skips_;
-    }
-  } else if (r == InsertKind::kEncroaches) {
-    ++stats_.rejected;
-    if (split_all_pending()) {
-      queue_.push(ev.key, t, m_.triangles[t].v[0]);
-    } else {
-      ++stats_.precision_skips;
-    }
+// split instead and t is queued again; kProtected (p lies on or beyond a protected subsegment) and
+// kTooLarge (its cavity passes cavity_limit) are left to the caller, with nothing changed.
+Refiner::InsertKind Refiner::insert_for(TriangleId t, const Eval& ev, const Point& p, TriangleId t0,
+                                        std::size_t cavity_limit) {
+  const InsertKind r = insert_free(p, t0, cavity_limit);
+  if (r == InsertKind::kEncroaches) {
+    split_pending_for(t, ev);
   } else if (r == InsertKind::kFailed) {
     insert_lawson(p, t0);
   }
+  return r;
 }
 
 // After a vertex v was inserted (by a split and flips): queue the bad triangles of its star and

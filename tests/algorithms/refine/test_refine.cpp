@@ -474,18 +474,48 @@ TEST(RefineTermination, GuardLeavesAreaRefinementAlone) {
   EXPECT_GT(r.stats.steiner_inserted, 5000u);
 }
 
-// Points on a circle (issue 32): the Delaunay triangulation is a fan of nearly cocircular skinny
-// triangles, and the refinement that breaks it is valid and meets the bound at 20°, 25° and 30°.
-TEST(Refine, PointsOnACircle) {
+// n points evenly spaced on the unit circle.
+Pslg points_on_unit_circle(int n) {
   Pslg g;
-  const int n = 3000;
   for (int k = 0; k < n; ++k) {
     const double t = 2.0 * std::numbers::pi * k / n;
     g.points.push_back({std::cos(t), std::sin(t)});
   }
+  return g;
+}
+
+// Points on a circle (issue 32): the Delaunay triangulation is a fan of nearly cocircular skinny
+// triangles, and the refinement that breaks it is valid and meets the bound at 20°, 25° and 30°.
+TEST(Refine, PointsOnACircle) {
+  const Pslg g = points_on_unit_circle(3000);
   for_bounds_and_rules({20.0, 25.0, 30.0}, [&](const RefineOptions& o) {
     EXPECT_EQ(to_string(refine_and_check(g, o).stats.stop), "bound reached");
   });
+}
+
+// Issue 32: on points on a circle each ring of off-centers lies at one radius, nearly cocircular with
+// the ring outside it, and shortest-edge-first takes the triangle beside the newest point, so without
+// a bound on off-center cavities each point's cavity was the whole fan of its ring again (these 50k
+// points: 147 cavities of 2,048 triangles or more, 1.49M cavity triangles in all, 10.5 per output
+// triangle; at 1M points, 105M). The first Steiner point's cavity is the whole fan of the Delaunay triangulation, n − 2
+// triangles wherever it lies; after it only the circumcenters that replace off-centers with too
+// large a cavity (kOffCenterCavityLimit) may take more than 2,048 triangles, and they are few.
+TEST(Refine, PointsOnACircleKeepCavitiesSmall) {
+  const int n = 50000;
+  const Pslg g = points_on_unit_circle(n);
+  RefineOptions o;
+  o.min_angle_deg = 20.0;
+  const Refined r = refine_and_check(g, o);
+  EXPECT_EQ(to_string(r.stats.stop), "bound reached");
+  EXPECT_EQ(r.stats.largest_cavity, static_cast<std::size_t>(n - 2));
+  std::size_t large = 0;  // cavities of 2^11 = 2,048 triangles or more
+  for (std::size_t k = 11; k < r.stats.cavity_histogram.size(); ++k) large += r.stats.cavity_histogram[k];
+  EXPECT_GE(r.stats.circumcenters_for_large_cavities, 1u);
+  EXPECT_LE(large, 1 + r.stats.circumcenters_for_large_cavities);
+  EXPECT_LE(r.stats.circumcenters_for_large_cavities, 4u);
+  // A cavity triangle is one triangle made and destroyed: in all, a few per output triangle (on
+  // uniform points, under one).
+  EXPECT_LT(r.stats.cavity_triangles, 10 * r.mesh.domain_triangle_count());
 }
 
 TEST(RefineTermination, HoleAlmostTouchingTheBoundary) {
