@@ -9,6 +9,7 @@
 
 #include "mwst/error.hpp"
 #include "support/huge_pages.hpp"
+#include "support/page_faulter.hpp"
 #include "support/parallel.hpp"
 
 namespace mwst {
@@ -153,6 +154,21 @@ std::size_t copy_ranges(std::size_t n, unsigned threads) {
   return n >= kParallelCopy ? support::worker_count(threads) : 1;
 }
 
+// Room for n elements in each of the vectors `v`, fresh storage faulted in by `ranges` threads at
+// once before anything is written (support::PageFaulter: the kernel clears each page on the
+// thread that first touches it, so one thread writing fresh arrays spends most of its time in
+// page faults), then sized to n, value-initialised.
+template <class... Vectors>
+void size_on_populated_pages(std::size_t ranges, std::size_t n, Vectors&... v) {
+  (support::reserve_on_huge_pages(v, n), ...);
+  if (ranges > 1) {
+    support::PageFaulter faulter;
+    (faulter.add(v.data() + v.size(), (v.capacity() - v.size()) * sizeof(*v.data())), ...);
+    support::parallel_ranges(ranges, ranges, [&](std::size_t, std::size_t, std::size_t) { faulter.work(); });
+  }
+  (v.resize(n), ...);
+}
+
 // Copies the vertices into `out`: all but removed Steiner points, in order (input points keep
 // their indices), with their array kinds and markers. Returns the array index of each mesh vertex
 // (kNone for a removed one); without a removed point every vertex keeps its index, the table stays
@@ -165,10 +181,11 @@ std::vector<std::uint32_t> copy_kept_vertices(const Mesh& mesh, const VertexCens
   const auto marker_of = [&](VertexId v) { return v < marked ? mesh.vertex_marker[v] : 0; };
   std::vector<std::uint32_t> index_of_vertex;
   if (census.removed_count == 0) {
-    support::resize_on_huge_pages(out.vertices, 2 * point_count);
-    support::resize_on_huge_pages(out.vertex_kinds, point_count);
-    support::resize_on_huge_pages(out.vertex_markers, point_count);
-    support::parallel_ranges(copy_ranges(point_count, threads), point_count,
+    const std::size_t ranges = copy_ranges(point_count, threads);
+    size_on_populated_pages(ranges, 2 * point_count, out.vertices);
+    size_on_populated_pages(ranges, point_count, out.vertex_kinds);
+    size_on_populated_pages(ranges, point_count, out.vertex_markers);
+    support::parallel_ranges(ranges, point_count,
                              [&](std::size_t, std::size_t begin, std::size_t end) {
                                for (VertexId v = static_cast<VertexId>(begin); v < end; ++v) {
                                  out.vertices[2 * v] = mesh.points[v].x;
@@ -223,7 +240,7 @@ std::vector<std::int32_t> number_domain_triangles(const Mesh& mesh, std::size_t 
   for (std::size_t k = 0; k < ranges; ++k) first_of_range[k + 1] += first_of_range[k];
   count = first_of_range[ranges];
   std::vector<std::int32_t> index_of_slot;
-  support::resize_on_huge_pages(index_of_slot, slots);
+  size_on_populated_pages(ranges, slots, index_of_slot);
   support::parallel_ranges(ranges, slots, [&](std::size_t k, std::size_t begin, std::size_t end) {
     auto next = static_cast<std::int32_t>(first_of_range[k]);
     for (TriangleId t = static_cast<TriangleId>(begin); t < end; ++t) {
@@ -248,8 +265,8 @@ void copy_domain_triangles(const Mesh& mesh, const std::vector<std::int32_t>& in
   // The array index of the triangle of handle h: kNoTriangle outside the domain, and for an edge
   // with no triangle across (kNone: a mesh put together by hand, not closed by ghosts).
   const auto slot_index = [&](Handle h) { return h == kNone ? kNoTriangle : index_of_slot[triangle_of(h)]; };
-  support::resize_on_huge_pages(out.triangles, 3 * count);
-  support::resize_on_huge_pages(out.neighbours, 3 * count);
+  size_on_populated_pages(ranges, 3 * count, out.triangles);
+  size_on_populated_pages(ranges, 3 * count, out.neighbours);
   std::vector<RangeSegments> segments(ranges);
   support::parallel_ranges(ranges, mesh.triangle_slots(), [&](std::size_t k, std::size_t begin, std::size_t end) {
     for (TriangleId t = static_cast<TriangleId>(begin); t < end; ++t) {
