@@ -319,7 +319,8 @@ def triangulate(
         flip: weight-reducing edge flips after the method.
         convex_hull: mesh the whole convex hull (holes still carve).
         strict: refuse crossing segments instead of splitting them.
-        time_limit: stop dr, brh and opt after about this many seconds (the mesh stays valid).
+        time_limit: stop dr, brh, qtr and opt after about this many seconds (the mesh stays valid;
+            qtr then gives the constrained Delaunay triangulation of the input).
         threads: worker threads, 0 for all cores; results do not depend on it.
 
     Returns:
