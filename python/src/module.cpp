@@ -93,12 +93,10 @@ std::size_t rows(const py::array& a, py::ssize_t columns, const char* name) {
   return static_cast<std::size_t>(a.shape(0));
 }
 
-// The n points of an (n, 2) float64 array, read in place (one copy, into the library's input).
-std::vector<mwst::Point> points_of(const DoubleArray& a, const char* name) {
-  const std::size_t n = rows(a, 2, name);
-  std::vector<mwst::Point> points(n);
-  if (n > 0) std::memcpy(static_cast<void*>(points.data()), a.data(), n * sizeof(mwst::Point));
-  return points;
+// The n points of an (n, 2) float64 array, read in place (one copy, into the library's input, on
+// `threads` threads: 0 for all).
+std::vector<mwst::Point> points_of(const DoubleArray& a, const char* name, unsigned threads = 0) {
+  return mwst::points_from_xy(a.data(), rows(a, 2, name), threads);
 }
 
 // An index that fits no point (negative, or past 2^32) becomes one past any point the library
@@ -120,9 +118,10 @@ std::vector<std::int32_t> markers_of(const std::optional<MarkerArray>& a, std::s
 // The library's input graph from the arrays (segments' markers default to 1, as Triangle's do).
 mwst::Pslg pslg_of(const DoubleArray& vertices, const std::optional<IndexArray>& segments,
                    const std::optional<MarkerArray>& segment_markers, const std::optional<MarkerArray>& vertex_markers,
-                   const std::optional<DoubleArray>& holes, const std::optional<DoubleArray>& regions) {
+                   const std::optional<DoubleArray>& holes, const std::optional<DoubleArray>& regions,
+                   unsigned threads = 0) {
   mwst::Pslg pslg;
-  pslg.points = points_of(vertices, "vertices");
+  pslg.points = points_of(vertices, "vertices", threads);
   pslg.point_markers = markers_of(vertex_markers, pslg.points.size(), "vertex_markers");
   if (segments) {
     const std::size_t m = rows(*segments, 2, "segments");
@@ -232,7 +231,7 @@ py::dict triangulate(const DoubleArray& vertices, const std::optional<IndexArray
   options.threads = static_cast<unsigned>(whole_number(threads, "threads"));
   mwst::check_options(options);
 
-  mwst::Pslg pslg = pslg_of(vertices, segments, segment_markers, vertex_markers, holes, regions);
+  mwst::Pslg pslg = pslg_of(vertices, segments, segment_markers, vertex_markers, holes, regions, options.threads);
   pslg.source = source;
   mwst::MeshArrays arrays;
   std::string report;

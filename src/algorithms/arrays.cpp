@@ -4,6 +4,7 @@
 #include "mwst/algorithms/arrays.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <sstream>
 #include <utility>
 
@@ -421,6 +422,17 @@ void interpolate_vertex_attributes(const Pslg& input, bool convex_hull, MeshArra
   for (std::size_t v = inputs; v < arrays.vertex_count(); ++v) {
     linear.at(Point{arrays.vertices[2 * v], arrays.vertices[2 * v + 1]}, arrays.vertex_attributes.data() + v * count);
   }
+}
+
+std::vector<Point> points_from_xy(const double* xy, std::size_t count, unsigned threads) {
+  static_assert(sizeof(Point) == 2 * sizeof(double), "a Point is its two coordinates");
+  std::vector<Point> points;
+  const std::size_t ranges = copy_ranges(count, threads);
+  size_on_populated_pages(ranges, count, points);
+  support::parallel_ranges(ranges, count, [&](std::size_t, std::size_t begin, std::size_t end) {
+    if (end > begin) std::memcpy(static_cast<void*>(points.data() + begin), xy + 2 * begin, (end - begin) * sizeof(Point));
+  });
+  return points;
 }
 
 MeshArrays triangulate_arrays(const Pslg& pslg, const TriangulateOptions& options, Mesh* mesh) {

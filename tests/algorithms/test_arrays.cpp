@@ -363,4 +363,25 @@ TEST(Arrays, AnyNumberOfThreadsGivesTheSameArrays) {
   }
 }
 
+// points_from_xy copies every pair, in order, on any number of threads; sizes below, at and
+// above the parallel threshold (2^16) and none at all.
+TEST(Arrays, PointsFromXyCopiesEveryPair) {
+  for (const std::size_t count : {std::size_t{0}, std::size_t{1}, std::size_t{65535}, std::size_t{65536},
+                                  std::size_t{200003}}) {
+    std::vector<double> xy(2 * count);
+    for (std::size_t i = 0; i < xy.size(); ++i) xy[i] = static_cast<double>(i) * 0.5 - 7.0;
+    for (const unsigned threads : {0u, 1u, 3u}) {
+      SCOPED_TRACE(std::to_string(count) + " points, " + std::to_string(threads) + " threads");
+      const std::vector<Point> points = mwst::points_from_xy(xy.data(), count, threads);
+      ASSERT_EQ(points.size(), count);
+      for (std::size_t i = 0; i < count; ++i) {
+        if (points[i].x != xy[2 * i] || points[i].y != xy[2 * i + 1]) {
+          ADD_FAILURE() << "point " << i << " is (" << points[i].x << ", " << points[i].y << ")";
+          break;
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
