@@ -174,6 +174,7 @@ class Refiner {
   void split_pending_for(TriangleId t, const Eval& ev);
   bool cavity_is_one_fan(TriangleId t, const Eval& ev) const;
   void split_at_centroid(TriangleId t, const Eval& ev);
+  void insert_or_split_at_centroid(TriangleId t, const Eval& ev, const Point& p, TriangleId t0);
 
   // ---- walking and inserting -------------------------------------------------------------------
   enum class WalkKind { kInTriangle, kOnEdge, kOnVertex, kBlocked };

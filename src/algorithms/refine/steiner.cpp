@@ -91,8 +91,8 @@ void Refiner::split_triangle(TriangleId t, const Eval& ev) {
       if (r == InsertKind::kTooLarge) {
         if (cavity_is_one_fan(t, ev)) {
           split_at_circumcenter(t, ev, p, t0);
-        } else if (insert_for(t, ev, p, t0, kNoCavityLimit) == InsertKind::kProtected) {
-          split_at_centroid(t, ev);
+        } else {
+          insert_or_split_at_centroid(t, ev, p, t0);
         }
       }
       return;
@@ -140,7 +140,13 @@ void Refiner::split_at_circumcenter(TriangleId t, const Eval& ev, const Point& o
       return;
     }
   }
-  if (insert_for(t, ev, offcenter, t0, kNoCavityLimit) == InsertKind::kProtected) split_at_centroid(t, ev);
+  insert_or_split_at_centroid(t, ev, offcenter, t0);
+}
+
+// Inserts p (in or beside t0) for t whatever its cavity; where p lies on or beyond a subsegment
+// that may not be split (kProtected), t is split at its centroid instead (split_at_centroid).
+void Refiner::insert_or_split_at_centroid(TriangleId t, const Eval& ev, const Point& p, TriangleId t0) {
+  if (insert_for(t, ev, p, t0, kNoCavityLimit) == InsertKind::kProtected) split_at_centroid(t, ev);
 }
 
 // The Steiner point of t lies on or beyond a subsegment that may not be split (segment_splitting).
