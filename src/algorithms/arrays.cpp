@@ -4,6 +4,7 @@
 #include "mwst/algorithms/arrays.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cstring>
 #include <sstream>
 #include <utility>
@@ -86,15 +87,67 @@ std::vector<std::int32_t> region_of_triangles(const Mesh& mesh, const std::vecto
 
 namespace {
 
+// The array index of each triangle slot: the domain triangles numbered in slot order. Kept as
+// one bit per slot (in the domain or not) and, per word of 64 slots, the domain triangles before
+// it: an index is that count plus the set bits below the slot in its word. That is 3/16 of a
+// byte per slot, against 4 for a table of indices: the neighbours' look-ups stay in cache, and
+// there is no fresh table to fault in (a 2M-triangle mesh: 380 KB against 8 MB).
+class DomainNumbering {
+ public:
+  // Numbers the domain triangles of `mesh` in `ranges` contiguous ranges of words: each range
+  // counts its own, then adds the counts of the ranges before it.
+  DomainNumbering(const Mesh& mesh, std::size_t ranges) {
+    const std::size_t slots = mesh.triangle_slots(), words = slots / 64 + 1;  // a word for slot `slots`
+    bits_.assign(words, 0);
+    before_.assign(words, 0);
+    std::vector<std::size_t> first_of_range(ranges + 1, 0);
+    support::parallel_ranges(ranges, words, [&](std::size_t k, std::size_t begin, std::size_t end) {
+      std::size_t in_range = 0;
+      for (std::size_t w = begin; w < end; ++w) {
+        std::uint64_t bits = 0;
+        for (std::size_t t = 64 * w; t < std::min(slots, 64 * w + 64); ++t) {
+          bits |= std::uint64_t{mesh.in_domain(static_cast<TriangleId>(t))} << (t - 64 * w);
+        }
+        bits_[w] = bits;
+        before_[w] = static_cast<std::uint32_t>(in_range);
+        in_range += static_cast<std::size_t>(std::popcount(bits));
+      }
+      first_of_range[k + 1] = in_range;
+    });
+    for (std::size_t k = 0; k < ranges; ++k) first_of_range[k + 1] += first_of_range[k];
+    count_ = first_of_range[ranges];
+    support::parallel_ranges(ranges, words, [&](std::size_t k, std::size_t begin, std::size_t end) {
+      for (std::size_t w = begin; w < end; ++w) before_[w] += static_cast<std::uint32_t>(first_of_range[k]);
+    });
+  }
+
+  // The number of domain triangles.
+  std::size_t count() const { return count_; }
+  // The domain triangles in slots [0, t), for t up to the number of slots.
+  std::size_t before(TriangleId t) const {
+    const std::size_t w = t >> 6;
+    return before_[w] + static_cast<std::size_t>(std::popcount(bits_[w] & ((std::uint64_t{1} << (t & 63)) - 1)));
+  }
+  // Slot t's array index; kNoTriangle outside the domain.
+  std::int32_t index(TriangleId t) const {
+    return ((bits_[t >> 6] >> (t & 63)) & 1) != 0 ? static_cast<std::int32_t>(before(t)) : kNoTriangle;
+  }
+
+ private:
+  std::vector<std::uint64_t> bits_;
+  std::vector<std::uint32_t> before_;
+  std::size_t count_ = 0;
+};
+
 // Triangle's regional attributes (region_of_triangles), 0 where no region reaches.
 void spread_region_attributes(const Mesh& mesh, const std::vector<Region>& regions, const std::string& source,
-                              const std::vector<std::int32_t>& index_of_slot, MeshArrays& out) {
+                              const DomainNumbering& numbering, MeshArrays& out) {
   out.triangle_attributes.assign(out.triangle_count(), 0.0);
   const std::vector<std::int32_t> region = region_of_triangles(mesh, regions, source);
   for (TriangleId t = 0; t < mesh.triangle_slots(); ++t) {
-    if (index_of_slot[t] == kNoTriangle || region[t] < 0) continue;
-    out.triangle_attributes[static_cast<std::size_t>(index_of_slot[t])] =
-        regions[static_cast<std::size_t>(region[t])].attribute;
+    const std::int32_t index = numbering.index(t);
+    if (index == kNoTriangle || region[t] < 0) continue;
+    out.triangle_attributes[static_cast<std::size_t>(index)] = regions[static_cast<std::size_t>(region[t])].attribute;
   }
 }
 
@@ -226,53 +279,29 @@ struct ArrayVertex {
   }
 };
 
-// The array index of each triangle slot: the domain triangles numbered in slot order, kNoTriangle
-// elsewhere. Sets `count` to the number of domain triangles. In `ranges` contiguous ranges of
-// slots: each range counts its domain triangles, and numbers them from the sum of the counts
-// before it.
-std::vector<std::int32_t> number_domain_triangles(const Mesh& mesh, std::size_t ranges, std::size_t& count) {
-  const std::size_t slots = mesh.triangle_slots();
-  std::vector<std::size_t> first_of_range(ranges + 1, 0);
-  support::parallel_ranges(ranges, slots, [&](std::size_t k, std::size_t begin, std::size_t end) {
-    std::size_t in_range = 0;
-    for (TriangleId t = static_cast<TriangleId>(begin); t < end; ++t) in_range += mesh.in_domain(t);
-    first_of_range[k + 1] = in_range;
-  });
-  for (std::size_t k = 0; k < ranges; ++k) first_of_range[k + 1] += first_of_range[k];
-  count = first_of_range[ranges];
-  std::vector<std::int32_t> index_of_slot;
-  size_on_populated_pages(ranges, slots, index_of_slot);
-  support::parallel_ranges(ranges, slots, [&](std::size_t k, std::size_t begin, std::size_t end) {
-    auto next = static_cast<std::int32_t>(first_of_range[k]);
-    for (TriangleId t = static_cast<TriangleId>(begin); t < end; ++t) {
-      index_of_slot[t] = mesh.in_domain(t) ? next++ : kNoTriangle;
-    }
-  });
-  return index_of_slot;
-}
-
 // The subsegments one range of slots contributes, in slot order.
 struct RangeSegments {
   std::vector<std::uint32_t> ends;
   std::vector<std::int32_t> markers;
 };
 
-// Copies the `count` domain triangles into `out`: corners, neighbours and the subsegments (each
-// once, from the lower-numbered domain triangle beside it) with their markers. Each of `ranges`
-// contiguous ranges of slots writes its triangles at their numbers and collects its subsegments,
+// Copies the domain triangles into `out` at their numbers: corners, neighbours and the
+// subsegments (each once, from the lower-numbered domain triangle beside it) with their markers.
+// Each of `ranges` contiguous ranges of slots writes its triangles and collects its subsegments,
 // which are appended range by range: the arrays do not depend on the number of ranges.
-void copy_domain_triangles(const Mesh& mesh, const std::vector<std::int32_t>& index_of_slot, std::size_t count,
-                           const ArrayVertex& array_vertex, std::size_t ranges, MeshArrays& out) {
+void copy_domain_triangles(const Mesh& mesh, const DomainNumbering& numbering, const ArrayVertex& array_vertex,
+                           std::size_t ranges, MeshArrays& out) {
   // The array index of the triangle of handle h: kNoTriangle outside the domain, and for an edge
   // with no triangle across (kNone: a mesh put together by hand, not closed by ghosts).
-  const auto slot_index = [&](Handle h) { return h == kNone ? kNoTriangle : index_of_slot[triangle_of(h)]; };
-  size_on_populated_pages(ranges, 3 * count, out.triangles);
-  size_on_populated_pages(ranges, 3 * count, out.neighbours);
+  const auto slot_index = [&](Handle h) { return h == kNone ? kNoTriangle : numbering.index(triangle_of(h)); };
+  size_on_populated_pages(ranges, 3 * numbering.count(), out.triangles);
+  size_on_populated_pages(ranges, 3 * numbering.count(), out.neighbours);
   std::vector<RangeSegments> segments(ranges);
   support::parallel_ranges(ranges, mesh.triangle_slots(), [&](std::size_t k, std::size_t begin, std::size_t end) {
+    auto next = static_cast<std::int32_t>(numbering.before(static_cast<TriangleId>(begin)));
     for (TriangleId t = static_cast<TriangleId>(begin); t < end; ++t) {
-      const std::int32_t index = index_of_slot[t];
-      if (index == kNoTriangle) continue;
+      if (!mesh.in_domain(t)) continue;
+      const std::int32_t index = next++;
       const Triangle& triangle = mesh.triangles[t];
       const std::size_t at = 3 * static_cast<std::size_t>(index);
       for (unsigned i = 0; i < 3; ++i) {
@@ -306,7 +335,7 @@ void copy_domain_triangles(const Mesh& mesh, const std::vector<std::int32_t>& in
 }  // namespace
 
 // The steps: census_of_vertices, subsegment_ends (only for Steiner points' kinds),
-// copy_kept_vertices, number_domain_triangles, copy_domain_triangles, spread_region_attributes.
+// copy_kept_vertices, DomainNumbering, copy_domain_triangles, spread_region_attributes.
 MeshArrays to_arrays(const Mesh& mesh, const std::vector<Region>& regions, const std::string& source,
                      unsigned threads) {
   MeshArrays out;
@@ -314,11 +343,9 @@ MeshArrays to_arrays(const Mesh& mesh, const std::vector<Region>& regions, const
   const std::vector<std::uint32_t> segment_ends = census.has_steiner ? subsegment_ends(mesh) : std::vector<std::uint32_t>();
   const std::vector<std::uint32_t> index_of_vertex = copy_kept_vertices(mesh, census, segment_ends, threads, out);
   const std::size_t ranges = copy_ranges(mesh.triangle_slots(), threads);
-  std::size_t count = 0;
-  const std::vector<std::int32_t> index_of_slot = number_domain_triangles(mesh, ranges, count);
-  copy_domain_triangles(mesh, index_of_slot, count, ArrayVertex{index_of_vertex, census.removed_count != 0}, ranges,
-                        out);
-  if (!regions.empty()) spread_region_attributes(mesh, regions, source, index_of_slot, out);
+  const DomainNumbering numbering(mesh, ranges);
+  copy_domain_triangles(mesh, numbering, ArrayVertex{index_of_vertex, census.removed_count != 0}, ranges, out);
+  if (!regions.empty()) spread_region_attributes(mesh, regions, source, numbering, out);
   return out;
 }
 
