@@ -37,8 +37,8 @@ MWST_API bool is_weight_reducing_flip(const Mesh& mesh, Handle h, double max_are
 MWST_API FlipStats flip_to_local_minimum(Mesh& mesh, double max_area = -1.0);
 
 // The same flips in the same order, stopped between two flips once `deadline` has passed (then
-// out_of_time is set): the mesh is valid and no heavier, and the flips done are those of largest
-// gain. Before the deadline the result is flip_to_local_minimum's exactly. A time budget (opt's
+// out_of_time is set; a deadline already passed returns at once, weights left 0): the mesh is
+// valid and no heavier, and the flips done are those of largest gain. Before the deadline the result is flip_to_local_minimum's exactly. A time budget (opt's
 // --time-limit) uses it: on a large mesh far from a local minimum, e.g. BRH's cut short by the
 // budget, the flips alone take seconds.
 MWST_API FlipStats flip_to_local_minimum(Mesh& mesh, double max_area, std::chrono::steady_clock::time_point deadline);

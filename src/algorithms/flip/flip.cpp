@@ -89,6 +89,11 @@ FlipStats flip_to_local_minimum(Mesh& m, double max_area, std::chrono::steady_cl
   std::size_t pops = 0;
   const auto t0 = std::chrono::steady_clock::now();
   FlipStats stats;
+  if (timed && std::chrono::steady_clock::now() >= deadline) {
+    // (Not even the scan of every edge: on a million triangles it takes a second.)
+    stats.out_of_time = true;
+    return stats;
+  }
   stats.weight_before = measure(m).weight_total;
   std::vector<Candidate> storage;
   for (TriangleId t = 0; t < m.triangles.size(); ++t) {

@@ -137,21 +137,23 @@ Mesh ellipse_delaunay(std::size_t n) {
   return delaunay(pts);
 }
 
-TEST(Flip, DeadlinePassedStopsEarlyWithAValidLighterMesh) {
+TEST(Flip, DeadlinePassedFlipsNothing) {
   const Mesh dt = ellipse_delaunay(4000);
   Mesh full = dt;
   const FlipStats all = flip_to_local_minimum(full);
   ASSERT_GT(all.flips, 4096u);
   EXPECT_FALSE(all.out_of_time);
 
+  // A deadline already passed: not even the first scan of the edges (a second on a million
+  // triangles), the mesh as it was.
   Mesh cut = dt;
   const FlipStats stopped =
       flip_to_local_minimum(cut, -1.0, std::chrono::steady_clock::now() - std::chrono::seconds(1));
   EXPECT_TRUE(stopped.out_of_time);
-  EXPECT_LT(stopped.flips, 1024u);  // the clock is read every 1024 heap entries
+  EXPECT_EQ(stopped.flips, 0u);
   EXPECT_TRUE(validate(cut).empty());
-  EXPECT_LT(measure(cut).weight_total, measure(dt).weight_total);
-  EXPECT_GT(measure(cut).weight_total, measure(full).weight_total);
+  ASSERT_EQ(cut.triangles.size(), dt.triangles.size());
+  for (TriangleId t = 0; t < cut.triangles.size(); ++t) EXPECT_EQ(cut.triangles[t].v, dt.triangles[t].v);
   EXPECT_GT(count_weight_reducing_flips(cut), 0u);
 }
 
