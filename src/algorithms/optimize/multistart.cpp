@@ -88,11 +88,17 @@ class Multistart {
   // Step 2: the starts. Large inputs get the BRH start only (each start costs a refinement and a
   // search); large also by the BRH start's size: an area bound makes meshes of tens of thousands
   // of triangles from a few hundred points, and the search's cost grows faster than the mesh.
+  // When the CDT is already that large, so is the BRH start (BRH only inserts vertices; the flips
+  // keep the count), and the BRH start is known to be the only one before it is made: it then
+  // takes the CDT itself, not a copy, one mesh less at BRH's peak (2.8 of 35 MB on 40k uniform
+  // points), with the same result.
   void make_starts() {
-    const bool large_input = pslg_.points.size() > 100000;
-    make_brh_start(/*last_start=*/large_input);
     constexpr std::size_t kLargeStartTriangles = 20000;
-    const bool large = large_input || starts_.front().mesh.domain_triangle_count() > kLargeStartTriangles;
+    const bool large_input = pslg_.points.size() > 100000;
+    const bool large_cdt = cdt_.domain_triangle_count() > kLargeStartTriangles;
+    make_brh_start(/*last_start=*/large_input || large_cdt);
+    const bool large =
+        large_input || large_cdt || starts_.front().mesh.domain_triangle_count() > kLargeStartTriangles;
     if (large || time_is_up()) return;
     make_refined_starts();
     make_seeded_starts();
