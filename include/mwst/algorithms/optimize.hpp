@@ -71,8 +71,9 @@ struct OptimizeOptions {
   std::size_t exact_polish_candidates_per_vertex = 16;
   std::size_t exact_polish_max_crossing_pairs = 2000000;
   // Wall-clock budget in seconds (≤ 0: none, the default). The search looks at the clock before
-  // each round of the local search and every 1024 vertices or triangles within one, before each
-  // kick, perturbation trial and exact polish round; once the budget has passed it stops there
+  // each round of the local search and every 1024 vertices or triangles within one (and every
+  // 1024 heap entries of its whole-mesh flips), before each kick, perturbation trial and exact
+  // polish round; once the budget has passed it stops there
   // (OptimizeStats::out_of_time). Every move kept before that lowered the weight, so the mesh is
   // valid and no heavier than given, but where it stopped depends on the machine's speed: only
   // the size budgets above give the same result on every run.

@@ -81,8 +81,19 @@ std::size_t count_weight_reducing_flips(const Mesh& m, double max_area) {
 }
 
 FlipStats flip_to_local_minimum(Mesh& m, double max_area) {
+  return flip_to_local_minimum(m, max_area, std::chrono::steady_clock::time_point::max());
+}
+
+FlipStats flip_to_local_minimum(Mesh& m, double max_area, std::chrono::steady_clock::time_point deadline) {
+  const bool timed = deadline != std::chrono::steady_clock::time_point::max();
+  std::size_t pops = 0;
   const auto t0 = std::chrono::steady_clock::now();
   FlipStats stats;
+  if (timed && std::chrono::steady_clock::now() >= deadline) {
+    // (Not even the scan of every edge: on a million triangles it takes a second.)
+    stats.out_of_time = true;
+    return stats;
+  }
   stats.weight_before = measure(m).weight_total;
   std::vector<Candidate> storage;
   for (TriangleId t = 0; t < m.triangles.size(); ++t) {
@@ -95,6 +106,11 @@ FlipStats flip_to_local_minimum(Mesh& m, double max_area) {
   }
   std::priority_queue<Candidate> heap(std::less<Candidate>(), std::move(storage));
   while (!heap.empty()) {
+    // (The clock every 1024 entries: a flip and its four pushes take about a microsecond.)
+    if (timed && (++pops & 1023u) == 0 && std::chrono::steady_clock::now() >= deadline) {
+      stats.out_of_time = true;
+      break;
+    }
     const Candidate top = heap.top();
     heap.pop();
     // The entry may be stale: the edge may have changed since it was pushed.

@@ -88,7 +88,9 @@ void Optimizer::local_search() {
 // perturbation can change.
 void Optimizer::focused_flips() {
   if (!focused_) {
-    stats_.flips += flip_to_local_minimum(m_, opt_.max_area).flips;
+    const FlipStats flipped = flip_to_local_minimum(m_, opt_.max_area, deadline_);
+    stats_.flips += flipped.flips;
+    stats_.out_of_time |= flipped.out_of_time;
     return;
   }
   for (TriangleId t = 0; t < m_.triangles.size(); ++t) {

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <random>
 
@@ -121,6 +123,50 @@ TEST(Flip, AreaBoundHolds) {
     EXPECT_GT(count_weight_reducing_flips(bounded), 0u);
     EXPECT_LT(measure(bounded).weight_total, measure(cdt).weight_total);
     EXPECT_EQ(test::domain_subsegments(bounded), test::domain_subsegments(cdt));
+  }
+}
+
+// Points on an ellipse: their Delaunay triangulation is a fan of long chords, far from a local
+// minimum (thousands of flips), as BRH's mesh is when opt's time budget cuts it short.
+Mesh ellipse_delaunay(std::size_t n) {
+  std::vector<Point> pts(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = 2.0 * 3.141592653589793 * static_cast<double>(i) / static_cast<double>(n);
+    pts[i] = {std::cos(t), 0.5 * std::sin(t)};
+  }
+  return delaunay(pts);
+}
+
+TEST(Flip, DeadlinePassedFlipsNothing) {
+  const Mesh dt = ellipse_delaunay(4000);
+  Mesh full = dt;
+  const FlipStats all = flip_to_local_minimum(full);
+  ASSERT_GT(all.flips, 4096u);
+  EXPECT_FALSE(all.out_of_time);
+
+  // A deadline already passed: not even the first scan of the edges (a second on a million
+  // triangles), the mesh as it was.
+  Mesh cut = dt;
+  const FlipStats stopped =
+      flip_to_local_minimum(cut, -1.0, std::chrono::steady_clock::now() - std::chrono::seconds(1));
+  EXPECT_TRUE(stopped.out_of_time);
+  EXPECT_EQ(stopped.flips, 0u);
+  EXPECT_TRUE(validate(cut).empty());
+  ASSERT_EQ(cut.triangles.size(), dt.triangles.size());
+  for (TriangleId t = 0; t < cut.triangles.size(); ++t) EXPECT_EQ(cut.triangles[t].v, dt.triangles[t].v);
+  EXPECT_GT(count_weight_reducing_flips(cut), 0u);
+}
+
+TEST(Flip, DeadlineNotReachedGivesTheSameFlips) {
+  const Mesh dt = ellipse_delaunay(3000);
+  Mesh plain = dt, timed = dt;
+  const FlipStats a = flip_to_local_minimum(plain);
+  const FlipStats b = flip_to_local_minimum(timed, -1.0, std::chrono::steady_clock::now() + std::chrono::hours(1));
+  EXPECT_FALSE(b.out_of_time);
+  EXPECT_EQ(a.flips, b.flips);
+  ASSERT_EQ(plain.triangles.size(), timed.triangles.size());
+  for (TriangleId t = 0; t < plain.triangles.size(); ++t) {
+    EXPECT_EQ(plain.triangles[t].v, timed.triangles[t].v);
   }
 }
 
