@@ -6,6 +6,8 @@
 // Erten, Üngör, "Triangulations Loosing Bundles and Weight", and ours) and writes PREFIX.node,
 // PREFIX.ele, PREFIX.poly and the JSON report, all only after the computation succeeded. A run
 // longer than 2 s shows a progress line on stderr when stderr is a terminal (not with --quiet).
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -108,7 +110,14 @@ int run_triangulate(const TriangulateArgs& a) {
 
   ProgressLine progress(!a.quiet);
   options.progress = progress.callback();
+  const auto reading_started = std::chrono::steady_clock::now();
   const Pslg pslg = io::read_input(a.input);
+  if (options.time_budget_seconds > 0.0) {
+    // --time-limit counts the reading of the input too (2-3 s for a million points): the library's
+    // budget is what is left of it (at least a moment, so that the limit stays set).
+    const double reading = std::chrono::duration<double>(std::chrono::steady_clock::now() - reading_started).count();
+    options.time_budget_seconds = std::max(a.time_limit - reading, 1e-6);
+  }
   Mesh mesh;
   Report report;
   try {
@@ -119,6 +128,7 @@ int run_triangulate(const TriangulateArgs& a) {
     throw ResourceError(with_flag_names(e.what(), Spelling::kTriangulate));
   }
   progress.finish();
+  report.options.time_budget_seconds = a.time_limit;  // the report gives the limit as the user gave it
   // The library's warnings name option fields; the user gave flags.
   for (std::string& w : report.warnings) w = with_flag_names(w, Spelling::kTriangulate);
   // An option the method does not read is said so, not silently dropped.
@@ -187,7 +197,7 @@ void register_triangulate(CLI::App& app, Action& action) {
   sub->add_flag("--bundle", args->bundle, "Add the exact bundle number to the report");
   sub->add_option("--time-limit", args->time_limit,
                   "Stop dr, brh, qtr and opt after about this many seconds in all, counted from the start of the "
-                  "run (opt: its starts, refinements and searches; qtr: its quadtree and mesh, then the mesh is the "
+                  "run, reading the input included (opt: its starts, refinements and searches; qtr: its quadtree and mesh, then the mesh is the "
                   "constrained Delaunay triangulation of the input; --bundle: the bundle number too); the mesh is "
                   "still valid and the report's stop_reason says \"time budget\"")
       ->type_name("SECONDS")

@@ -479,6 +479,18 @@ TEST(Cli, TimeLimitStopsRefinementWithAValidMesh) {
   }
 }
 
+// --time-limit counts the reading of the input: the library gets what is left of it, but the
+// report gives the limit as the user wrote it (a distant limit, so nothing stops).
+TEST(Cli, TimeLimitIsReportedAsGiven) {
+  Sandbox box;
+  const Outcome r = box.run({"triangulate", data("Superior.poly"), "-o", "t", "-q", "--method", "dr",
+                             "--time-limit", "1000", "--json", "t.json"});
+  ASSERT_EQ(r.exit_code, 0) << describe(r);
+  const auto report = nlohmann::json::parse(box.get("t.json"));
+  EXPECT_EQ(report.at("parameters").at("time_budget").get<double>(), 1000.0);
+  EXPECT_NE(report.at("stop_reason").get<std::string>(), "time budget");
+}
+
 // --max-steiner with opt bounds every start and search: at most that many Steiner points in the
 // mesh written (Plate has no crossing segments, so every Steiner point counts), and valid; opt
 // without it uses more.
