@@ -24,11 +24,15 @@ std::vector<std::unique_ptr<Worker>> make_workers(const Shared& sh, unsigned thr
 
 namespace {
 
-// One thread's candidate lists, in chunks of about kChunk triangles (a list never straddles two):
-// the lists are copied into Shared::list chunk by chunk, each freed once copied, so that memory
-// holds the lists about once, not twice, and no growing array is ever copied.
+// One thread's candidate lists, in chunks (a list never straddles two): the lists are copied into
+// Shared::list chunk by chunk, each freed once copied, so that memory holds the lists about once,
+// not twice, and no growing array is ever copied. The chunks grow from kFirstChunk to kChunk
+// triangles, each twice the one before: a small mesh does not pay for a 4 MB chunk per thread
+// (BRH builds lists for many small regions), and the last chunk's unused part is at most what
+// the others hold.
 class ListChunks {
  public:
+  static constexpr std::size_t kFirstChunk = std::size_t{1} << 12;
   static constexpr std::size_t kChunk = std::size_t{1} << 20;
 
   std::size_t size() const { return size_; }
@@ -36,8 +40,9 @@ class ListChunks {
   void append(const std::vector<TriangleId>& one) {
     if (one.empty()) return;
     if (chunks_.empty() || chunks_.back().size() + one.size() > chunks_.back().capacity()) {
+      const std::size_t next = chunks_.empty() ? kFirstChunk : std::min(kChunk, 2 * chunks_.back().capacity());
       chunks_.emplace_back();
-      chunks_.back().reserve(std::max(kChunk, one.size()));
+      chunks_.back().reserve(std::max(next, one.size()));
     }
     chunks_.back().insert(chunks_.back().end(), one.begin(), one.end());
     size_ += one.size();
