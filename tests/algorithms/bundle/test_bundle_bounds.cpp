@@ -84,8 +84,11 @@ TEST(BundleBounds, BoxCountsMatchBruteForce) {
   std::vector<bundle::Box> boxes(300), queries(200);
   for (auto& b : boxes) b = random_box();
   for (auto& q : queries) q = random_box();
-  const std::vector<std::uint32_t> counts = bundle::BoxCounter(boxes).count(queries);
+  const bundle::BoxCounter counter(boxes);
+  const std::vector<std::uint32_t> counts = counter.count(queries);
   ASSERT_EQ(counts.size(), queries.size());
+  // The two sweeps on two threads (and the counter's scratch reused) give the same counts.
+  EXPECT_EQ(counter.count(queries, 2), counts);
   for (std::size_t i = 0; i < queries.size(); ++i) {
     const auto& q = queries[i];
     std::uint32_t brute = 0;
