@@ -86,27 +86,31 @@ Box outward_box(double x0, double y0, double x1, double y1) {
 
 // ---- BoxCounter begins here -----------------------------------------------------------------------
 
-BoxCounter::BoxCounter(const std::vector<Box>& boxes) : n_(boxes.size()) {
-  std::vector<std::pair<float, std::uint32_t>> order(n_);
+BoxCounter::BoxCounter(const std::vector<Box>& boxes, unsigned threads) : n_(boxes.size()) {
+  threads = std::min(threads, 2u);
   std::vector<std::uint32_t> rank_top(n_), rank_bottom(n_);
   ys_top_.resize(n_);
   ys_bottom_.resize(n_);
-  for (int side = 0; side < 2; ++side) {  // ranks of y1 (top), then of y0 (bottom)
+  support::parallel_for(2, threads, [&](std::size_t side) {  // ranks of y1 (top) and of y0 (bottom)
+    std::vector<std::pair<float, std::uint32_t>> order(n_);
     for (std::uint32_t i = 0; i < n_; ++i) order[i] = {boxes[i][side == 0 ? 3 : 1], i};
     std::sort(order.begin(), order.end());
     for (std::uint32_t r = 0; r < n_; ++r) {
       (side == 0 ? ys_top_ : ys_bottom_)[r] = order[r].first;
       (side == 0 ? rank_top : rank_bottom)[order[r].second] = r;
     }
-  }
+  });
   by_right_.resize(n_);
   by_left_.resize(n_);
-  for (std::uint32_t i = 0; i < n_; ++i) {
-    by_right_[i] = {boxes[i][2], rank_top[i], rank_bottom[i]};
-    by_left_[i] = {boxes[i][0], rank_top[i], rank_bottom[i]};
-  }
-  std::sort(by_right_.begin(), by_right_.end(), [](const Keyed& p, const Keyed& q) { return p.x < q.x; });
-  std::sort(by_left_.begin(), by_left_.end(), [](const Keyed& p, const Keyed& q) { return p.x > q.x; });
+  support::parallel_for(2, threads, [&](std::size_t side) {  // by x1 ascending, by x0 descending
+    std::vector<Keyed>& keyed = side == 0 ? by_right_ : by_left_;
+    for (std::uint32_t i = 0; i < n_; ++i) keyed[i] = {boxes[i][side == 0 ? 2 : 0], rank_top[i], rank_bottom[i]};
+    if (side == 0) {
+      std::sort(keyed.begin(), keyed.end(), [](const Keyed& p, const Keyed& q) { return p.x < q.x; });
+    } else {
+      std::sort(keyed.begin(), keyed.end(), [](const Keyed& p, const Keyed& q) { return p.x > q.x; });
+    }
+  });
 }
 
 std::vector<std::uint32_t> BoxCounter::count(const std::vector<Box>& queries, unsigned threads) const {
@@ -207,7 +211,7 @@ std::vector<std::uint32_t> box_bounds(const Shared& sh, const std::vector<std::u
     }
     triangle_boxes.push_back(outward_box(x0, y0, x1, y1));
   }
-  const BoxCounter counter(triangle_boxes);
+  const BoxCounter counter(triangle_boxes, threads);
   release(triangle_boxes);
   // Queries per pass (about 36 bytes each): each pass inserts every triangle into the Fenwick
   // trees, so fewer passes cost less time and more memory.

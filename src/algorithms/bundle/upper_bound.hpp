@@ -38,7 +38,8 @@ bool circumdisk_box(const Point& a, const Point& b, const Point& c, std::array<d
 // over y (dominance counting). O((n + q) log n) for n boxes and q queries.
 class BoxCounter {
  public:
-  explicit BoxCounter(const std::vector<Box>& boxes);
+  // The ranks of y1 and of y0, and the orders by x1 and by x0, on up to `threads` threads.
+  explicit BoxCounter(const std::vector<Box>& boxes, unsigned threads = 1);
   // The number of boxes meeting each query box (closed boxes; touching counts). The two sweeps
   // (left, right) run on up to `threads` threads. Not thread-safe (scratch is kept from call to
   // call).

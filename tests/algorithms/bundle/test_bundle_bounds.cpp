@@ -89,6 +89,7 @@ TEST(BundleBounds, BoxCountsMatchBruteForce) {
   ASSERT_EQ(counts.size(), queries.size());
   // The two sweeps on two threads (and the counter's scratch reused) give the same counts.
   EXPECT_EQ(counter.count(queries, 2), counts);
+  EXPECT_EQ(bundle::BoxCounter(boxes, 2).count(queries, 2), counts);
   for (std::size_t i = 0; i < queries.size(); ++i) {
     const auto& q = queries[i];
     std::uint32_t brute = 0;
