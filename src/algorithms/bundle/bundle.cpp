@@ -132,12 +132,12 @@ BundleResult bundle_number_of(const Mesh& mesh, const BundleOptions& options, Re
     return result;
   }
   release();
-  result.disks = sh.share_cocircular_disks();
+  const unsigned threads = bundle::worker_threads(options.threads, sh.pencils.size());
+  result.disks = sh.share_cocircular_disks(threads);
   // DT(V)'s coordinates are sh.pts; from here on only its topology is read.
   bundle::release(sh.dt.points);
   bundle::release(sh.dt.vertex_kind);
   bundle::release(sh.dt.vertex_marker);
-  const unsigned threads = bundle::worker_threads(options.threads, sh.pencils.size());
   // Without per-triangle values, a pencil with no more candidates than the best count so far
   // cannot improve it and is skipped (the first pencil reaching the maximum is never skipped, so
   // the witness does not depend on the number of threads).

@@ -197,19 +197,29 @@ std::vector<std::uint32_t> cut_pencils(const Shared& sh, unsigned threads) {
 // circumdisks (a hull edge's pencil: the one; its other disks meet the triangles only inside it).
 std::vector<std::uint32_t> box_bounds(const Shared& sh, const std::vector<std::uint32_t>& cut, std::uint32_t domain,
                                       unsigned threads) {
+  // The in-domain triangles' boxes, per range of slots on `threads` threads (the counts do not
+  // depend on the boxes' order).
+  std::vector<std::vector<Box>> part_boxes(std::max(threads, 1u));
+  support::parallel_ranges(part_boxes.size(), sh.slots.size(), [&](std::size_t k, std::size_t begin, std::size_t end) {
+    std::vector<Box>& mine = part_boxes[k];
+    for (std::size_t t = begin; t < end; ++t) {
+      if (!sh.in_domain(static_cast<TriangleId>(t))) continue;
+      double x0 = kInf, y0 = kInf, x1 = -kInf, y1 = -kInf;
+      for (const VertexId v : sh.slots[t].v) {
+        const Point& p = sh.pts[v];
+        x0 = std::min(x0, p.x);
+        y0 = std::min(y0, p.y);
+        x1 = std::max(x1, p.x);
+        y1 = std::max(y1, p.y);
+      }
+      mine.push_back(outward_box(x0, y0, x1, y1));
+    }
+  });
   std::vector<Box> triangle_boxes;
   triangle_boxes.reserve(domain);
-  for (TriangleId t = 0; t < sh.slots.size(); ++t) {
-    if (!sh.in_domain(t)) continue;
-    double x0 = kInf, y0 = kInf, x1 = -kInf, y1 = -kInf;
-    for (const VertexId v : sh.slots[t].v) {
-      const Point& p = sh.pts[v];
-      x0 = std::min(x0, p.x);
-      y0 = std::min(y0, p.y);
-      x1 = std::max(x1, p.x);
-      y1 = std::max(y1, p.y);
-    }
-    triangle_boxes.push_back(outward_box(x0, y0, x1, y1));
+  for (auto& part : part_boxes) {
+    triangle_boxes.insert(triangle_boxes.end(), part.begin(), part.end());
+    release(part);
   }
   const BoxCounter counter(triangle_boxes, threads);
   release(triangle_boxes);
