@@ -70,14 +70,23 @@ void merge_workers(const Workers& workers, BundleResult& result) {
 // every circumdisk is about the whole circle). The pencils with a list cut short were not swept;
 // what was swept is exact. Lower bound: that, or a circumdisk counted in full (those whose cut
 // lists met the most triangles; a circumdisk of DT(V) is vertex-empty, so it is a witness). Upper
-// bound: bound_cut_pencils (upper_bound.cpp), which may also raise the lower bound.
-void bound_cut_lists(Shared& sh, Worker& worker, std::size_t work_budget, BundleResult& result) {
+// bound: bound_cut_pencils (upper_bound.cpp), which may also raise the lower bound. The cut lists
+// are counted on every worker (each disk on its own: the counts do not depend on the threads);
+// the rest runs on the first.
+void bound_cut_lists(Shared& sh, Workers& workers, std::size_t work_budget, BundleResult& result) {
+  Worker& worker = *workers[0];
   std::vector<std::pair<std::uint32_t, TriangleId>> cut;  // (met within the cut list, slot)
   for (TriangleId d = 0; d < sh.truncated.size(); ++d) {
-    if (!sh.truncated[d]) continue;
-    ++result.truncated_disks;
-    cut.emplace_back(worker.circumdisk_count(d, sh.list_data(d), sh.list_size(d), nullptr), d);
+    if (sh.truncated[d]) cut.emplace_back(0, d);
   }
+  result.truncated_disks = cut.size();
+  bundle::for_ranges(workers, cut.size(), [&](Worker& w, std::size_t begin, std::size_t end, std::size_t) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const TriangleId d = cut[i].second;
+      cut[i].first = w.circumdisk_count(d, sh.list_data(d), sh.list_size(d), nullptr);
+    }
+  });
+  for (std::size_t k = 1; k < workers.size(); ++k) workers[k]->release_disk_scratch();
   const std::size_t full = std::min(kFullCounts, cut.size());
   std::partial_sort(cut.begin(), cut.begin() + static_cast<std::ptrdiff_t>(full), cut.end(),
                     [](const auto& x, const auto& y) { return x.first > y.first || (x.first == y.first && x.second < y.second); });
@@ -97,7 +106,7 @@ void bound_cut_lists(Shared& sh, Worker& worker, std::size_t work_budget, Bundle
   result.bundle_number = result.lower_bound;
   bundle::release(sh.list);  // the cut lists are read no more
   bundle::release(sh.list_begin);
-  bundle::bound_cut_pencils(sh, worker, work_budget, result);
+  bundle::bound_cut_pencils(sh, worker, work_budget, static_cast<unsigned>(workers.size()), result);
   result.bundle_number = result.lower_bound;
   result.exact = result.lower_bound == result.upper_bound;
 }
@@ -123,12 +132,12 @@ BundleResult bundle_number_of(const Mesh& mesh, const BundleOptions& options, Re
     return result;
   }
   release();
-  result.disks = sh.share_cocircular_disks();
+  const unsigned threads = bundle::worker_threads(options.threads, sh.pencils.size());
+  result.disks = sh.share_cocircular_disks(threads);
   // DT(V)'s coordinates are sh.pts; from here on only its topology is read.
   bundle::release(sh.dt.points);
   bundle::release(sh.dt.vertex_kind);
   bundle::release(sh.dt.vertex_marker);
-  const unsigned threads = bundle::worker_threads(options.threads, sh.pencils.size());
   // Without per-triangle values, a pencil with no more candidates than the best count so far
   // cannot improve it and is skipped (the first pencil reaching the maximum is never skipped, so
   // the witness does not depend on the number of threads).
@@ -149,11 +158,8 @@ BundleResult bundle_number_of(const Mesh& mesh, const BundleOptions& options, Re
   });
   merge_workers(workers, result);
   if (!complete) {
-    for (auto& w : workers) {
-      w->release_sweep_scratch();
-      w->release_disk_scratch();
-    }
-    bound_cut_lists(sh, *workers[0], options.candidate_budget / kRefineShare, result);
+    for (auto& w : workers) w->release_sweep_scratch();
+    bound_cut_lists(sh, workers, options.candidate_budget / kRefineShare, result);
   }
   std::sort(result.triangles.begin(), result.triangles.end());
   if (options.per_triangle) result.per_triangle = merge_per_triangle(workers);

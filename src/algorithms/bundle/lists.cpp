@@ -24,11 +24,15 @@ std::vector<std::unique_ptr<Worker>> make_workers(const Shared& sh, unsigned thr
 
 namespace {
 
-// One thread's candidate lists, in chunks of about kChunk triangles (a list never straddles two):
-// the lists are copied into Shared::list chunk by chunk, each freed once copied, so that memory
-// holds the lists about once, not twice, and no growing array is ever copied.
+// One thread's candidate lists, in chunks (a list never straddles two): the lists are copied into
+// Shared::list chunk by chunk, each freed once copied, so that memory holds the lists about once,
+// not twice, and no growing array is ever copied. The chunks grow from kFirstChunk to kChunk
+// triangles, each twice the one before: a small mesh does not pay for a 4 MB chunk per thread
+// (BRH builds lists for many small regions), and the last chunk's unused part is at most what
+// the others hold.
 class ListChunks {
  public:
+  static constexpr std::size_t kFirstChunk = std::size_t{1} << 12;
   static constexpr std::size_t kChunk = std::size_t{1} << 20;
 
   std::size_t size() const { return size_; }
@@ -36,8 +40,9 @@ class ListChunks {
   void append(const std::vector<TriangleId>& one) {
     if (one.empty()) return;
     if (chunks_.empty() || chunks_.back().size() + one.size() > chunks_.back().capacity()) {
+      const std::size_t next = chunks_.empty() ? kFirstChunk : std::min(kChunk, 2 * chunks_.back().capacity());
       chunks_.emplace_back();
-      chunks_.back().reserve(std::max(kChunk, one.size()));
+      chunks_.back().reserve(std::max(next, one.size()));
     }
     chunks_.back().insert(chunks_.back().end(), one.begin(), one.end());
     size_ += one.size();
@@ -61,7 +66,7 @@ class ListChunks {
 }  // namespace
 
 void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers, const std::vector<std::uint8_t>* needed,
-                 std::vector<std::array<double, 4>>* boxes, std::uint32_t cap) {
+                 std::vector<std::array<double, 4>>* boxes, std::uint32_t cap, std::size_t capacity) {
   if (boxes) boxes->assign(sh.dt.triangle_slots(), {kInf, kInf, -kInf, -kInf});
   for (auto& w : workers) w->want_flood_box = boxes != nullptr;
   const std::size_t slots = sh.dt.triangle_slots();
@@ -97,8 +102,9 @@ void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers, cons
   std::size_t total = 0;
   for (const auto& part : parts) total += part.size();
   if (total > 0xFFFFFFF0u) throw InternalError("bundle: candidate lists too long");
-  sh.list.clear();
-  sh.list.reserve(total);
+  release(sh.list);
+  // (At most twice the lists: the room is address space, which --max-memory limits.)
+  sh.list.reserve(std::max(total, std::min(capacity, 2 * total)));
   sh.list_begin.assign(slots + 1, 0);
   for (std::size_t k = 0; k < workers.size(); ++k) {
     const std::size_t begin = slots * k / workers.size(), end = slots * (k + 1) / workers.size();
@@ -118,7 +124,8 @@ bool build_lists_within_budget(Shared& sh, std::vector<std::unique_ptr<Worker>>&
   };
   const std::uint32_t first_cap = std::max<std::uint32_t>(1, share(budget, disks));
   sh.truncated.assign(slots, 0);
-  build_lists(sh, workers, nullptr, nullptr, first_cap);
+  // Room for the budget: the second pass's lists then replace the cut ones in place.
+  build_lists(sh, workers, nullptr, nullptr, first_cap, std::min<std::size_t>(budget, 0xFFFFFFF0u));
   std::vector<std::uint8_t> again(slots, 0);
   std::size_t cut = 0;
   for (TriangleId d = 0; d < slots; ++d) {
@@ -132,23 +139,29 @@ bool build_lists_within_budget(Shared& sh, std::vector<std::unique_ptr<Worker>>&
   const std::size_t used = sh.list.size();
   const std::uint32_t second_cap = share(budget > used ? budget - used : 0, cut);
   if (second_cap > first_cap) {
-    std::vector<TriangleId> first_list = std::move(sh.list);
+    std::vector<TriangleId> list = std::move(sh.list);  // the first lists, with room for the budget
     std::vector<std::uint32_t> first_begin = std::move(sh.list_begin);
     build_lists(sh, workers, &again, nullptr, second_cap);
-    std::vector<TriangleId> list;
+    // The second lists replace the cut ones in place: each list only grows (a cut list held
+    // first_cap triangles and its flood had more), so every list moves towards the end, and
+    // moving them from the last one down overwrites none not yet moved. The room reserved for
+    // the budget holds them all (the first lists not cut fit the budget, and the second ones its
+    // rest) unless that is over twice the first lists: the lists are held once, not three times.
     std::vector<std::uint32_t> begin(slots + 1, 0);
-    list.reserve(first_list.size() + sh.list.size());
     cut = 0;
     for (TriangleId d = 0; d < slots; ++d) {
-      begin[d] = static_cast<std::uint32_t>(list.size());
+      const std::uint32_t size = again[d] ? sh.list_begin[d + 1] - sh.list_begin[d] : first_begin[d + 1] - first_begin[d];
+      begin[d + 1] = begin[d] + size;
+      cut += again[d] ? sh.truncated[d] : 0;
+    }
+    list.resize(begin[slots]);
+    for (std::size_t d = slots; d-- > 0;) {
       if (again[d]) {
-        list.insert(list.end(), sh.list.begin() + sh.list_begin[d], sh.list.begin() + sh.list_begin[d + 1]);
-        cut += sh.truncated[d];
+        std::copy(sh.list.begin() + sh.list_begin[d], sh.list.begin() + sh.list_begin[d + 1], list.begin() + begin[d]);
       } else {
-        list.insert(list.end(), first_list.begin() + first_begin[d], first_list.begin() + first_begin[d + 1]);
+        std::copy_backward(list.begin() + first_begin[d], list.begin() + first_begin[d + 1], list.begin() + begin[d + 1]);
       }
     }
-    begin[slots] = static_cast<std::uint32_t>(list.size());
     sh.list = std::move(list);
     sh.list_begin = std::move(begin);
     for (TriangleId d = 0; d < slots; ++d) {

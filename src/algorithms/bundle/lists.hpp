@@ -41,11 +41,12 @@ void for_ranges(std::vector<std::unique_ptr<Worker>>& workers, std::size_t n, Bo
 // `needed`; the others get empty lists), by floods. A slot sharing another's disk (Shared::disk)
 // gets an empty list: it reads that slot's.
 // With `cap`, a list stops at cap triangles and its flag in sh.truncated is set if the flood had
-// more to give.
+// more to give. sh.list gets room for `capacity` triangles, at most twice what it holds (pages not
+// written to are not resident: build_lists_within_budget grows the lists in place).
 void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers,
                  const std::vector<std::uint8_t>* needed = nullptr,
                  std::vector<std::array<double, 4>>* boxes = nullptr,
-                 std::uint32_t cap = std::numeric_limits<std::uint32_t>::max());
+                 std::uint32_t cap = std::numeric_limits<std::uint32_t>::max(), std::size_t capacity = 0);
 
 // bundle_number's lists within options.candidate_budget: every list capped at an equal share of
 // the budget, then the lists cut short again with an equal share of what is left. False if some

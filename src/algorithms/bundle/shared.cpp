@@ -6,6 +6,7 @@
 #include "algorithms/bundle/approx.hpp"
 #include "mwst/error.hpp"
 #include "mwst/mesh/delaunay.hpp"
+#include "support/parallel.hpp"
 
 namespace mwst::bundle {
 
@@ -222,7 +223,24 @@ bool Shared::build_region(const std::vector<TriangleId>& region, const DenseIds&
 
 // ---- cocircular Delaunay triangles begin here --------------------------------------------------
 
-std::size_t Shared::share_cocircular_disks() {
+std::size_t Shared::share_cocircular_disks(unsigned threads) {
+  // Per finite live triangle, bit e: the four vertices of it and of its neighbour across edge e
+  // (finite) are cocircular.
+  std::vector<std::uint8_t> cocircular(dt.triangle_slots(), 0);
+  support::parallel_ranges(threads, dt.triangle_slots(), [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const auto t = static_cast<TriangleId>(i);
+      if (dt.is_dead(t) || dt.is_ghost(t)) continue;
+      for (unsigned e = 0; e < 3; ++e) {
+        const Handle h = make_handle(t, e);
+        const Handle hs = dt.sym(h);
+        if (dt.is_ghost(triangle_of(hs))) continue;
+        if (incircle(pts[dt.org(h)], pts[dt.dest(h)], pts[dt.apex(h)], pts[dt.apex(hs)]) == 0) {
+          cocircular[t] = static_cast<std::uint8_t>(cocircular[t] | 1u << e);
+        }
+      }
+    }
+  });
   disk_rep.assign(dt.triangle_slots(), kNone);
   std::size_t distinct = 0;
   std::vector<TriangleId> stack;
@@ -239,12 +257,10 @@ std::size_t Shared::share_cocircular_disks() {
       const TriangleId u = stack.back();
       stack.pop_back();
       for (unsigned e = 0; e < 3; ++e) {
-        const Handle h = make_handle(u, e);
-        const Handle hs = dt.sym(h);
-        const TriangleId n = triangle_of(hs);
+        const TriangleId n = triangle_of(dt.sym(make_handle(u, e)));
         if (disk_rep[n] != kNone || dt.is_ghost(n)) continue;
         // The four vertices of the two triangles on the edge are cocircular: one circumcircle.
-        if (incircle(pts[dt.org(h)], pts[dt.dest(h)], pts[dt.apex(h)], pts[dt.apex(hs)]) != 0) continue;
+        if ((cocircular[u] >> e & 1u) == 0) continue;
         disk_rep[n] = t;
         stack.push_back(n);
       }

@@ -142,8 +142,9 @@ struct Shared {
   bool list_cut(TriangleId d) const { return !truncated.empty() && truncated[disk(d)] != 0; }
 
   // Fills disk_rep: the Delaunay triangles of one circumcircle share the first one's slot. Returns
-  // the number of distinct circumdisks (live finite DT slots that are their own).
-  std::size_t share_cocircular_disks();
+  // the number of distinct circumdisks (live finite DT slots that are their own). The edges' incircle
+  // tests run on `threads` threads; the grouping, which reads them, on one.
+  std::size_t share_cocircular_disks(unsigned threads = 1);
 
 
   // Renumbers, builds DT(V) and (if asked) lists the pencils. False if T has no triangle. With a

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "mwst/geometry/geometry.hpp"
+#include "support/parallel.hpp"
 
 namespace mwst::bundle {
 
@@ -85,45 +86,55 @@ Box outward_box(double x0, double y0, double x1, double y1) {
 
 // ---- BoxCounter begins here -----------------------------------------------------------------------
 
-BoxCounter::BoxCounter(const std::vector<Box>& boxes) : n_(boxes.size()) {
-  std::vector<std::pair<float, std::uint32_t>> order(n_);
+BoxCounter::BoxCounter(const std::vector<Box>& boxes, unsigned threads) : n_(boxes.size()) {
+  threads = std::min(threads, 2u);
   std::vector<std::uint32_t> rank_top(n_), rank_bottom(n_);
   ys_top_.resize(n_);
   ys_bottom_.resize(n_);
-  for (int side = 0; side < 2; ++side) {  // ranks of y1 (top), then of y0 (bottom)
+  support::parallel_for(2, threads, [&](std::size_t side) {  // ranks of y1 (top) and of y0 (bottom)
+    std::vector<std::pair<float, std::uint32_t>> order(n_);
     for (std::uint32_t i = 0; i < n_; ++i) order[i] = {boxes[i][side == 0 ? 3 : 1], i};
     std::sort(order.begin(), order.end());
     for (std::uint32_t r = 0; r < n_; ++r) {
       (side == 0 ? ys_top_ : ys_bottom_)[r] = order[r].first;
       (side == 0 ? rank_top : rank_bottom)[order[r].second] = r;
     }
-  }
+  });
   by_right_.resize(n_);
   by_left_.resize(n_);
-  for (std::uint32_t i = 0; i < n_; ++i) {
-    by_right_[i] = {boxes[i][2], rank_top[i], rank_bottom[i]};
-    by_left_[i] = {boxes[i][0], rank_top[i], rank_bottom[i]};
-  }
-  std::sort(by_right_.begin(), by_right_.end(), [](const Keyed& p, const Keyed& q) { return p.x < q.x; });
-  std::sort(by_left_.begin(), by_left_.end(), [](const Keyed& p, const Keyed& q) { return p.x > q.x; });
+  support::parallel_for(2, threads, [&](std::size_t side) {  // by x1 ascending, by x0 descending
+    std::vector<Keyed>& keyed = side == 0 ? by_right_ : by_left_;
+    for (std::uint32_t i = 0; i < n_; ++i) keyed[i] = {boxes[i][side == 0 ? 2 : 0], rank_top[i], rank_bottom[i]};
+    if (side == 0) {
+      std::sort(keyed.begin(), keyed.end(), [](const Keyed& p, const Keyed& q) { return p.x < q.x; });
+    } else {
+      std::sort(keyed.begin(), keyed.end(), [](const Keyed& p, const Keyed& q) { return p.x > q.x; });
+    }
+  });
 }
 
-std::vector<std::uint32_t> BoxCounter::count(const std::vector<Box>& queries) const {
+std::vector<std::uint32_t> BoxCounter::count(const std::vector<Box>& queries, unsigned threads) const {
   const std::size_t q = queries.size();
   std::vector<std::int64_t> met(q);
   // Per query: how many boxes lie wholly below it (y1 < query y0) and how many do not lie wholly
   // above it (y0 ≤ query y1): positions in ys_top_ / ys_bottom_, found once.
   std::vector<std::array<std::uint32_t, 2>> y_rank(q);
-  for (std::size_t i = 0; i < q; ++i) {
-    const Box& b = queries[i];
-    y_rank[i] = {static_cast<std::uint32_t>(count_below(ys_top_, b[1])),
-                 static_cast<std::uint32_t>(n_ - count_above(ys_bottom_, b[3]))};
-    // − D − U.
-    met[i] = static_cast<std::int64_t>(n_) - y_rank[i][0] - static_cast<std::int64_t>(n_ - y_rank[i][1]);
-  }
-  std::vector<std::uint32_t> order(q);
-  // One sweep per side: left (x1 < query x0, ascending) and right (x0 > query x1, descending).
-  for (int side = 0; side < 2; ++side) {
+  support::parallel_ranges(threads, q, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const Box& b = queries[i];
+      y_rank[i] = {static_cast<std::uint32_t>(count_below(ys_top_, b[1])),
+                   static_cast<std::uint32_t>(n_ - count_above(ys_bottom_, b[3]))};
+      // − D − U.
+      met[i] = static_cast<std::int64_t>(n_) - y_rank[i][0] - static_cast<std::int64_t>(n_ - y_rank[i][1]);
+    }
+  });
+  // One sweep per side: left (x1 < query x0, ascending) and right (x0 > query x1, descending),
+  // independent of each other (each its own trees and terms, added up after).
+  std::array<std::vector<std::int64_t>, 2> side_met;
+  support::parallel_for(2, std::min(threads, 2u), [&](std::size_t side) {
+    std::vector<std::int64_t>& terms = side_met[side];
+    terms.assign(q, 0);
+    std::vector<std::uint32_t> order(q);
     const std::vector<Keyed>& keyed = side == 0 ? by_right_ : by_left_;
     for (std::uint32_t i = 0; i < q; ++i) order[i] = i;
     if (side == 0) {
@@ -132,9 +143,9 @@ std::vector<std::uint32_t> BoxCounter::count(const std::vector<Box>& queries) co
       std::sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) { return queries[x][2] > queries[y][2]; });
     }
     // (Reused from call to call: fresh arrays of this size would be fresh mappings, faulted in.)
-    fenwick_top_.assign(n_ + 1, 0);
-    fenwick_bottom_.assign(n_ + 1, 0);
-    Fenwick tops{fenwick_top_}, bottoms{fenwick_bottom_};
+    fenwick_top_[side].assign(n_ + 1, 0);
+    fenwick_bottom_[side].assign(n_ + 1, 0);
+    Fenwick tops{fenwick_top_[side]}, bottoms{fenwick_bottom_[side]};
     std::size_t inserted = 0;
     for (const std::uint32_t i : order) {
       const Box& b = queries[i];
@@ -146,11 +157,14 @@ std::vector<std::uint32_t> BoxCounter::count(const std::vector<Box>& queries) co
       // − L (or R), + LD (RD): also wholly below, + LU (RU): also wholly above.
       const std::uint32_t below = tops.below(y_rank[i][0]);
       const std::uint32_t above = static_cast<std::uint32_t>(inserted) - bottoms.below(y_rank[i][1]);
-      met[i] += -static_cast<std::int64_t>(inserted) + below + above;
+      terms[i] = -static_cast<std::int64_t>(inserted) + below + above;
     }
-  }
+  });
   std::vector<std::uint32_t> out(q);
-  for (std::size_t i = 0; i < q; ++i) out[i] = static_cast<std::uint32_t>(std::clamp<std::int64_t>(met[i], 0, static_cast<std::int64_t>(n_)));
+  for (std::size_t i = 0; i < q; ++i) {
+    const std::int64_t all = met[i] + side_met[0][i] + side_met[1][i];
+    out[i] = static_cast<std::uint32_t>(std::clamp<std::int64_t>(all, 0, static_cast<std::int64_t>(n_)));
+  }
   return out;
 }
 
@@ -159,38 +173,55 @@ std::vector<std::uint32_t> BoxCounter::count(const std::vector<Box>& queries) co
 namespace {
 
 // The pencils not swept because a list of theirs was cut (and not cocircular: those hold only a
-// circumdisk, the end of another pencil).
-std::vector<std::uint32_t> cut_pencils(const Shared& sh) {
+// circumdisk, the end of another pencil), in order; the pencils are tested on `threads` threads.
+std::vector<std::uint32_t> cut_pencils(const Shared& sh, unsigned threads) {
+  std::vector<std::uint8_t> is_cut(sh.pencils.size(), 0);
+  support::parallel_ranges(threads, sh.pencils.size(), [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const Handle h = sh.pencils[i], hs = sh.dt.sym(h);
+      const VertexId rv = sh.dt.apex(hs);
+      const bool ghost = sh.dt.is_ghost(triangle_of(hs));
+      if (!sh.list_cut(triangle_of(h)) && (ghost || !sh.list_cut(triangle_of(hs)))) continue;
+      if (!ghost && incircle(sh.pts[sh.dt.org(h)], sh.pts[sh.dt.dest(h)], sh.pts[sh.dt.apex(h)], sh.pts[rv]) == 0) continue;
+      is_cut[i] = 1;
+    }
+  });
   std::vector<std::uint32_t> cut;
-  for (std::uint32_t i = 0; i < sh.pencils.size(); ++i) {
-    const Handle h = sh.pencils[i], hs = sh.dt.sym(h);
-    const VertexId rv = sh.dt.apex(hs);
-    const bool ghost = sh.dt.is_ghost(triangle_of(hs));
-    if (!sh.list_cut(triangle_of(h)) && (ghost || !sh.list_cut(triangle_of(hs)))) continue;
-    if (!ghost && incircle(sh.pts[sh.dt.org(h)], sh.pts[sh.dt.dest(h)], sh.pts[sh.dt.apex(h)], sh.pts[rv]) == 0) continue;
-    cut.push_back(i);
+  for (std::uint32_t i = 0; i < is_cut.size(); ++i) {
+    if (is_cut[i]) cut.push_back(i);
   }
   return cut;
 }
 
 // Per cut pencil, the number of in-domain triangles whose bounding boxes meet a box holding its
 // circumdisks (a hull edge's pencil: the one; its other disks meet the triangles only inside it).
-std::vector<std::uint32_t> box_bounds(const Shared& sh, const std::vector<std::uint32_t>& cut, std::uint32_t domain) {
+std::vector<std::uint32_t> box_bounds(const Shared& sh, const std::vector<std::uint32_t>& cut, std::uint32_t domain,
+                                      unsigned threads) {
+  // The in-domain triangles' boxes, per range of slots on `threads` threads (the counts do not
+  // depend on the boxes' order).
+  std::vector<std::vector<Box>> part_boxes(std::max(threads, 1u));
+  support::parallel_ranges(part_boxes.size(), sh.slots.size(), [&](std::size_t k, std::size_t begin, std::size_t end) {
+    std::vector<Box>& mine = part_boxes[k];
+    for (std::size_t t = begin; t < end; ++t) {
+      if (!sh.in_domain(static_cast<TriangleId>(t))) continue;
+      double x0 = kInf, y0 = kInf, x1 = -kInf, y1 = -kInf;
+      for (const VertexId v : sh.slots[t].v) {
+        const Point& p = sh.pts[v];
+        x0 = std::min(x0, p.x);
+        y0 = std::min(y0, p.y);
+        x1 = std::max(x1, p.x);
+        y1 = std::max(y1, p.y);
+      }
+      mine.push_back(outward_box(x0, y0, x1, y1));
+    }
+  });
   std::vector<Box> triangle_boxes;
   triangle_boxes.reserve(domain);
-  for (TriangleId t = 0; t < sh.slots.size(); ++t) {
-    if (!sh.in_domain(t)) continue;
-    double x0 = kInf, y0 = kInf, x1 = -kInf, y1 = -kInf;
-    for (const VertexId v : sh.slots[t].v) {
-      const Point& p = sh.pts[v];
-      x0 = std::min(x0, p.x);
-      y0 = std::min(y0, p.y);
-      x1 = std::max(x1, p.x);
-      y1 = std::max(y1, p.y);
-    }
-    triangle_boxes.push_back(outward_box(x0, y0, x1, y1));
+  for (auto& part : part_boxes) {
+    triangle_boxes.insert(triangle_boxes.end(), part.begin(), part.end());
+    release(part);
   }
-  const BoxCounter counter(triangle_boxes);
+  const BoxCounter counter(triangle_boxes, threads);
   release(triangle_boxes);
   // Queries per pass (about 36 bytes each): each pass inserts every triangle into the Fenwick
   // trees, so fewer passes cost less time and more memory.
@@ -198,27 +229,38 @@ std::vector<std::uint32_t> box_bounds(const Shared& sh, const std::vector<std::u
   std::vector<std::uint32_t> bound(cut.size(), domain);
   std::vector<Box> queries;
   std::vector<std::uint32_t> which;
+  std::vector<std::uint8_t> placed;
   for (std::size_t begin = 0; begin < cut.size(); begin += kChunk) {
     const std::size_t end = std::min(cut.size(), begin + kChunk);
-    queries.clear();
-    which.clear();
-    for (std::size_t k = begin; k < end; ++k) {
-      const Handle h = sh.pencils[cut[k]], hs = sh.dt.sym(h);
-      std::array<double, 4> box{kInf, kInf, -kInf, -kInf};
-      bool placed = true;
-      for (const TriangleId d : {triangle_of(h), triangle_of(hs)}) {
-        if (sh.dt.is_ghost(d)) continue;
-        const auto& v = sh.dt.triangles[d].v;
-        std::array<double, 4> one;
-        placed = placed && circumdisk_box(sh.pts[v[0]], sh.pts[v[1]], sh.pts[v[2]], one);
-        if (!placed) break;
-        box = {std::min(box[0], one[0]), std::min(box[1], one[1]), std::max(box[2], one[2]), std::max(box[3], one[3])};
+    // The query boxes on `threads` threads, then those placed (in order) kept.
+    queries.resize(end - begin);
+    placed.assign(end - begin, 1);
+    support::parallel_ranges(threads, end - begin, [&](std::size_t, std::size_t from, std::size_t to) {
+      for (std::size_t i = from; i < to; ++i) {
+        const Handle h = sh.pencils[cut[begin + i]], hs = sh.dt.sym(h);
+        std::array<double, 4> box{kInf, kInf, -kInf, -kInf};
+        for (const TriangleId d : {triangle_of(h), triangle_of(hs)}) {
+          if (sh.dt.is_ghost(d)) continue;
+          const auto& v = sh.dt.triangles[d].v;
+          std::array<double, 4> one;
+          if (!circumdisk_box(sh.pts[v[0]], sh.pts[v[1]], sh.pts[v[2]], one)) {
+            placed[i] = 0;  // every triangle
+            break;
+          }
+          box = {std::min(box[0], one[0]), std::min(box[1], one[1]), std::max(box[2], one[2]), std::max(box[3], one[3])};
+        }
+        if (placed[i]) queries[i] = outward_box(box[0], box[1], box[2], box[3]);
       }
-      if (!placed) continue;  // every triangle
-      queries.push_back(outward_box(box[0], box[1], box[2], box[3]));
-      which.push_back(static_cast<std::uint32_t>(k));
+    });
+    which.clear();
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < end - begin; ++i) {
+      if (!placed[i]) continue;
+      queries[kept++] = queries[i];
+      which.push_back(static_cast<std::uint32_t>(begin + i));
     }
-    const std::vector<std::uint32_t> counts = counter.count(queries);
+    queries.resize(kept);
+    const std::vector<std::uint32_t> counts = counter.count(queries, threads);
     for (std::size_t i = 0; i < which.size(); ++i) bound[which[i]] = counts[i];
   }
   return bound;
@@ -226,15 +268,15 @@ std::vector<std::uint32_t> box_bounds(const Shared& sh, const std::vector<std::u
 
 }  // namespace
 
-void bound_cut_pencils(Shared& sh, Worker& worker, std::size_t work_budget, BundleResult& result) {
+void bound_cut_pencils(Shared& sh, Worker& worker, std::size_t work_budget, unsigned threads, BundleResult& result) {
   std::uint32_t domain = 0;
   for (TriangleId t = 0; t < sh.slots.size(); ++t) domain += sh.in_domain(t) ? 1 : 0;
   result.upper_bound = std::max(domain, result.lower_bound);
   if (result.lower_bound >= domain) return;
   worker.release_flood_scratch();  // bound_cut_lists's counts: allocated again by the sweeps below
   worker.release_disk_scratch();
-  const std::vector<std::uint32_t> cut = cut_pencils(sh);
-  const std::vector<std::uint32_t> bound = box_bounds(sh, cut, domain);
+  const std::vector<std::uint32_t> cut = cut_pencils(sh, threads);
+  const std::vector<std::uint32_t> bound = box_bounds(sh, cut, domain, threads);
   std::vector<std::pair<std::uint32_t, std::uint32_t>> order;  // (bound, pencil), largest first
   for (std::size_t k = 0; k < cut.size(); ++k) {
     if (bound[k] > result.lower_bound) order.emplace_back(bound[k], cut[k]);

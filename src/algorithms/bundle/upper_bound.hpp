@@ -38,10 +38,12 @@ bool circumdisk_box(const Point& a, const Point& b, const Point& c, std::array<d
 // over y (dominance counting). O((n + q) log n) for n boxes and q queries.
 class BoxCounter {
  public:
-  explicit BoxCounter(const std::vector<Box>& boxes);
-  // The number of boxes meeting each query box (closed boxes; touching counts). Not thread-safe
-  // (scratch is kept from call to call).
-  std::vector<std::uint32_t> count(const std::vector<Box>& queries) const;
+  // The ranks of y1 and of y0, and the orders by x1 and by x0, on up to `threads` threads.
+  explicit BoxCounter(const std::vector<Box>& boxes, unsigned threads = 1);
+  // The number of boxes meeting each query box (closed boxes; touching counts). The two sweeps
+  // (left, right) run on up to `threads` threads. Not thread-safe (scratch is kept from call to
+  // call).
+  std::vector<std::uint32_t> count(const std::vector<Box>& queries, unsigned threads = 1) const;
 
  private:
   struct Keyed {
@@ -52,7 +54,8 @@ class BoxCounter {
   std::vector<float> ys_top_, ys_bottom_;  // every box's y1 / y0, ascending
   std::vector<Keyed> by_right_;             // by x1 ascending
   std::vector<Keyed> by_left_;              // by x0 descending
-  mutable std::vector<std::uint32_t> fenwick_top_, fenwick_bottom_;  // count()'s scratch
+  // count()'s scratch, per sweep (left, right): the Fenwick trees over the ranks of y1 and y0.
+  mutable std::array<std::vector<std::uint32_t>, 2> fenwick_top_, fenwick_bottom_;
 };
 
 // With lists cut at the budget's cap (sh.truncated), replaces the upper bound "every triangle" by
@@ -61,6 +64,7 @@ class BoxCounter {
 // circumdisks. Then sweeps those pencils exactly from full floods, largest bound first, as long as
 // their bounds exceed the best count and the floods stay within `work_budget` triangles in all; a
 // sweep that beats the lower bound replaces it and its witness. result.exact if the bounds meet.
-void bound_cut_pencils(Shared& sh, Worker& worker, std::size_t work_budget, BundleResult& result);
+// The box counts run on up to `threads` threads; the sweeps on `worker`.
+void bound_cut_pencils(Shared& sh, Worker& worker, std::size_t work_budget, unsigned threads, BundleResult& result);
 
 }  // namespace mwst::bundle

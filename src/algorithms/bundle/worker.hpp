@@ -237,19 +237,22 @@ class Worker {
     Point local;           // local coordinates: p = (−1, 0), q = (1, 0)
   };
 
-  // A new disk for meets_circumdisk's caches. (Stamps below 2^31: edge_meets_ keeps the stamp
-  // shifted by one bit.)
+  // A new disk for meets_circumdisk's caches. (Stamps below 2^30: edge_meets_ keeps the stamp
+  // shifted by one bit, disk_side_ by two.)
   void start_disk() {
     if (edge_meets_.empty()) {
-      disk_side_.assign(sh_.pts.size(), DiskSide{});
-      edge_meets_.assign(4 * sh_.slots.size(), 0u);
+      disk_side_.assign(sh_.pts.size(), 0u);
+      edge_meets_.assign(3 * sh_.slots.size(), 0u);
     }
-    if (++disk_stamp_ == (1u << 31)) {
-      for (auto& d : disk_side_) d.stamp = 0;
+    if (++disk_stamp_ == (1u << 30)) {
+      std::fill(disk_side_.begin(), disk_side_.end(), 0u);
       std::fill(edge_meets_.begin(), edge_meets_.end(), 0u);
       disk_stamp_ = 1;
     }
   }
+
+  // edge_meets_'s entry for handle h: three per slot (a handle's fourth value is unused).
+  static std::size_t edge_entry(Handle h) { return 3 * std::size_t{h >> 2} + (h & 3); }
 
   // Advances a stamp; on wrap-around clears the marks it guards.
   template <class Clear>
@@ -300,6 +303,11 @@ class Worker {
   inline void best_interval(std::size_t index, std::uint32_t j_min, std::uint32_t j_max, std::uint32_t always_count,
                             std::uint32_t b_total);
   inline void spread_per_triangle(std::uint32_t j_min, std::uint32_t j_max, bool cacheable);
+  // Is mesh slot t a candidate of the current pencil (gather_candidates)?
+  bool is_candidate(TriangleId t) const {
+    const std::uint32_t i = candidate_index_[t];
+    return i < candidates_.size() && candidates_[i].triangle == t;
+  }
   // Side of vertex v relative to the directed line p→q, cached per pencil with its local
   // coordinates.
   inline const PencilVertex& vertex(VertexId v);
@@ -330,18 +338,17 @@ class Worker {
 
   // Pencil scratch.
   Pencil pc_;
-  std::uint32_t pencil_stamp_ = 0, candidate_mark_ = 0;
+  std::uint32_t pencil_stamp_ = 0;
   std::vector<PencilVertex> pencil_vertex_;
-  // circumdisk_count(): the exact incircle signs of the vertices the filter left undecided, and per
-  // edge handle whether the edge meets the disk (stamp << 1 | answer), per disk.
-  struct DiskSide {
-    std::uint32_t stamp = 0;
-    std::int8_t sign = 0;
-  };
+  // circumdisk_count(): per vertex the exact incircle sign the filter left undecided (stamp << 2 |
+  // sign + 1), and per edge handle (edge_entry) whether the edge meets the disk (stamp << 1 |
+  // answer), per disk.
   std::uint32_t disk_stamp_ = 0;
-  std::vector<DiskSide> disk_side_;
+  std::vector<std::uint32_t> disk_side_;
   std::vector<std::uint32_t> edge_meets_;
-  std::vector<std::uint32_t> candidate_stamp_, candidate_index_;
+  // Per mesh slot: its index in candidates_ if it is a candidate of the current pencil (a sparse
+  // set: valid when candidates_[i].triangle is the slot, so that nothing is cleared per pencil).
+  std::vector<std::uint32_t> candidate_index_;
   std::vector<Candidate> candidates_;
   std::vector<EdgeInfo> edge_info_;        // the edges classified for the current pencil
   std::vector<std::uint32_t> edge_ref_;    // per candidate edge: its index in edge_info_
@@ -374,7 +381,6 @@ inline void Worker::release_disk_scratch() {
 
 inline void Worker::release_sweep_scratch() {
   release(pencil_vertex_);
-  release(candidate_stamp_);
   release(candidate_index_);
   release(candidates_);
   release(edge_info_);
@@ -523,9 +529,11 @@ inline bool Worker::meets_circumdisk(TriangleId t, VertexId ca, VertexId cb, Ver
       inside[i] = -1;
       continue;
     }
-    DiskSide& side = disk_side_[v];
-    if (side.stamp != disk_stamp_) side = {disk_stamp_, static_cast<std::int8_t>(detail::incircle_exact(a, b, c, sh_.pts[v]))};
-    inside[i] = side.sign;
+    std::uint32_t& side = disk_side_[v];
+    if ((side >> 2) != disk_stamp_) {
+      side = disk_stamp_ << 2 | static_cast<std::uint32_t>(detail::incircle_exact(a, b, c, sh_.pts[v]) + 1);
+    }
+    inside[i] = static_cast<int>(side & 3u) - 1;
     if (inside[i] > 0) return true;
   }
   const VertexId circle_ids[3] = {ca, cb, cc};
@@ -555,18 +563,18 @@ inline bool Worker::meets_circumdisk(TriangleId t, VertexId ca, VertexId cb, Ver
     if (inside[iu] == 0 || inside[iw] == 0) continue;  // decided above
     // Edge i of t (from corner i + 1 to i + 2), decided once per disk for both triangles on it.
     const Handle h = make_handle(t, static_cast<unsigned>(i));
-    const std::uint32_t known = edge_meets_[h];
+    const std::uint32_t known = edge_meets_[edge_entry(h)];
     if ((known >> 1) == disk_stamp_) {
       if ((known & 1u) != 0) return true;
       continue;
     }
     const bool meets = segment_meets_open_circumdisk(a, b, c, sh_.pts[tv[iu]], sh_.pts[tv[iw]]);
     const std::uint32_t value = disk_stamp_ << 1 | (meets ? 1u : 0u);
-    edge_meets_[h] = value;
+    edge_meets_[edge_entry(h)] = value;
     // (Only in-domain triangles are candidates; a region's edges out of it all lead to the one
     // `outside` slot, which is not.)
     const Handle twin = sh_.sym(h);
-    if (sh_.in_domain(triangle_of(twin))) edge_meets_[twin] = value;
+    if (sh_.in_domain(triangle_of(twin))) edge_meets_[edge_entry(twin)] = value;
     if (meets) return true;
   }
   return false;

@@ -76,20 +76,17 @@ bool Worker::start_pencil(Handle h, VertexId rv) {
 // The candidates: the union of the lists of the two Delaunay triangles on the edge (every disk of
 // the pencil lies in their circumdisks), each triangle once.
 void Worker::gather_candidates(Handle h, Handle hs, VertexId rv) {
-  if (candidate_stamp_.empty()) {
-    candidate_stamp_.assign(sh_.slots.size(), 0);
-    candidate_index_.assign(sh_.slots.size(), 0);
+  if (candidate_index_.empty()) {
+    candidate_index_.assign(sh_.slots.size(), kNone);
     pencil_vertex_.assign(sh_.pts.size(), PencilVertex{});
   }
-  bump(candidate_mark_, [this] { std::fill(candidate_stamp_.begin(), candidate_stamp_.end(), 0); });
   candidates_.clear();
   auto gather = [&](TriangleId dtt, const std::vector<TriangleId>* given) {
     const TriangleId* list = given ? given->data() : sh_.list_data(dtt);
     const std::size_t size = given ? given->size() : sh_.list_size(dtt);
     for (std::size_t i = 0; i < size; ++i) {
       const TriangleId t = list[i];
-      if (candidate_stamp_[t] == candidate_mark_) continue;
-      candidate_stamp_[t] = candidate_mark_;
+      if (is_candidate(t)) continue;
       candidate_index_[t] = static_cast<std::uint32_t>(candidates_.size());
       Candidate c;
       c.triangle = t;
@@ -433,7 +430,7 @@ void Worker::classify(std::uint32_t i, bool& has_a, Threshold& a, bool& has_b, T
     const Handle across = neighbours[k];
     const TriangleId n = triangle_of(across);
     std::uint32_t& ref = edge_ref_[3 * static_cast<std::size_t>(i) + k];
-    if (candidate_stamp_[n] == candidate_mark_ && candidate_index_[n] < i) {
+    if (is_candidate(n) && candidate_index_[n] < i) {
       ref = edge_ref_[3 * static_cast<std::size_t>(candidate_index_[n]) + edge_of(across)];
     } else {
       ref = static_cast<std::uint32_t>(edge_info_.size());

@@ -12,6 +12,8 @@
 #include <random>
 #include <vector>
 
+#include "algorithms/bundle/lists.hpp"
+#include "algorithms/bundle/shared.hpp"
 #include "algorithms/bundle/upper_bound.hpp"
 #include "mwst/algorithms/bundle.hpp"
 #include "mwst/mesh/delaunay.hpp"
@@ -84,8 +86,12 @@ TEST(BundleBounds, BoxCountsMatchBruteForce) {
   std::vector<bundle::Box> boxes(300), queries(200);
   for (auto& b : boxes) b = random_box();
   for (auto& q : queries) q = random_box();
-  const std::vector<std::uint32_t> counts = bundle::BoxCounter(boxes).count(queries);
+  const bundle::BoxCounter counter(boxes);
+  const std::vector<std::uint32_t> counts = counter.count(queries);
   ASSERT_EQ(counts.size(), queries.size());
+  // The two sweeps on two threads (and the counter's scratch reused) give the same counts.
+  EXPECT_EQ(counter.count(queries, 2), counts);
+  EXPECT_EQ(bundle::BoxCounter(boxes, 2).count(queries, 2), counts);
   for (std::size_t i = 0; i < queries.size(); ++i) {
     const auto& q = queries[i];
     std::uint32_t brute = 0;
@@ -147,6 +153,42 @@ TEST(BundleBounds, EllipseBoundsBracketTheExactNumber) {
     EXPECT_GT(cut.truncated_disks, 0u);
     EXPECT_LT(cut.upper_bound, tris.size() * 3 / 4);
   }
+}
+
+// build_lists_within_budget's lists are the floods' lists cut at their caps: the second pass's
+// longer lists replace the first pass's cut ones in place (moved from the last down), and every
+// other list stays as it was. Points in a square inside a ring of points on a circle: small disks
+// inside, huge ones along the ring, so that some budgets cut lists twice.
+TEST(BundleBounds, BudgetListsAreTheFloodsCutAtTheirCaps) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> coordinate(-0.5, 0.5);
+  std::vector<Point> pts;
+  for (int i = 0; i < 400; ++i) pts.push_back({coordinate(rng), coordinate(rng)});
+  for (int i = 0; i < 150; ++i) {
+    const double a = 2.0 * 3.14159265358979323846 * i / 150.0;
+    pts.push_back({2.0 * std::cos(a), 2.0 * std::sin(a)});
+  }
+  const Mesh mesh = delaunay(pts);
+  bool second_pass = false;
+  for (const std::size_t per_disk : {4u, 8u, 12u, 16u, 24u}) {
+    SCOPED_TRACE("budget per disk " + std::to_string(per_disk));
+    bundle::Shared sh(mesh);
+    ASSERT_TRUE(sh.build());
+    const std::size_t disks = sh.share_cocircular_disks();
+    auto workers = bundle::make_workers(sh, 1, false, true);
+    bundle::build_lists_within_budget(sh, workers, per_disk * disks);
+    std::vector<TriangleId> full;
+    for (TriangleId d = 0; d < sh.dt.triangle_slots(); ++d) {
+      if (sh.dt.is_dead(d) || sh.dt.is_ghost(d) || sh.disk(d) != d) continue;
+      workers[0]->flood(d, full);
+      const std::size_t size = sh.list_size(d);
+      ASSERT_LE(size, full.size());
+      EXPECT_TRUE(std::equal(full.begin(), full.begin() + static_cast<std::ptrdiff_t>(size), sh.list_data(d)));
+      EXPECT_EQ(sh.list_cut(d), size < full.size());
+      second_pass = second_pass || size > per_disk;
+    }
+  }
+  EXPECT_TRUE(second_pass);
 }
 
 // The fan: exact without a budget, bracketed with one (its apex is a corner of every triangle).
