@@ -60,9 +60,13 @@ class VertexIndex {
     if (!(std::fabs(d) > 1e-9 * longest)) return Disk::kUnknown;
     const double ux = (cy * b2 - by * c2) / d, uy = (bx * c2 - cx * b2) / d;
     center_ = {a.x + ux, a.y + uy};
-    // The computed centre is within ~1e-6 r of the true one at that flatness; 1e-4 r is a margin.
+    // At that flatness the centre's offset from a is within ~1e-6 r of the true one (the numerators'
+    // rounding is eps·L³ against r·|d| ≥ L/2 · 1e-9 L²); 1e-4 r is a margin. The absolute term
+    // covers the rounding of a + u and of the differences to it, relative to the coordinates'
+    // magnitude (tiny disks far from the origin).
     const double r = std::sqrt(ux * ux + uy * uy);
-    reach_ = r * (1.0 + 1e-4) + 1e-300;
+    const double magnitude = std::fabs(a.x) + std::fabs(a.y) + std::fabs(ux) + std::fabs(uy);
+    reach_ = r * (1.0 + 1e-4) + 1e-13 * magnitude + 1e-300;
     reach2_ = reach_ * reach_;
     auto check = [&](VertexId x) {
       if (x == cv[0] || x == cv[1] || x == cv[2]) return false;
