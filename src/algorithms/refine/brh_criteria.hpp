@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "mwst/geometry/geometry.hpp"
+#include "algorithms/refine/vertex_index.hpp"
 #include "mwst/mesh/mesh.hpp"
 
 namespace mwst::brh {
@@ -115,8 +116,11 @@ class FloodSet {
 // triangulation of its vertices and every circumdisk is vertex-empty (the empty circle property),
 // so a flood stops as soon as it has counted K in-domain triangles: the answer is yes, at a cost
 // of O(K) visits, however many triangles the disk meets. Otherwise (interior segments, holes) a
-// vertex hidden behind a segment may lie in the disk, and the flood must see the whole disk; it
-// gives up past cap_ visits (unknown: the exact test decides). So a query costs O(K) visits.
+// vertex hidden behind a segment may lie in the disk: an index over the vertices (VertexIndex)
+// decides whether one does, exactly, without flooding the disk; a disk it shows empty is flooded
+// up to K in-domain triangles as on a Delaunay mesh, one holding a vertex not at all. Disks too
+// flat for the index are flooded whole, giving up past cap_ visits (unknown: the exact test
+// decides). So a query costs O(K) visits plus the index's search.
 class LocalBundleTest {
  public:
   // What the floods cost: the visits (triangles popped) of each, and how they ended. An internal
@@ -129,6 +133,9 @@ class LocalBundleTest {
     std::uint64_t capped = 0;          // floods that gave up past cap_ visits
     std::uint64_t known_not_empty = 0; // disks not flooded: an earlier flood found a vertex inside
     std::uint64_t recent_inside = 0;   // disks not flooded: a vertex found inside another disk is in
+    std::uint64_t index_empty = 0;     // constrained mesh: disks the vertex index showed empty
+    std::uint64_t index_holds = 0;     // constrained mesh: disks not flooded, the index found a vertex in
+    std::uint64_t index_visits = 0;    // kd nodes and pending vertices the index looked at
   };
 
   // A flood pops at most cap_ + 1 triangles, so it adds at most 3 (cap_ + 1) + 1 triangles and
@@ -276,6 +283,8 @@ class LocalBundleTest {
     const Point& d = m.points[cv[2]];
     const double orient = (a.x - d.x) * (b.y - d.y) - (a.y - d.y) * (b.x - d.x);
     if (!delaunay_ && recent_holds_vertex(m, cv)) return 0;
+    const bool stop_at_k = delaunay_ || indexed_empty(m, cv);
+    if (holds_vertex_) return 0;
     for (const VertexId v : cv) {
       seen_vertices_.insert(v);
       value_[v % kValueCache] = {v, stamp_, 0.0};
@@ -296,7 +305,7 @@ class LocalBundleTest {
         ++stats_.capped;
         return 0;
       }
-      if (m.in_domain(t) && ++count >= k_ && delaunay_) {
+      if (m.in_domain(t) && ++count >= k_ && stop_at_k) {
         ++stats_.stopped_at_k;
         return count;
       }
@@ -327,9 +336,7 @@ class LocalBundleTest {
           const detail::FilteredDeterminant det = detail::incircle_determinant(a, b, d, m.points[x]);
           if (det.value > det.bound || (!(-det.value > det.bound) && exact_sign(m, cv, x) > 0)) {
             holds_vertex_ = true;  // the disk is not vertex-empty, for good
-            if (std::find(recent_inside_.begin(), recent_inside_.end(), x) == recent_inside_.end()) {
-              recent_inside_[recent_next_++ % kRecentInside] = x;
-            }
+            remember_inside(x);
             return 0;
           }
           value_[x % kValueCache] = {x, stamp_, det.value};
@@ -358,6 +365,36 @@ class LocalBundleTest {
       }
     }
     return false;
+  }
+  // On a constrained mesh: is the circumdisk of corners cv shown vertex-empty by the index (then
+  // the flood may stop at K, as on a Delaunay mesh)? If the index finds a vertex strictly inside,
+  // holds_vertex_ is set (the flood's answer is 0: it would find that vertex, a corner of a
+  // triangle meeting the disk, or pass its cap).
+  bool indexed_empty(const Mesh& m, const std::array<VertexId, 3>& cv) {
+    index_.sync(m.points);
+    const Point& a = m.points[cv[0]];
+    const Point& b = m.points[cv[1]];
+    const Point& d = m.points[cv[2]];
+    const VertexIndex::Disk disk = index_.strictly_inside(m.points, cv, [&](VertexId x) {
+      const detail::FilteredDeterminant det = detail::incircle_determinant(a, b, d, m.points[x]);
+      return det.value > det.bound || (!(-det.value > det.bound) && exact_sign(m, cv, x) > 0);
+    });
+    stats_.index_visits += index_.last_visits();
+    if (disk == VertexIndex::Disk::kHoldsVertex) {
+      holds_vertex_ = true;
+      remember_inside(index_.last_found());
+      ++stats_.index_holds;
+      return false;
+    }
+    if (disk == VertexIndex::Disk::kEmpty) ++stats_.index_empty;
+    return disk == VertexIndex::Disk::kEmpty;
+  }
+  VertexIndex index_;
+
+  void remember_inside(VertexId x) {
+    if (std::find(recent_inside_.begin(), recent_inside_.end(), x) == recent_inside_.end()) {
+      recent_inside_[recent_next_++ % kRecentInside] = x;
+    }
   }
   static constexpr std::size_t kRecentInside = 8;
   std::array<VertexId, kRecentInside> recent_inside_{kNone, kNone, kNone, kNone, kNone, kNone, kNone, kNone};

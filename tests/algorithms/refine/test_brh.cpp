@@ -271,5 +271,23 @@ TEST(Brh, FanStopCountsEverySkinnyTriangleInAKBundle) {
   EXPECT_EQ(in_bundles, stats.stop.count);
 }
 
+// Issue 32: a fan of N narrow wedges takes a number of BRH passes that does not grow with N (each
+// pass splits one shell of segment points at every small input angle at once; how many shells
+// there are does not depend on the number of wedges). Measured: 21 passes at 200, 500, 1,000 and
+// 10,000 vertices.
+TEST(Brh, FanPassesDoNotGrowWithTheNumberOfWedges) {
+  std::size_t rounds[2] = {0, 0};
+  for (const std::size_t n : {100u, 400u}) {
+    Mesh m = constrained_delaunay(generate_input(Distribution::kFan, n, 1));
+    BrhOptions o;
+    o.bundle_k = default_bundle_k(o.min_angle_deg);
+    const BrhStats stats = bundle_removal(m, o);
+    ASSERT_EQ(stats.stop.kind, StopKind::kSmallInputAngles) << n << ": " << to_string(stats.stop);
+    rounds[n == 400u ? 1 : 0] = stats.rounds;
+  }
+  EXPECT_LE(rounds[1], rounds[0] + 1);
+  EXPECT_LE(rounds[1], 30u);
+}
+
 }  // namespace
 }  // namespace mwst

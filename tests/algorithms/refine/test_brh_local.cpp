@@ -94,19 +94,93 @@ TEST(BrhLocalTest, VisitsPerQueryDoNotGrowWithTheMesh) {
   }
 }
 
-TEST(BrhLocalTest, ConstrainedMeshFloodIsCappedAndSound) {
+TEST(BrhLocalTest, ConstrainedMeshFloodStopsAtKWhereTheIndexShowsTheDiskEmpty) {
   // A polygon (Plate: a circular hole, so vertices behind segments can lie in a
-  // circumdisk): the flood must see the whole disk, so it does not stop at K,
-  // but no flood pops more than cap + 1 triangles, and every yes is exact.
+  // circumdisk): a disk the vertex index shows empty is flooded only up to K
+  // in-domain triangles, one it finds a vertex in is not flooded; no flood pops
+  // more than cap + 1 triangles, and every yes is exact.
   const Pslg g = io::read_input(std::string(MWST_DATA_DIR) + "/Plate.poly");
   const Mesh m = constrained_delaunay(g);
   constexpr std::uint32_t kK = 6;
   brh::LocalBundleTest local(kK);
   expect_local_yes_is_exact(m, local, kK);
   const auto &s = local.stats();
-  EXPECT_EQ(s.stopped_at_k, 0u);
   EXPECT_GT(s.floods, 0u);
+  EXPECT_GT(s.index_empty, 0u);
+  EXPECT_GT(s.stopped_at_k, 0u);
+  EXPECT_LE(s.stopped_at_k, s.index_empty);
   EXPECT_LE(s.max_visits, local.cap() + 1);
+}
+
+TEST(BrhLocalTest, FanQueriesStopAtKInsteadOfTheCap) {
+  // A fan of 2,000 narrow wedges (0.01°): the slivers' circumdisks reach
+  // across hundreds of wedges and the gaps between them, so a flood that must
+  // see the whole disk passes its cap (8K + 64 visits) and answers "unknown".
+  // With the vertex index the empty ones stop on counting K: most floods stop
+  // at K, few are capped, and every yes is an exact yes.
+  const Mesh m = constrained_delaunay(generate_input(Distribution::kFan, 2000, 1));
+  const std::uint32_t k = static_cast<std::uint32_t>(default_bundle_k(20.0));
+  brh::LocalBundleTest local(k);
+  const std::size_t yes = expect_local_yes_is_exact(m, local, k);
+  const auto &s = local.stats();
+  EXPECT_GT(yes, 0u);
+  EXPECT_GT(s.stopped_at_k, 10 * s.capped);
+  EXPECT_LE(s.max_visits, local.cap() + 1);
+}
+
+TEST(BrhLocalTest, VertexIndexAgreesWithAllVertices) {
+  // The index's answer for the circumdisks of random vertex triples of a fan
+  // and of Plate, against the exact incircle sign of every vertex: "empty"
+  // means no vertex strictly inside, "holds a vertex" that one is. A third of
+  // the vertices is indexed first, then the rest (the blocks merge).
+  for (const bool fan : {true, false}) {
+    const Mesh m = constrained_delaunay(
+        fan ? generate_input(Distribution::kFan, 600, 1)
+            : io::read_input(std::string(MWST_DATA_DIR) + "/Plate.poly"));
+    std::vector<Point> points(m.points.begin(),
+                              m.points.begin() + static_cast<std::ptrdiff_t>(
+                                                     m.points.size() / 3));
+    brh::VertexIndex index;
+    std::mt19937_64 rng(7);
+    for (int batch = 0; batch < 2; ++batch) {
+      if (batch == 1)
+        points = m.points;
+      index.sync(points);
+      std::size_t empty = 0, holds = 0;
+      for (int q = 0; q < 3000; ++q) {
+        // Small disks (three nearby ids: the generators emit vertices in
+        // order along the boundary) and arbitrary ones.
+        const VertexId base = static_cast<VertexId>(rng() % points.size());
+        std::array<VertexId, 3> cv{};
+        for (VertexId &v : cv)
+          v = q % 2 == 0
+                  ? static_cast<VertexId>((base + rng() % 5) % points.size())
+                  : static_cast<VertexId>(rng() % points.size());
+        if (cv[0] == cv[1] || cv[1] == cv[2] || cv[0] == cv[2])
+          continue;
+        const int o = orient2d(points[cv[0]], points[cv[1]], points[cv[2]]);
+        if (o == 0)
+          continue;
+        if (o < 0)
+          std::swap(cv[1], cv[2]);
+        auto inside = [&](VertexId x) {
+          return incircle(points[cv[0]], points[cv[1]], points[cv[2]],
+                          points[x]) > 0;
+        };
+        bool any = false;
+        for (VertexId x = 0; x < points.size() && !any; ++x)
+          any = x != cv[0] && x != cv[1] && x != cv[2] && inside(x);
+        const auto disk = index.strictly_inside(points, cv, inside);
+        if (disk == brh::VertexIndex::Disk::kUnknown)
+          continue;
+        EXPECT_EQ(disk == brh::VertexIndex::Disk::kHoldsVertex, any)
+            << (fan ? "fan" : "Plate") << " query " << q;
+        ++(any ? holds : empty);
+      }
+      EXPECT_GT(empty, 0u) << (fan ? "fan" : "Plate") << " batch " << batch;
+      EXPECT_GT(holds, 0u) << (fan ? "fan" : "Plate") << " batch " << batch;
+    }
+  }
 }
 
 TEST(BrhLocalTest, RememberedDisksAnswerAsAFreshTestAfterInsertions) {

@@ -1,0 +1,157 @@
+// src/algorithms/refine/vertex_index.hpp — which vertices of a growing mesh lie near a disk
+// (internal, BRH's local test). The refinement only appends vertices (Mesh::points grows), so the
+// index is a logarithmic family of static kd-trees (Bentley and Saxe, "Decomposable searching
+// problems I: static-to-dynamic transformation", J. Algorithms 1980): blocks of 2^i vertices, each
+// a kd-tree stored implicitly (the median of a range at its middle), merged like a binary counter,
+// so an insertion costs O(log² n) amortised and a query visits each block's tree.
+//
+// It answers one question for the local test on constrained meshes: does any vertex lie strictly
+// inside the open circumdisk of corners a, b, c? Floating point only prunes (a kd box farther from
+// the computed centre than the computed radius plus a generous slack holds no vertex of the disk);
+// every vertex within the slack band is decided by the exact incircle sign. Disks too flat for the
+// computed centre to be trusted are not asked (the caller floods them as before).
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "mwst/geometry/geometry.hpp"
+#include "mwst/mesh/mesh.hpp"
+
+namespace mwst::brh {
+
+class VertexIndex {
+ public:
+  // What the last query cost: kd nodes and pending vertices looked at (for the tests).
+  std::size_t last_visits() const { return visits_; }
+  // The vertex the last query found strictly inside (kNone if it found none).
+  VertexId last_found() const { return found_; }
+
+  // Indexes points[indexed_, points.size()).
+  void sync(const std::vector<Point>& points) {
+    while (indexed_ < points.size()) {
+      pending_.push_back(static_cast<VertexId>(indexed_++));
+      if (pending_.size() == kPending) flush(points);
+    }
+  }
+
+  enum class Disk : std::uint8_t { kEmpty, kHoldsVertex, kUnknown };
+
+  // Is a vertex (other than a, b, c) strictly inside the open circumdisk of a, b, c? kUnknown when
+  // the disk is too flat for its computed centre (then the caller must look at the whole disk).
+  // `inside(x)` is the exact test of vertex x (sign > 0: strictly inside).
+  template <class ExactInside>
+  Disk strictly_inside(const std::vector<Point>& points, const std::array<VertexId, 3>& cv, ExactInside inside) {
+    visits_ = 0;
+    found_ = kNone;
+    const Point& a = points[cv[0]];
+    const Point& b = points[cv[1]];
+    const Point& c = points[cv[2]];
+    const double bx = b.x - a.x, by = b.y - a.y, cx = c.x - a.x, cy = c.y - a.y;
+    const double d = 2.0 * (bx * cy - by * cx);
+    const double b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
+    // |d| / (|ab| |ac|) is twice the sine of the angle at a: the centre's rounding error grows as
+    // its inverse. Below 1e-9 (angles under ~1e-7°) the disk is not asked.
+    const double longest = std::max({b2, c2, (c.x - b.x) * (c.x - b.x) + (c.y - b.y) * (c.y - b.y)});
+    if (!(std::fabs(d) > 1e-9 * longest)) return Disk::kUnknown;
+    const double ux = (cy * b2 - by * c2) / d, uy = (bx * c2 - cx * b2) / d;
+    center_ = {a.x + ux, a.y + uy};
+    // At that flatness the centre's offset from a is within ~1e-6 r of the true one (the numerators'
+    // rounding is eps·L³ against r·|d| ≥ L/2 · 1e-9 L²); 1e-4 r is a margin. The absolute term
+    // covers the rounding of a + u and of the differences to it, relative to the coordinates'
+    // magnitude (tiny disks far from the origin).
+    const double r = std::sqrt(ux * ux + uy * uy);
+    const double magnitude = std::fabs(a.x) + std::fabs(a.y) + std::fabs(ux) + std::fabs(uy);
+    reach_ = r * (1.0 + 1e-4) + 1e-13 * magnitude + 1e-300;
+    reach2_ = reach_ * reach_;
+    auto check = [&](VertexId x) {
+      if (x == cv[0] || x == cv[1] || x == cv[2]) return false;
+      const double dx = points[x].x - center_.x, dy = points[x].y - center_.y;
+      if (!(dx * dx + dy * dy < reach2_) || !inside(x)) return false;
+      found_ = x;
+      return true;
+    };
+    for (const VertexId x : pending_) {
+      ++visits_;
+      if (check(x)) return Disk::kHoldsVertex;
+    }
+    for (const Block& blk : blocks_) {
+      if (!blk.ids.empty() && search(points, blk.ids, 0, blk.ids.size(), 0, check)) return Disk::kHoldsVertex;
+    }
+    return Disk::kEmpty;
+  }
+
+ private:
+  static constexpr std::size_t kPending = 32;
+  struct Block {
+    std::vector<VertexId> ids;  // a kd-tree: the median of [lo, hi) at (lo + hi) / 2, x then y
+  };
+
+  // Merges the pending vertices with the blocks of the sizes below them (a binary counter).
+  void flush(const std::vector<Point>& points) {
+    std::vector<VertexId> ids = std::move(pending_);
+    pending_.clear();
+    std::size_t i = 0;
+    for (; i < blocks_.size() && !blocks_[i].ids.empty(); ++i) {
+      ids.insert(ids.end(), blocks_[i].ids.begin(), blocks_[i].ids.end());
+      blocks_[i].ids.clear();
+    }
+    if (i == blocks_.size()) blocks_.emplace_back();
+    build(points, ids, 0, ids.size(), 0);
+    blocks_[i].ids = std::move(ids);
+  }
+
+  static void build(const std::vector<Point>& points, std::vector<VertexId>& ids, std::size_t lo, std::size_t hi,
+                    unsigned depth) {
+    if (hi - lo <= 1) return;
+    const std::size_t mid = lo + (hi - lo) / 2;
+    const bool by_x = depth % 2 == 0;
+    std::nth_element(ids.begin() + static_cast<std::ptrdiff_t>(lo), ids.begin() + static_cast<std::ptrdiff_t>(mid),
+                     ids.begin() + static_cast<std::ptrdiff_t>(hi), [&](VertexId p, VertexId q) {
+                       return by_x ? points[p].x < points[q].x : points[p].y < points[q].y;
+                     });
+    build(points, ids, lo, mid, depth + 1);
+    build(points, ids, mid + 1, hi, depth + 1);
+  }
+
+  // Every vertex of ids[lo, hi) within reach_ of the centre goes to check; true at the first one
+  // it confirms. The two halves of a range lie on either side of its median's coordinate.
+  template <class Check>
+  bool search(const std::vector<Point>& points, const std::vector<VertexId>& ids, std::size_t lo, std::size_t hi,
+              unsigned depth, Check& check) {
+    while (hi > lo) {
+      ++visits_;
+      const std::size_t mid = lo + (hi - lo) / 2;
+      const VertexId x = ids[mid];
+      if (check(x)) return true;
+      const bool by_x = depth % 2 == 0;
+      const double split = by_x ? points[x].x : points[x].y;
+      const double q = by_x ? center_.x : center_.y;
+      const bool left = q - reach_ <= split, right = q + reach_ >= split;
+      ++depth;
+      if (left && right) {
+        if (search(points, ids, lo, mid, depth, check)) return true;
+        lo = mid + 1;
+      } else if (left) {
+        hi = mid;
+      } else {
+        lo = mid + 1;
+      }
+    }
+    return false;
+  }
+
+  std::size_t indexed_ = 0;
+  std::vector<VertexId> pending_;
+  std::vector<Block> blocks_;
+  Point center_{};
+  double reach_ = 0.0, reach2_ = 0.0;
+  std::size_t visits_ = 0;
+  VertexId found_ = kNone;
+};
+
+}  // namespace mwst::brh
