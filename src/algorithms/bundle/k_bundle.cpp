@@ -215,10 +215,14 @@ class KBundleAttempt {
     const Handle start = dt_vertex_edge_[tv[corner]];
     Handle h = start;
     bool decided = false;
+    std::size_t popped = 0;
     do {
       if (subset_) part.fan.push_back(triangle_of(h));
       consider(triangle_of(h));
       while (!stack.empty()) {
+        // One query may walk and flood for long (a fan's apex triangle: its S(t) reaches across
+        // the wedges), so the clock is read within it too.
+        if ((++popped & 15) == 0) sh_.check_deadline();
         const TriangleId d = stack.back();
         stack.pop_back();
         decided = large_disk(w, part, d) && w.disk_meets(d, t);
