@@ -313,6 +313,15 @@ class Refiner {
   std::vector<TriangleId> slots_;
   std::vector<TriangleId> hull_work_;
   std::vector<TriangleId> unfolded_;  // ghosts made by unfold_hull_slivers, to be refolded
+  // unfold_hull_slivers' breadth-first search: its nodes (a triangle and the index of the node it
+  // was reached from), and per triangle slot the search that last reached it.
+  struct SliverNode {
+    TriangleId t;
+    std::size_t parent;
+  };
+  std::vector<SliverNode> sliver_nodes_;
+  std::vector<std::uint32_t> sliver_seen_;
+  std::uint32_t sliver_search_ = 0;
   std::vector<TriangleId> tested_;    // seeded: every slot tested (the final recount's range)
 };
 

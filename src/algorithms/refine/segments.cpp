@@ -3,6 +3,7 @@
 // repairs a rounded split point needs.
 #include "algorithms/refine/refiner.hpp"
 
+#include <algorithm>
 #include <limits>
 
 #include "mwst/error.hpp"
@@ -363,12 +364,16 @@ bool Refiner::unfold_hull_slivers(Handle h) {
   const TriangleId start = m_.sym(h) >> 2;
   if (!thin(start)) return false;
   // Breadth-first search through thin outside triangles (across non-segment edges) for one that
-  // borders a ghost; parent links give the path back.
-  struct Node {
-    TriangleId t;
-    std::size_t parent;
-  };
-  std::vector<Node> nodes{{start, kNone}};
+  // borders a ghost; parent links give the path back. A triangle is seen once per search (slot
+  // stamps: the search may reach its 512 nodes on every split of a long hull subsegment).
+  if (sliver_seen_.size() < m_.triangle_slots()) sliver_seen_.resize(m_.triangle_slots(), 0);
+  if (++sliver_search_ == 0) {
+    std::fill(sliver_seen_.begin(), sliver_seen_.end(), 0);
+    sliver_search_ = 1;
+  }
+  std::vector<SliverNode>& nodes = sliver_nodes_;
+  nodes.assign(1, SliverNode{start, kNone});
+  sliver_seen_[start] = sliver_search_;
   std::size_t found = kNone;
   for (std::size_t i = 0; i < nodes.size() && found == kNone && nodes.size() < 512; ++i) {
     for (unsigned e = 0; e < 3; ++e) {
@@ -379,9 +384,10 @@ bool Refiner::unfold_hull_slivers(Handle h) {
         found = i;
         break;
       }
-      bool seen = false;
-      for (const Node& x : nodes) seen = seen || x.t == n;
-      if (!seen && thin(n)) nodes.push_back({n, i});
+      if (sliver_seen_[n] != sliver_search_ && thin(n)) {
+        sliver_seen_[n] = sliver_search_;
+        nodes.push_back({n, i});
+      }
     }
   }
   if (found == kNone) return false;
