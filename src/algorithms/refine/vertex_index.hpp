@@ -13,6 +13,7 @@
 #pragma once
 
 #include <algorithm>
+#include <limits>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -42,7 +43,8 @@ class VertexIndex {
   enum class Disk : std::uint8_t { kEmpty, kHoldsVertex, kUnknown };
 
   // Is a vertex (other than a, b, c) strictly inside the open circumdisk of a, b, c? kUnknown when
-  // the disk is too flat for its computed centre (then the caller must look at the whole disk).
+  // the disk is too flat for its computed centre, or when the search passes kMaxVisits (then the
+  // caller must look at the whole disk).
   // `inside(x)` is the exact test of vertex x (sign > 0: strictly inside).
   template <class ExactInside>
   Disk strictly_inside(const std::vector<Point>& points, const std::array<VertexId, 3>& cv, ExactInside inside) {
@@ -79,14 +81,20 @@ class VertexIndex {
       ++visits_;
       if (check(x)) return Disk::kHoldsVertex;
     }
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    const Cell whole{-kInf, kInf, -kInf, kInf};
     for (const Block& blk : blocks_) {
-      if (!blk.ids.empty() && search(points, blk.ids, 0, blk.ids.size(), 0, check)) return Disk::kHoldsVertex;
+      if (!blk.ids.empty() && search(points, blk.ids, 0, blk.ids.size(), 0, whole, check)) return Disk::kHoldsVertex;
     }
-    return Disk::kEmpty;
+    return visits_ > kMaxVisits ? Disk::kUnknown : Disk::kEmpty;
   }
 
  private:
   static constexpr std::size_t kPending = 32;
+  // A query gives up (kUnknown) after this many visits: many vertices near the circle (a fan's
+  // rim, points on a circle) are visited one by one, and the flood the caller falls back to is
+  // capped.
+  static constexpr std::size_t kMaxVisits = 4096;
   struct Block {
     std::vector<VertexId> ids;  // a kd-tree: the median of [lo, hi) at (lo + hi) / 2, x then y
   };
@@ -118,29 +126,36 @@ class VertexIndex {
     build(points, ids, mid + 1, hi, depth + 1);
   }
 
+  // The region of a kd-tree node: its points lie in [x0, x1] × [y0, y1].
+  struct Cell {
+    double x0, x1, y0, y1;
+  };
+
   // Every vertex of ids[lo, hi) within reach_ of the centre goes to check; true at the first one
-  // it confirms. The two halves of a range lie on either side of its median's coordinate.
+  // it confirms. The two halves of a range lie on either side of its median's coordinate, and a
+  // half whose cell lies farther than reach_ from the centre is skipped: its vertices would all
+  // fail check (the order of the checks is that of the whole search, so the vertex found is the
+  // same). Without it a large empty disk visited every vertex of its bounding box: on a fan, whose
+  // wide thin triangles have huge circumdisks, most of the vertices in every query.
   template <class Check>
   bool search(const std::vector<Point>& points, const std::vector<VertexId>& ids, std::size_t lo, std::size_t hi,
-              unsigned depth, Check& check) {
-    while (hi > lo) {
+              unsigned depth, Cell cell, Check& check) {
+    while (hi > lo && visits_ <= kMaxVisits) {
+      const double dx = std::max({cell.x0 - center_.x, 0.0, center_.x - cell.x1});
+      const double dy = std::max({cell.y0 - center_.y, 0.0, center_.y - cell.y1});
+      if (!(dx * dx + dy * dy < reach2_)) return false;
       ++visits_;
       const std::size_t mid = lo + (hi - lo) / 2;
       const VertexId x = ids[mid];
       if (check(x)) return true;
       const bool by_x = depth % 2 == 0;
       const double split = by_x ? points[x].x : points[x].y;
-      const double q = by_x ? center_.x : center_.y;
-      const bool left = q - reach_ <= split, right = q + reach_ >= split;
       ++depth;
-      if (left && right) {
-        if (search(points, ids, lo, mid, depth, check)) return true;
-        lo = mid + 1;
-      } else if (left) {
-        hi = mid;
-      } else {
-        lo = mid + 1;
-      }
+      Cell low = cell;
+      (by_x ? low.x1 : low.y1) = split;
+      if (search(points, ids, lo, mid, depth, low, check)) return true;
+      (by_x ? cell.x0 : cell.y0) = split;
+      lo = mid + 1;
     }
     return false;
   }

@@ -5,6 +5,7 @@
 // must be a K-bundle by the exact test (in_k_bundle).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -181,6 +182,44 @@ TEST(BrhLocalTest, VertexIndexAgreesWithAllVertices) {
       EXPECT_GT(holds, 0u) << (fan ? "fan" : "Plate") << " batch " << batch;
     }
   }
+}
+
+TEST(BrhLocalTest, VertexIndexGivesUpOnManyVerticesNearTheCircle) {
+  // 20,000 points just outside the unit circle (radius 1 + 1e-7) but for the
+  // three corners of each query, on it: their circumdisk holds no point, yet
+  // every point is within the search's reach, so the search would visit them
+  // all. It stops after its visit limit and answers "unknown" (the caller then
+  // floods the disk under its cap), or answers as the exact test of every
+  // point does.
+  const std::vector<VertexId> corners{0, 3000, 6000, 5000, 8000, 11000, 12345, 15345, 18345};
+  std::vector<Point> points;
+  const std::size_t n = 20000;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double angle = 2.0 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(n);
+    const bool corner = std::find(corners.begin(), corners.end(), static_cast<VertexId>(i)) != corners.end();
+    const double radius = corner ? 1.0 : 1.0 + 1e-7;
+    points.push_back({radius * std::cos(angle), radius * std::sin(angle)});
+  }
+  brh::VertexIndex index;
+  index.sync(points);
+  std::size_t unknown = 0;
+  for (const VertexId first : {VertexId{0}, VertexId{5000}, VertexId{12345}}) {
+    const std::array<VertexId, 3> cv{first, first + 3000, first + 6000};
+    ASSERT_GT(orient2d(points[cv[0]], points[cv[1]], points[cv[2]]), 0);
+    auto inside = [&](VertexId x) { return incircle(points[cv[0]], points[cv[1]], points[cv[2]], points[x]) > 0; };
+    bool any = false;
+    for (VertexId x = 0; x < points.size() && !any; ++x) {
+      any = x != cv[0] && x != cv[1] && x != cv[2] && inside(x);
+    }
+    const auto disk = index.strictly_inside(points, cv, inside);
+    EXPECT_LE(index.last_visits(), 4096u + 64u);
+    if (disk == brh::VertexIndex::Disk::kUnknown) {
+      ++unknown;
+      continue;
+    }
+    EXPECT_EQ(disk == brh::VertexIndex::Disk::kHoldsVertex, any) << "query at " << first;
+  }
+  EXPECT_GT(unknown, 0u);
 }
 
 TEST(BrhLocalTest, RememberedDisksAnswerAsAFreshTestAfterInsertions) {
