@@ -28,7 +28,7 @@ void Refiner::run() {
   split_encroached_subsegments(seeds);
   const auto t1 = Clock::now();
   stats_.seconds_segments = std::chrono::duration<double>(t1 - t0).count();
-  queue_bad_triangles(seeds);
+  queue_bad_triangles(seeds, t0);
   split_bad_triangles(t0);
   stats_.seconds_triangles = seconds_since(t1);
   report(count_left());
@@ -70,13 +70,20 @@ void Refiner::split_encroached_subsegments(const std::vector<TriangleId>& seeds)
 }
 
 // Phase 2 starts: the bad triangles (of the seeds, or of the whole mesh) queued.
-void Refiner::queue_bad_triangles(const std::vector<TriangleId>& seeds) {
+void Refiner::queue_bad_triangles(const std::vector<TriangleId>& seeds, Clock::time_point t0) {
   if (seeded_) {
     for (const TriangleId t : seeds) {
       if (m_.in_domain(t)) enqueue_if_bad(t);  // a segment split may have replaced it
     }
   } else {
     for (TriangleId t = 0; t < m_.triangles.size(); ++t) {
+      // Every triangle is tested here: with a costly test (BRH's bundle test floods each skinny
+      // triangle's disk) that is half of a first pass, so the clock is read here too.
+      if (opt_.time_budget_seconds > 0.0 && (t & 255) == 0 && seconds_since(t0) > opt_.time_budget_seconds) {
+        stop_ = true;
+        stop_reason_ = StopReason{StopKind::kTimeBudget, 0, {}};
+        return;
+      }
       if (m_.in_domain(t)) enqueue_if_bad(t);
     }
   }
@@ -125,8 +132,13 @@ void Refiner::split_bad_triangles(Clock::time_point t0) {
 
 // What is left: triangles the test still calls bad (MPW, or precision limits). Every triangle
 // made was tested when it was made, so after a clean run with the local default test there is
-// nothing to count; a custom test may depend on more than the triangle, so it is always rerun.
+// nothing to count; a custom test may depend on more than the triangle, so it is rerun (but not
+// after the time budget ran out).
 std::size_t Refiner::count_left() {
+  // Out of time, a custom test (BRH's bundle test) is not asked again about every triangle: that
+  // would cost as much as the first pass's queue. The caller counts what it reports (BRH: its
+  // skinny triangles left).
+  if (custom_test_ && stop_reason_.kind == StopKind::kTimeBudget) return 0;
   std::size_t left = 0;
   if (seeded_) {
     // Only the seeds and the triangles made were tested; a slot tested twice is counted once.

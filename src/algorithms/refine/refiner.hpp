@@ -230,7 +230,7 @@ class Refiner {
   // ---- bookkeeping -----------------------------------------------------------------------------
   void prepare(std::vector<TriangleId>& seeds);
   void split_encroached_subsegments(const std::vector<TriangleId>& seeds);
-  void queue_bad_triangles(const std::vector<TriangleId>& seeds);
+  void queue_bad_triangles(const std::vector<TriangleId>& seeds, Clock::time_point t0);
   void split_bad_triangles(Clock::time_point t0);
   std::size_t count_left();
   void report(std::size_t left);

@@ -314,6 +314,28 @@ TEST(Refine, TimeBudgetStops) {
   EXPECT_EQ(to_string(r.stats.stop), "time budget");
 }
 
+// A costly pluggable test (BRH's bundle test) is asked about every triangle before the first
+// split: out of time, that pass stops too, and the test is not asked again to count what is left.
+// (It is still asked about the triangles that the splits of encroached subsegments make, before
+// any bad triangle is split; without the clock in that pass it was asked about every triangle,
+// twice.)
+TEST(Refine, TimeBudgetStopsTheFirstPassOfAPluggableTest) {
+  const Pslg g = io::read_input(std::string(MWST_DATA_DIR) + "/Random.poly");
+  RefineOptions o;
+  o.min_angle_deg = 33.0;
+  o.time_budget_seconds = 1e-9;
+  std::size_t asked = 0;
+  o.is_bad = [&](const Mesh&, TriangleId) {
+    ++asked;
+    return true;
+  };
+  const Refined r = refine_and_check(g, o);
+  EXPECT_EQ(to_string(r.stats.stop), "time budget");
+  std::size_t triangles = 0;
+  for (TriangleId t = 0; t < r.mesh.triangles.size(); ++t) triangles += r.mesh.in_domain(t);
+  EXPECT_LT(asked, triangles / 4) << triangles << " triangles";
+}
+
 TEST(Refine, PluggableTestAndSteinerRule) {
   const Pslg g = io::read_input(std::string(MWST_DATA_DIR) + "/Plate.poly");
   RefineOptions o;
