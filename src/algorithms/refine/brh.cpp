@@ -288,12 +288,13 @@ BundleRemoval::Step BundleRemoval::exact_test(bool ask_all) {
   if (ask_all) left_marked_.clear();
   std::unordered_set<std::array<VertexId, 3>, TripleHash> still_left;  // (entries of gone triangles dropped)
   for (std::size_t i = 0; i < skinny_.size(); ++i) {
-    if (!left_marked_.empty() && left_marked_.count(sorted_triple(mesh_, skinny_[i])) != 0) {
-      still_left.insert(sorted_triple(mesh_, skinny_[i]));
+    const std::array<VertexId, 3> triple = sorted_triple(mesh_, skinny_[i]);
+    if (!left_marked_.empty() && left_marked_.count(triple) != 0) {
+      still_left.insert(triple);
       ++skipped_left_;
       continue;
     }
-    if (use_clean && clean_.contains(sorted_triple(mesh_, skinny_[i]))) {
+    if (use_clean && clean_.contains(triple)) {
       ++stats_.known_clean;
       continue;
     }
