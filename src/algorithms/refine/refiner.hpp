@@ -272,6 +272,7 @@ class Refiner {
   // Squared length below which a subsegment is no longer split for conforming Delaunay (the
   // termination guard of those splits; 0 = none).
   double conforming_guard2_ = 0.0;
+  mutable double domain_area_ = -1.0;  // the domain's area, once too_thin_to_split needs it (< 0: not yet)
   bool custom_test_ = false;
   bool seeded_ = false;  // RefineOptions::seed_triangles in use
   bool worst_first_ = false;

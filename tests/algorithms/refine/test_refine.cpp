@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "mwst/mesh/delaunay.hpp"
+#include "mwst/io/generate.hpp"
 #include "mwst/io/triangle_files.hpp"
 #include "mwst/algorithms/metrics.hpp"
 #include "mwst/algorithms/refine.hpp"
@@ -538,6 +539,27 @@ TEST(Refine, PointsOnACircleKeepCavitiesSmall) {
   // A cavity triangle is one triangle made and destroyed: in all, a few per output triangle (on
   // uniform points, under one).
   EXPECT_LT(r.stats.cavity_triangles, 10 * r.mesh.domain_triangle_count());
+}
+
+// Issue 32: the outer turns of 160k points on a spiral (`mwst generate spiral 160000`, the points
+// at radius above 0.905: 28,956, nearly all on the convex hull) have hull triangles along a convex
+// arc with angles near 1e-8 radians: a hull edge 0.019 long followed by one 2e-4 long, nearly
+// collinear. Their circumcenters lie beyond the hull edges, which were not split because the
+// triangle beside them is thinner than 1e-7 of the coordinates (a rule for domains that are
+// themselves slivers), and 225 triangles were left below the bound. A rounded split point moves
+// the boundary by far less than the domain's area can notice: they are split, and the bound met.
+TEST(Refine, HullSliversAlongAFlatConvexArcAreSplit) {
+  Pslg g;
+  for (const Point& p : generate_points(Distribution::kSpiral, 160000, 1)) {
+    if (std::hypot(p.x, p.y) > 0.905) g.points.push_back(p);
+  }
+  ASSERT_GT(g.points.size(), 28000u);
+  RefineOptions o;
+  o.min_angle_deg = 20.0;
+  const Refined r = refine_and_check(g, o);
+  EXPECT_EQ(to_string(r.stats.stop), "bound reached");
+  EXPECT_EQ(r.stats.left_small_angle, 0u);
+  EXPECT_GT(r.stats.segment_splits, 0u);
 }
 
 TEST(RefineTermination, HoleAlmostTouchingTheBoundary) {
