@@ -10,6 +10,7 @@
 // (temporary name, rename); if one fails, those already written are removed again.
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <cstring>
@@ -19,13 +20,11 @@
 #include <span>
 #include <string>
 #include <string_view>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
 #include "mwst/error.hpp"
 #include "mwst/io/triangle_files.hpp"
-#include "mesh/keys.hpp"
 #include "support/huge_pages.hpp"
 #include "support/parallel.hpp"
 
@@ -152,17 +151,52 @@ struct Carried {
   std::vector<std::array<std::uint32_t, 2>> boundary_edges;  // on the boundary, no subsegment
 };
 
+// The segments of a mesh by their lower endpoint: row v (first_[v] to first_[v + 1]) holds the
+// segments {v, w} with w ≥ v, sorted by w and then by index, so that the first of repeated
+// segments is the one found. Flat arrays built by a counting sort, and a binary search in a row:
+// a vertex with many segments (the apex of a fan of thousands of wedges) costs a logarithm, and a
+// million segments no allocation each (a hash map of them took half a second at 1M vertices).
+class SegmentsByVertex {
+ public:
+  explicit SegmentsByVertex(const MeshArrays& mesh) {
+    const std::size_t segments = mesh.segment_count();
+    first_.assign(mesh.vertex_count() + 1, 0);
+    for (std::size_t s = 0; s < segments; ++s) ++first_[lower(mesh, s) + 1];
+    for (std::size_t v = 1; v < first_.size(); ++v) first_[v] += first_[v - 1];
+    std::vector<std::uint32_t> next(first_.begin(), first_.end() - 1);
+    row_.resize(segments);
+    for (std::size_t s = 0; s < segments; ++s) {
+      const std::uint32_t a = mesh.segments[2 * s], b = mesh.segments[2 * s + 1];
+      row_[next[lower(mesh, s)]++] = {std::max(a, b), static_cast<std::uint32_t>(s)};
+    }
+    for (std::size_t v = 0; v + 1 < first_.size(); ++v) {
+      if (first_[v + 1] - first_[v] > 1) std::sort(row_.begin() + first_[v], row_.begin() + first_[v + 1]);
+    }
+  }
+
+  // The index of segment {a, b} (either direction), or -1.
+  std::int64_t find(std::uint32_t a, std::uint32_t b) const {
+    const std::uint32_t low = std::min(a, b), high = std::max(a, b);
+    const auto begin = row_.begin() + first_[low], end = row_.begin() + first_[low + 1];
+    const auto at = std::lower_bound(begin, end, std::pair<std::uint32_t, std::uint32_t>{high, 0});
+    return at != end && at->first == high ? static_cast<std::int64_t>(at->second) : -1;
+  }
+
+ private:
+  static std::uint32_t lower(const MeshArrays& mesh, std::size_t s) {
+    return std::min(mesh.segments[2 * s], mesh.segments[2 * s + 1]);
+  }
+  std::vector<std::uint32_t> first_;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> row_;  // (other endpoint, segment index)
+};
+
 // Carries the markers over to the triangulation (Carried). `list_edges`: fill Carried::edges (for
 // .edge and .v.edge); otherwise only the boundary edges are looked at.
 Carried carry_markers(const MeshArrays& mesh, bool list_edges) {
   Carried out;
   const std::size_t nt = mesh.triangle_count();
   const std::size_t nv = mesh.vertex_count();
-  std::unordered_map<std::uint64_t, std::uint32_t> segment_of;
-  segment_of.reserve(2 * mesh.segment_count());
-  for (std::size_t s = 0; s < mesh.segment_count(); ++s) {
-    segment_of.emplace(undirected_key(mesh.segments[2 * s], mesh.segments[2 * s + 1]), static_cast<std::uint32_t>(s));
-  }
+  const SegmentsByVertex segment_of(mesh);
   std::vector<bool> segment_on_boundary(mesh.segment_count(), false);
   std::vector<bool> vertex_on_boundary(nv, false);
   if (list_edges) out.edges.reserve(3 * nt / 2 + 3);
@@ -171,11 +205,7 @@ Carried carry_markers(const MeshArrays& mesh, bool list_edges) {
       const std::int32_t across = mesh.neighbours[3 * t + k];
       if (across >= 0 && (!list_edges || static_cast<std::size_t>(across) < t)) continue;
       const std::uint32_t a = mesh.triangles[3 * t + (k + 1) % 3], b = mesh.triangles[3 * t + (k + 2) % 3];
-      std::int64_t segment = -1;
-      if (!segment_of.empty()) {
-        const auto found = segment_of.find(undirected_key(a, b));
-        if (found != segment_of.end()) segment = found->second;
-      }
+      const std::int64_t segment = segment_of.find(a, b);
       if (across < 0) {
         vertex_on_boundary[a] = vertex_on_boundary[b] = true;
         if (segment >= 0) {
