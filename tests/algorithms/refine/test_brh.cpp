@@ -133,6 +133,32 @@ TEST(Brh, PointSetWithManySkinnyTrianglesLeft) {
   expect_skinny_outside_k_bundles(m, o.min_angle_deg, o.bundle_k, stats.skinny_left);
 }
 
+TEST(Brh, SecondExactTestSkipsTrianglesTheFirstFoundClean) {
+  // The same point set, stopped after the pass of the second exact test: that test already skips
+  // the skinny triangles the first one found in no K-bundle and no triangle made since lies near
+  // (the first test keeps the reach boxes, not its sweeps). On 160k points on a spiral the first
+  // test marks ~140 triangles, their pass inserts one vertex, and the second test asked all 182k
+  // skinny triangles again.
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  Pslg pslg;
+  pslg.points.resize(5000);
+  for (auto& p : pslg.points) p = {unit(rng), unit(rng)};
+  for (std::size_t rounds = 1; rounds < 8; ++rounds) {
+    Mesh m = constrained_delaunay(pslg);
+    BrhOptions o;
+    o.min_angle_deg = 20.0;
+    o.bundle_k = 12;
+    o.max_rounds = rounds;
+    const BrhStats stats = bundle_removal(m, o);
+    if (stats.exact_evaluations < 2) continue;
+    ASSERT_EQ(stats.exact_evaluations, 2u);
+    EXPECT_GT(stats.known_clean, 100u);
+    return;
+  }
+  FAIL() << "no run with two exact tests";
+}
+
 // An area bound (RefineOptions::max_area, --max-area) holds for BRH as for DR: on a normal stop
 // no domain triangle is larger than it, whether skinny, in a bundle or neither; the mesh stays
 // Delaunay and BRH's own guarantee still holds. The bound binds: without it every data set here
