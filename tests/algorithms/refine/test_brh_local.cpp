@@ -61,6 +61,28 @@ std::size_t expect_local_yes_is_exact(const Mesh &m,
   return yes;
 }
 
+// A test kept across insertions answers every domain triangle as a fresh one;
+// returns the number of yeses.
+std::size_t expect_kept_answers_as_fresh(const Mesh &m,
+                                         brh::LocalBundleTest &kept,
+                                         brh::LocalBundleTest &fresh) {
+  std::size_t yes = 0;
+  for (const TriangleId t : domain_triangles(m)) {
+    const bool answer = fresh.in_bundle(m, t);
+    yes += answer ? 1 : 0;
+    EXPECT_EQ(kept.in_bundle(m, t), answer) << "triangle " << t;
+  }
+  return yes;
+}
+
+// The CDT of a generated polygon, every domain triangle asked at K (every yes
+// checked exact); returns the number of yeses.
+std::size_t ask_every_triangle(Distribution d, std::size_t n,
+                               brh::LocalBundleTest &local, std::uint32_t k) {
+  const Mesh m = constrained_delaunay(generate_input(d, n, 1));
+  return expect_local_yes_is_exact(m, local, k);
+}
+
 TEST(BrhLocalTest, DelaunayFloodStopsOnCountingK) {
   // 2,000 points on an ellipse: the Delaunay triangulation of a point set, so
   // every circumdisk is vertex-empty, and the circumdisks of the slivers meet
@@ -118,12 +140,10 @@ TEST(BrhLocalTest, ConstrainedMeshAsksTheIndexOnlyWhenTheFloodCountsK) {
   // triangle meeting its disk, hence every vertex in it, so the vertex index is
   // asked only by the floods that counted K (it used to be asked before every
   // flood). On a mesh that does not change no disk is asked twice.
-  const Mesh m = constrained_delaunay(generate_input(Distribution::kHoles, 2000, 1));
   const std::uint32_t k = static_cast<std::uint32_t>(default_bundle_k(20.0));
   brh::LocalBundleTest local(k);
-  const std::size_t yes = expect_local_yes_is_exact(m, local, k);
+  EXPECT_GT(ask_every_triangle(Distribution::kHoles, 2000, local, k), 0u);
   const auto &s = local.stats();
-  EXPECT_GT(yes, 0u);
   EXPECT_GT(s.reached_k, 0u);
   EXPECT_EQ(s.index_queries, s.reached_k);
   EXPECT_EQ(s.index_newer, 0u);
@@ -136,12 +156,10 @@ TEST(BrhLocalTest, FanQueriesStopAtKInsteadOfTheCap) {
   // see the whole disk passes its cap (8K + 64 visits) and answers "unknown".
   // With the vertex index the empty ones stop on counting K: most floods stop
   // at K, few are capped, and every yes is an exact yes.
-  const Mesh m = constrained_delaunay(generate_input(Distribution::kFan, 2000, 1));
   const std::uint32_t k = static_cast<std::uint32_t>(default_bundle_k(20.0));
   brh::LocalBundleTest local(k);
-  const std::size_t yes = expect_local_yes_is_exact(m, local, k);
+  EXPECT_GT(ask_every_triangle(Distribution::kFan, 2000, local, k), 0u);
   const auto &s = local.stats();
-  EXPECT_GT(yes, 0u);
   EXPECT_GT(s.stopped_at_k, 10 * s.capped);
   EXPECT_LE(s.max_visits, local.cap() + 1);
 }
@@ -277,13 +295,7 @@ TEST(BrhLocalTest, RememberedDisksAnswerAsAFreshTestAfterInsertions) {
     refine(m, ro);
     kept.clear();
     brh::LocalBundleTest fresh(kK);
-    std::size_t yes = 0;
-    for (const TriangleId t : domain_triangles(m)) {
-      const bool answer = fresh.in_bundle(m, t);
-      yes += answer ? 1 : 0;
-      EXPECT_EQ(kept.in_bundle(m, t), answer) << "triangle " << t;
-    }
-    EXPECT_GT(yes, 0u);
+    EXPECT_GT(expect_kept_answers_as_fresh(m, kept, fresh), 0u);
     if (fan) {
       EXPECT_GT(kept.stats().known_not_empty, 0u);
       EXPECT_GT(fresh.stats().recent_inside, 0u);  // disks found holding a vertex another one held
@@ -310,13 +322,7 @@ TEST(BrhLocalTest, DisksShownEmptyAreAskedAboutNewVerticesOnly) {
   kept.clear();
   const std::uint64_t visits_before = kept.stats().index_visits;
   brh::LocalBundleTest fresh(k);
-  std::size_t yes = 0;
-  for (const TriangleId t : domain_triangles(m)) {
-    const bool answer = fresh.in_bundle(m, t);
-    yes += answer ? 1 : 0;
-    EXPECT_EQ(kept.in_bundle(m, t), answer) << "triangle " << t;
-  }
-  EXPECT_GT(yes, 0u);
+  EXPECT_GT(expect_kept_answers_as_fresh(m, kept, fresh), 0u);
   EXPECT_GT(kept.stats().index_newer, 0u);
   EXPECT_EQ(fresh.stats().index_newer, 0u);
   // (A merge of the index's blocks mixes old and new vertices: the search skips
