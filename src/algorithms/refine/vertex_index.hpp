@@ -47,8 +47,8 @@ class VertexIndex {
   // caller must look at the whole disk).
   // `inside(x)` is the exact test of vertex x (sign > 0: strictly inside). Only the vertices with
   // ids from `from` on are asked: a caller that knows the disk held none of the older ones (the
-  // refinement only appends vertices) skips the blocks that hold only older ones; each block
-  // holds a contiguous range of ids (the binary counter merges the newest blocks).
+  // refinement only appends vertices) skips the kd subtrees that hold only older ones. (Fewer
+  // visits: a disk whose full search passes kMaxVisits may be shown empty of the newer ones.)
   template <class ExactInside>
   Disk strictly_inside(const std::vector<Point>& points, const std::array<VertexId, 3>& cv, ExactInside inside,
                        VertexId from = 0) {
