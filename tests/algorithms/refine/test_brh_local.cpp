@@ -147,7 +147,36 @@ TEST(BrhLocalTest, ConstrainedMeshAsksTheIndexOnlyWhenTheFloodCountsK) {
   EXPECT_GT(s.reached_k, 0u);
   EXPECT_EQ(s.index_queries, s.reached_k);
   EXPECT_EQ(s.index_newer, 0u);
-  EXPECT_LT(2 * s.index_queries, s.floods - s.recent_inside);
+  EXPECT_LT(4 * s.index_queries, 3 * (s.floods - s.recent_inside));
+}
+
+TEST(BrhLocalTest, HoleDiskIsAskedFirstBesideAHole) {
+  // A triangle beside a circular hole (a segment edge with the hole's inside
+  // across it): the hole triangle's disk, the hole's circle, meets the ring of
+  // triangles around the hole and is the likely witness, so it is flooded
+  // first; when it is one, the query floods nothing else (the triangle's own
+  // disk came first and meets fewer than K triangles).
+  const Mesh m = constrained_delaunay(generate_input(Distribution::kHoles, 2000, 1));
+  const std::uint32_t k = static_cast<std::uint32_t>(default_bundle_k(20.0));
+  std::size_t beside = 0, yes = 0, one_flood = 0;
+  for (const TriangleId t : domain_triangles(m)) {
+    bool hole = false;
+    for (unsigned e = 0; e < 3; ++e) {
+      const TriangleId n = triangle_of(m.sym(make_handle(t, e)));
+      hole = hole || (m.is_segment(make_handle(t, e)) && !m.is_ghost(n) && !m.in_domain(n));
+    }
+    if (!hole)
+      continue;
+    ++beside;
+    brh::LocalBundleTest local(k);
+    if (!local.in_bundle(m, t))
+      continue;
+    ++yes;
+    one_flood += local.stats().floods == 1 ? 1 : 0;
+  }
+  EXPECT_GT(beside, 1000u);
+  EXPECT_GT(yes, beside / 2);
+  EXPECT_EQ(one_flood, yes);
 }
 
 TEST(BrhLocalTest, FanQueriesStopAtKInsteadOfTheCap) {
