@@ -80,15 +80,11 @@ void bound_cut_lists(Shared& sh, Workers& workers, std::size_t work_budget, Bund
     if (sh.truncated[d]) cut.emplace_back(0, d);
   }
   result.truncated_disks = cut.size();
-  bundle::for_ranges(workers, cut.size(), [&](Worker& w, std::size_t begin, std::size_t end, std::size_t) {
-    for (std::size_t i = begin; i < end; ++i) {
-      const TriangleId d = cut[i].second;
-      cut[i].first = w.circumdisk_count(d, sh.list_data(d), sh.list_size(d), nullptr);
-    }
-  });
-  for (std::size_t k = 1; k < workers.size(); ++k) workers[k]->release_disk_scratch();
   const std::size_t full = std::min(kFullCounts, cut.size());
-  std::partial_sort(cut.begin(), cut.begin() + static_cast<std::ptrdiff_t>(full), cut.end(),
+  const std::size_t counted = bundle::count_cut_lists(sh, workers, cut, full);
+  for (std::size_t k = 1; k < workers.size(); ++k) workers[k]->release_disk_scratch();
+  std::partial_sort(cut.begin(), cut.begin() + static_cast<std::ptrdiff_t>(full),
+                    cut.begin() + static_cast<std::ptrdiff_t>(counted),
                     [](const auto& x, const auto& y) { return x.first > y.first || (x.first == y.first && x.second < y.second); });
   std::vector<TriangleId> met;
   for (std::size_t i = 0; i < full; ++i) {

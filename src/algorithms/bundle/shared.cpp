@@ -225,8 +225,10 @@ bool Shared::build_region(const std::vector<TriangleId>& region, const DenseIds&
 
 std::size_t Shared::share_cocircular_disks(unsigned threads) {
   // Per finite live triangle, bit e: the four vertices of it and of its neighbour across edge e
-  // (finite) are cocircular.
-  std::vector<std::uint8_t> cocircular(dt.triangle_slots(), 0);
+  // (finite) are cocircular. Each edge is tested once, by its triangle of lower slot (cocircular
+  // vertices need the exact stage of incircle, and points on circles have many such edges), then
+  // copied to the other.
+  cocircular.assign(dt.triangle_slots(), 0);
   support::parallel_ranges(threads, dt.triangle_slots(), [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       const auto t = static_cast<TriangleId>(i);
@@ -234,13 +236,23 @@ std::size_t Shared::share_cocircular_disks(unsigned threads) {
       for (unsigned e = 0; e < 3; ++e) {
         const Handle h = make_handle(t, e);
         const Handle hs = dt.sym(h);
-        if (dt.is_ghost(triangle_of(hs))) continue;
+        if (triangle_of(hs) < t || dt.is_ghost(triangle_of(hs))) continue;
         if (incircle(pts[dt.org(h)], pts[dt.dest(h)], pts[dt.apex(h)], pts[dt.apex(hs)]) == 0) {
           cocircular[t] = static_cast<std::uint8_t>(cocircular[t] | 1u << e);
         }
       }
     }
   });
+  for (TriangleId t = 0; t < dt.triangle_slots(); ++t) {
+    if (dt.is_dead(t) || dt.is_ghost(t)) continue;
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle hs = dt.sym(make_handle(t, e));
+      if (triangle_of(hs) > t || dt.is_ghost(triangle_of(hs))) continue;
+      if ((cocircular[triangle_of(hs)] >> edge_of(hs) & 1u) != 0) {
+        cocircular[t] = static_cast<std::uint8_t>(cocircular[t] | 1u << e);
+      }
+    }
+  }
   disk_rep.assign(dt.triangle_slots(), kNone);
   std::size_t distinct = 0;
   std::vector<TriangleId> stack;

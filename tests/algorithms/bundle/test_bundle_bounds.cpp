@@ -6,10 +6,12 @@
 #include <gtest/gtest.h>
 #include <gmpxx.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "algorithms/bundle/lists.hpp"
@@ -202,6 +204,47 @@ TEST(BundleBounds, FanBoundsBracketTheExactNumber) {
   for (const std::size_t budget : {std::size_t{1}, std::size_t{300}, 8 * tris.size()}) {
     expect_brackets(pts, tris, exact, budget);
   }
+}
+
+// count_cut_lists stops counting once no disk left can enter the few largest counts, and picks the
+// same disks as counting every cut list: points on an ellipse (whose cut disks meet all of their
+// lists: it stops early) and random points inside a circle (which it may not).
+TEST(BundleBounds, CutListCountsStopOnceTheLargestAreKnown) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> coordinate(-0.5, 0.5);
+  std::vector<Point> inside = ellipse_points(300, 0.5);
+  for (int i = 0; i < 300; ++i) inside.push_back({coordinate(rng), coordinate(rng)});
+  std::vector<Point> ellipse = ellipse_points(20000, 0.5);
+  bool stopped_early = false;
+  for (const std::vector<Point>* pts : {&ellipse, &inside}) {
+    const Mesh mesh = delaunay(*pts);
+    for (const std::size_t per_disk : {2u, 6u}) {
+      SCOPED_TRACE("budget per disk " + std::to_string(per_disk));
+      bundle::Shared sh(mesh);
+      ASSERT_TRUE(sh.build());
+      const std::size_t disks = sh.share_cocircular_disks();
+      auto workers = bundle::make_workers(sh, 2, false, true);
+      ASSERT_FALSE(bundle::build_lists_within_budget(sh, workers, per_disk * disks));
+      std::vector<std::pair<std::uint32_t, TriangleId>> cut, all;
+      for (TriangleId d = 0; d < sh.truncated.size(); ++d) {
+        if (sh.truncated[d]) cut.emplace_back(0, d);
+      }
+      ASSERT_GT(cut.size(), 4u);
+      all = cut;
+      for (auto& [count, d] : all) count = workers[0]->circumdisk_count(d, sh.list_data(d), sh.list_size(d), nullptr);
+      const std::size_t counted = bundle::count_cut_lists(sh, workers, cut, 4);
+      ASSERT_LE(counted, cut.size());
+      for (std::size_t i = 0; i < counted; ++i) EXPECT_EQ(cut[i], all[i]);
+      stopped_early = stopped_early || counted < cut.size();
+      const auto larger = [](const auto& x, const auto& y) {
+        return x.first > y.first || (x.first == y.first && x.second < y.second);
+      };
+      std::partial_sort(all.begin(), all.begin() + 4, all.end(), larger);
+      std::partial_sort(cut.begin(), cut.begin() + 4, cut.begin() + static_cast<std::ptrdiff_t>(counted), larger);
+      for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(cut[i], all[i]);
+    }
+  }
+  EXPECT_TRUE(stopped_early);
 }
 
 }  // namespace
