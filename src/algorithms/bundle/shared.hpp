@@ -170,6 +170,12 @@ struct Shared {
   bool build(bool list_pencils = true, const std::vector<VertexId>* subset = nullptr, Mesh* prior_dt = nullptr,
              const std::vector<VertexId>* prior_ids = nullptr);
 
+  // The order build() (without a subset or a prior DT) numbers the vertices of a mesh in when every
+  // vertex is a corner of a triangle of T: a mesh made from T alone (bundle_number of a triangle
+  // list), whose DT(V) can then be built from the points alone, before the mesh, and given to
+  // build() as its prior DT with these ids — the same DT(V), vertex for vertex and slot for slot.
+  static std::vector<VertexId> curve_order(const std::vector<Point>& points);
+
   // build() for in_k_bundle's local attempt, in time proportional to a region of the mesh: the
   // mesh slots `region` (live; every triangle around each vertex of `w` among them, and every ghost
   // next to a finite one) become slots 0, 1, ... and `outside` stands for the rest; `dt` is the

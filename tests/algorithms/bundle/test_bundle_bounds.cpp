@@ -247,5 +247,41 @@ TEST(BundleBounds, CutListCountsStopOnceTheLargestAreKnown) {
   EXPECT_TRUE(stopped_early);
 }
 
+// bundle_number of a triangle list builds DT(V) from the points alone, in Shared::curve_order, on a
+// second thread while the covering mesh is built, and gives it to Shared::build as its prior DT:
+// the same renumbering, the same DT slot for slot, the same pencils, and (above the size where
+// the list version starts that thread) the same answer as on one thread.
+TEST(BundleBounds, DelaunayFromThePointsAloneIsSharedsOwn) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> coordinate(-0.5, 0.5);
+  std::vector<Point> pts = ellipse_points(2000, 0.5);
+  for (int i = 0; i < 12000; ++i) pts.push_back({coordinate(rng), 0.5 * coordinate(rng)});
+  const Mesh mesh = delaunay(pts);
+  bundle::Shared own(mesh);
+  ASSERT_TRUE(own.build());
+  std::vector<VertexId> ids = bundle::Shared::curve_order(mesh.points);
+  std::vector<Point> in_order;
+  for (const VertexId v : ids) in_order.push_back(mesh.points[v]);
+  Mesh prior = delaunay(in_order, nullptr, 1);
+  bundle::Shared given(mesh);
+  ASSERT_TRUE(given.build(true, nullptr, &prior, &ids));
+  EXPECT_TRUE(given.kept_dt);
+  EXPECT_EQ(given.mesh_id, own.mesh_id);
+  ASSERT_EQ(given.dt.triangle_slots(), own.dt.triangle_slots());
+  for (TriangleId t = 0; t < own.dt.triangle_slots(); ++t) {
+    EXPECT_EQ(given.dt.triangles[t].v, own.dt.triangles[t].v);
+    EXPECT_EQ(given.dt.triangles[t].n, own.dt.triangles[t].n);
+  }
+  EXPECT_EQ(given.pencils, own.pencils);
+  const std::vector<Tri> tris = domain_triangles(mesh);
+  ASSERT_GT(tris.size(), 20000u);
+  const BundleResult one = bundle_number(pts, tris, {.threads = 1});
+  const BundleResult two = bundle_number(pts, tris, {.threads = 2});
+  EXPECT_EQ(two.bundle_number, one.bundle_number);
+  EXPECT_EQ(two.triangles, one.triangles);
+  EXPECT_EQ(two.disk_center, one.disk_center);
+  EXPECT_EQ(two.disk_radius, one.disk_radius);
+}
+
 }  // namespace
 }  // namespace mwst
