@@ -15,6 +15,7 @@
 // says so ("exact": false) and gives exact lower and upper bounds, with a witness disk for the
 // lower one. --candidate-budget 0 asks for the exact number whatever it costs.
 #include <chrono>
+#include <future>
 #ifdef __GLIBC__
 #include <malloc.h>
 #endif
@@ -51,8 +52,17 @@ int run_bundle(const BundleArgs& a) {
   // threshold would otherwise keep them in the heap, where the peak resident size never drops.
   mallopt(M_MMAP_THRESHOLD, 1 << 20);
 #endif
-  const std::string input_source = io::read_input(a.input).source;  // the graph itself is not needed
-  io::MeshFiles mesh = io::read_mesh(a.prefix);
+  // The input graph is read (for its name, and to report a bad input) while the mesh is: the
+  // graph itself is not needed. An error in the input is reported first, as if it were read first.
+  auto input = std::async(std::launch::async | std::launch::deferred, [&a] { return io::read_input(a.input).source; });
+  io::MeshFiles mesh;
+  try {
+    mesh = io::read_mesh(a.prefix);
+  } catch (...) {
+    input.get();
+    throw;
+  }
+  const std::string input_source = input.get();
   const std::size_t triangle_count = mesh.triangles.size();
   const auto start = std::chrono::steady_clock::now();
   BundleResult r;

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <array>
+#include <future>
 #include <memory>
 #include <string>
 #include <utility>
@@ -80,15 +81,11 @@ void bound_cut_lists(Shared& sh, Workers& workers, std::size_t work_budget, Bund
     if (sh.truncated[d]) cut.emplace_back(0, d);
   }
   result.truncated_disks = cut.size();
-  bundle::for_ranges(workers, cut.size(), [&](Worker& w, std::size_t begin, std::size_t end, std::size_t) {
-    for (std::size_t i = begin; i < end; ++i) {
-      const TriangleId d = cut[i].second;
-      cut[i].first = w.circumdisk_count(d, sh.list_data(d), sh.list_size(d), nullptr);
-    }
-  });
-  for (std::size_t k = 1; k < workers.size(); ++k) workers[k]->release_disk_scratch();
   const std::size_t full = std::min(kFullCounts, cut.size());
-  std::partial_sort(cut.begin(), cut.begin() + static_cast<std::ptrdiff_t>(full), cut.end(),
+  const std::size_t counted = bundle::count_cut_lists(sh, workers, cut, full);
+  for (std::size_t k = 1; k < workers.size(); ++k) workers[k]->release_disk_scratch();
+  std::partial_sort(cut.begin(), cut.begin() + static_cast<std::ptrdiff_t>(full),
+                    cut.begin() + static_cast<std::ptrdiff_t>(counted),
                     [](const auto& x, const auto& y) { return x.first > y.first || (x.first == y.first && x.second < y.second); });
   std::vector<TriangleId> met;
   for (std::size_t i = 0; i < full; ++i) {
@@ -123,11 +120,14 @@ std::vector<std::uint32_t> merge_per_triangle(Workers& workers) {
 
 // bundle_number(Mesh); `release` runs once the mesh has been copied into Shared and is no longer
 // read (the triangle-list version frees its covering mesh there).
+// With `prior_dt`, DT(V) built already, its vertex i being mesh vertex (*prior_ids)[i] (see
+// Shared::curve_order).
 template <class Release>
-BundleResult bundle_number_of(const Mesh& mesh, const BundleOptions& options, Release release) {
+BundleResult bundle_number_of(const Mesh& mesh, const BundleOptions& options, Release release, Mesh* prior_dt = nullptr,
+                              const std::vector<VertexId>* prior_ids = nullptr) {
   BundleResult result;
   Shared sh(mesh, options.deadline);
-  if (!sh.build()) {
+  if (!sh.build(true, nullptr, prior_dt, prior_ids)) {
     if (options.per_triangle) result.per_triangle.assign(mesh.triangle_slots(), 0);
     return result;
   }
@@ -386,12 +386,32 @@ BundleResult bundle_number_of_list(const std::vector<Point>& points,
   const std::size_t input_triangles = triangles.size();
   CompactTriangles compact = compact_triangles(points, triangles);
   release_input();
+  // Every vertex of the covering mesh is a corner of a triangle of T, so DT(V) is known from the
+  // points alone, in the order Shared::build numbers them: on a second thread, it is built while
+  // the covering mesh is (which inserts its segments on one thread); if no thread can be started,
+  // on this one when it is needed.
+  std::vector<VertexId> dt_ids;
+  std::future<Mesh> early_dt;
+  if (bundle::worker_threads(options.threads, input_triangles) > 1) {
+    dt_ids = Shared::curve_order(compact.pslg.points);
+    std::vector<Point> dt_points(dt_ids.size());
+    for (std::size_t i = 0; i < dt_ids.size(); ++i) dt_points[i] = compact.pslg.points[dt_ids[i]];
+    early_dt = std::async(std::launch::async | std::launch::deferred, [pts = std::move(dt_points)]() mutable {
+      return delaunay(std::move(pts), nullptr, 1);  // (the same mesh on any number of threads)
+    });
+  }
   Mesh mesh = covering_mesh(compact);
   compact.pslg = {};  // the mesh holds the points; what is not needed is freed as soon as it is not
   bundle::release(compact.original);
   const std::vector<std::uint32_t> slot_to_input = find_input_triangles(mesh, compact.tris);
   bundle::release(compact.tris);
-  BundleResult r = bundle_number_of(mesh, options, [&mesh] { mesh = Mesh{}; });
+  Mesh dt;
+  if (early_dt.valid()) dt = early_dt.get();
+  std::vector<VertexId>* ids = dt_ids.empty() ? nullptr : &dt_ids;
+  BundleResult r = bundle_number_of(mesh, options, [&mesh, ids] {
+    mesh = Mesh{};
+    if (ids) bundle::release(*ids);
+  }, ids ? &dt : nullptr, ids);
   for (std::uint32_t& t : r.triangles) t = slot_to_input[t];
   std::sort(r.triangles.begin(), r.triangles.end());
   if (options.per_triangle) {

@@ -387,7 +387,7 @@ class KBundleAttempt {
     sh_.pencils = std::move(pencils);
     for (auto& w : workers_) {
       w->min_candidates = k_;
-      if (cache_) w->reuse = cache_->impl.get();
+      if (cache_ && cache_->keep_sweeps) w->reuse = cache_->impl.get();
     }
     bundle::for_ranges(workers_, sh_.pencils.size(), [&](Worker& w, std::size_t begin, std::size_t end, std::size_t) {
       for (std::size_t i = begin; i < end; ++i) {
@@ -395,7 +395,7 @@ class KBundleAttempt {
         w.sweep(i);
       }
     });
-    if (cache_) keep_sweeps();
+    if (cache_ && cache_->keep_sweeps) keep_sweeps();
     for (std::size_t qi = 0; qi < queries_.size(); ++qi) {
       const TriangleId t = queries_[qi];
       if (!in_domain(t) || answer_[qi]) continue;

@@ -2,6 +2,7 @@
 #include "algorithms/bundle/lists.hpp"
 
 #include <algorithm>
+#include <functional>
 #include <utility>
 
 #include "mwst/error.hpp"
@@ -170,6 +171,36 @@ bool build_lists_within_budget(Shared& sh, std::vector<std::unique_ptr<Worker>>&
   }
   if (cut == 0) sh.truncated.clear();
   return cut == 0;
+}
+
+// ---- the counts of cut lists begin here ----------------------------------------------------------
+
+// In slot order, in blocks (each split over the workers, each disk on its own: the counts do not
+// depend on the threads), each block twice the one before.
+std::size_t count_cut_lists(const Shared& sh, std::vector<std::unique_ptr<Worker>>& workers,
+                            std::vector<std::pair<std::uint32_t, TriangleId>>& cut, std::size_t full) {
+  constexpr std::size_t kFirstBlock = std::size_t{1} << 12;
+  std::vector<std::uint32_t> longest_left(cut.size() + 1, 0);  // the longest list from index i on
+  for (std::size_t i = cut.size(); i-- > 0;) longest_left[i] = std::max(longest_left[i + 1], sh.list_size(cut[i].second));
+  std::vector<std::uint32_t> largest;  // the `full` largest counts so far, descending
+  std::size_t done = 0;
+  for (std::size_t block = kFirstBlock; done < cut.size(); block *= 2) {
+    if (largest.size() == full && full > 0 && largest.back() >= longest_left[done]) break;
+    const std::size_t end = std::min(cut.size(), done + block);
+    for_ranges(workers, end - done, [&](Worker& w, std::size_t begin, std::size_t stop, std::size_t) {
+      for (std::size_t i = done + begin; i < done + stop; ++i) {
+        const TriangleId d = cut[i].second;
+        cut[i].first = w.circumdisk_count(d, sh.list_data(d), sh.list_size(d), nullptr);
+      }
+    });
+    for (std::size_t i = done; i < end; ++i) {
+      largest.push_back(cut[i].first);
+      std::sort(largest.begin(), largest.end(), std::greater<>());
+      if (largest.size() > full) largest.pop_back();
+    }
+    done = end;
+  }
+  return done;
 }
 
 }  // namespace mwst::bundle

@@ -4,6 +4,7 @@
 //   for_ranges                 — body(worker, begin, end, k) on contiguous ranges, one thread each
 //   build_lists                — the candidates of every Delaunay triangle, by floods
 //   build_lists_within_budget  — the same within BundleOptions::candidate_budget
+//   count_cut_lists            — the counts of the cut lists that can be among the largest few
 // Threads come from support/parallel.hpp; results are merged in range order, so they do not
 // depend on the number of threads.
 #pragma once
@@ -13,6 +14,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "algorithms/bundle/shared.hpp"
@@ -52,5 +54,14 @@ void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers,
 // the budget, then the lists cut short again with an equal share of what is left. False if some
 // list is still cut short (sh.truncated says which).
 bool build_lists_within_budget(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers, std::size_t budget);
+
+// For bundle_number's lower bound, the `full` cut lists (cut: (0, DT slot) in slot order, each
+// slot's list cut at the budget's cap) whose own triangles meet their disk most often (ties to
+// the lower slot): sets cut[i].first to that count (Worker::circumdisk_count) for a prefix of `cut`
+// that holds them, and returns the prefix's length. A count is at most its list's length, so the
+// counts stop once the `full`-th largest reaches the longest list left: on meshes whose cut disks
+// meet all of their lists (circular holes, points on an ellipse) after the first block.
+std::size_t count_cut_lists(const Shared& sh, std::vector<std::unique_ptr<Worker>>& workers,
+                            std::vector<std::pair<std::uint32_t, TriangleId>>& cut, std::size_t full);
 
 }  // namespace mwst::bundle

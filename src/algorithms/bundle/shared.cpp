@@ -28,7 +28,35 @@ std::uint32_t morton_key(const Point& p, double x0, double y0, double scale) {
   return spread(cell(p.x, x0)) | (spread(cell(p.y, y0)) << 1);
 }
 
+// The bounding box of the points with state[v] != 0 (every point without `state`), and the scale
+// of morton_key over it.
+struct MortonGrid {
+  double x0 = kInf, y0 = kInf, scale = 0.0;
+};
+MortonGrid morton_grid(const std::vector<Point>& points, const std::vector<std::uint8_t>* state) {
+  double x0 = kInf, y0 = kInf, x1 = -kInf, y1 = -kInf;
+  for (VertexId v = 0; v < points.size(); ++v) {
+    if (state && (*state)[v] == 0) continue;
+    x0 = std::min(x0, points[v].x);
+    y0 = std::min(y0, points[v].y);
+    x1 = std::max(x1, points[v].x);
+    y1 = std::max(y1, points[v].y);
+  }
+  const double extent = std::max(x1 * 0.5 - x0 * 0.5, y1 * 0.5 - y0 * 0.5);
+  return {x0, y0, extent > 0.0 ? 16383.0 / extent : 0.0};  // extent is half the range
+}
+
 }  // namespace
+
+std::vector<VertexId> Shared::curve_order(const std::vector<Point>& points) {
+  const MortonGrid g = morton_grid(points, nullptr);
+  std::vector<std::uint64_t> keyed(points.size());
+  for (VertexId v = 0; v < points.size(); ++v) keyed[v] = std::uint64_t{morton_key(points[v], g.x0, g.y0, g.scale)} << 32 | v;
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<VertexId> order(points.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<VertexId>(keyed[i] & 0xFFFFFFFFu);
+  return order;
+}
 
 // ---- Shared::build begins here --------------------------------------------------------------------
 
@@ -76,16 +104,7 @@ std::vector<std::uint64_t> Shared::vertex_order(const std::vector<std::uint8_t>&
                                                 const std::vector<VertexId>* subset, Mesh* prior_dt,
                                                 const std::vector<VertexId>* prior_ids) {
   const std::size_t nv = m.points.size();
-  double x0 = kInf, y0 = kInf, x1 = -kInf, y1 = -kInf;
-  for (VertexId v = 0; v < nv; ++v) {
-    if (state[v] == 0) continue;
-    x0 = std::min(x0, m.points[v].x);
-    y0 = std::min(y0, m.points[v].y);
-    x1 = std::max(x1, m.points[v].x);
-    y1 = std::max(y1, m.points[v].y);
-  }
-  const double extent = std::max(x1 * 0.5 - x0 * 0.5, y1 * 0.5 - y0 * 0.5);
-  const double scale = extent > 0.0 ? 16383.0 / extent : 0.0;  // extent is half the range
+  const auto [x0, y0, scale] = morton_grid(m.points, &state);
   std::vector<std::uint64_t> order;
   std::vector<std::uint8_t> in_prior;
   if (!subset && prior_dt && prior_ids && prior_dt->triangle_slots() > 0 &&
@@ -225,8 +244,10 @@ bool Shared::build_region(const std::vector<TriangleId>& region, const DenseIds&
 
 std::size_t Shared::share_cocircular_disks(unsigned threads) {
   // Per finite live triangle, bit e: the four vertices of it and of its neighbour across edge e
-  // (finite) are cocircular.
-  std::vector<std::uint8_t> cocircular(dt.triangle_slots(), 0);
+  // (finite) are cocircular. Each edge is tested once, by its triangle of lower slot (cocircular
+  // vertices need the exact stage of incircle, and points on circles have many such edges), then
+  // copied to the other.
+  cocircular.assign(dt.triangle_slots(), 0);
   support::parallel_ranges(threads, dt.triangle_slots(), [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       const auto t = static_cast<TriangleId>(i);
@@ -234,13 +255,23 @@ std::size_t Shared::share_cocircular_disks(unsigned threads) {
       for (unsigned e = 0; e < 3; ++e) {
         const Handle h = make_handle(t, e);
         const Handle hs = dt.sym(h);
-        if (dt.is_ghost(triangle_of(hs))) continue;
+        if (triangle_of(hs) < t || dt.is_ghost(triangle_of(hs))) continue;
         if (incircle(pts[dt.org(h)], pts[dt.dest(h)], pts[dt.apex(h)], pts[dt.apex(hs)]) == 0) {
           cocircular[t] = static_cast<std::uint8_t>(cocircular[t] | 1u << e);
         }
       }
     }
   });
+  for (TriangleId t = 0; t < dt.triangle_slots(); ++t) {
+    if (dt.is_dead(t) || dt.is_ghost(t)) continue;
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle hs = dt.sym(make_handle(t, e));
+      if (triangle_of(hs) > t || dt.is_ghost(triangle_of(hs))) continue;
+      if ((cocircular[triangle_of(hs)] >> edge_of(hs) & 1u) != 0) {
+        cocircular[t] = static_cast<std::uint8_t>(cocircular[t] | 1u << e);
+      }
+    }
+  }
   disk_rep.assign(dt.triangle_slots(), kNone);
   std::size_t distinct = 0;
   std::vector<TriangleId> stack;

@@ -122,6 +122,9 @@ struct Shared {
   // cocircular; the first slot of each such group is flooded, the others use its list
   // (share_cocircular_disks).
   std::vector<TriangleId> disk_rep;
+  // Per DT slot (empty: not computed), bit e: the four vertices of the slot and of its finite
+  // neighbour across edge e are cocircular (share_cocircular_disks; read by cocircular_edge).
+  std::vector<std::uint8_t> cocircular;
   bool kept_dt = false;                     // dt is a kept DT(V) with the new vertices inserted
 
   Handle sym(Handle h) const { return slots[h >> 2].n[h & 3]; }
@@ -141,9 +144,17 @@ struct Shared {
   const TriangleId* list_data(TriangleId d) const { return list.data() + list_begin[disk(d)]; }
   bool list_cut(TriangleId d) const { return !truncated.empty() && truncated[disk(d)] != 0; }
 
+  // Are the four vertices of the two finite Delaunay triangles on DT edge h cocircular (the pencil
+  // of h holds one disk)? From `cocircular` when share_cocircular_disks filled it, else exact.
+  bool cocircular_edge(Handle h) const {
+    if (!cocircular.empty()) return (cocircular[triangle_of(h)] >> edge_of(h) & 1u) != 0;
+    return incircle(pts[dt.org(h)], pts[dt.dest(h)], pts[dt.apex(h)], pts[dt.apex(dt.sym(h))]) == 0;
+  }
+
   // Fills disk_rep: the Delaunay triangles of one circumcircle share the first one's slot. Returns
-  // the number of distinct circumdisks (live finite DT slots that are their own). The edges' incircle
-  // tests run on `threads` threads; the grouping, which reads them, on one.
+  // the number of distinct circumdisks (live finite DT slots that are their own), and fills
+  // `cocircular`. The edges' incircle tests (one per edge, exact when the vertices are cocircular)
+  // run on `threads` threads; the grouping, which reads them, on one.
   std::size_t share_cocircular_disks(unsigned threads = 1);
 
 
@@ -158,6 +169,12 @@ struct Shared {
   // vertices of T inserted by Lawson flips — DT(V) again, without building it from scratch.
   bool build(bool list_pencils = true, const std::vector<VertexId>* subset = nullptr, Mesh* prior_dt = nullptr,
              const std::vector<VertexId>* prior_ids = nullptr);
+
+  // The order build() (without a subset or a prior DT) numbers the vertices of a mesh in when every
+  // vertex is a corner of a triangle of T: a mesh made from T alone (bundle_number of a triangle
+  // list), whose DT(V) can then be built from the points alone, before the mesh, and given to
+  // build() as its prior DT with these ids — the same DT(V), vertex for vertex and slot for slot.
+  static std::vector<VertexId> curve_order(const std::vector<Point>& points);
 
   // build() for in_k_bundle's local attempt, in time proportional to a region of the mesh: the
   // mesh slots `region` (live; every triangle around each vertex of `w` among them, and every ghost

@@ -179,10 +179,9 @@ std::vector<std::uint32_t> cut_pencils(const Shared& sh, unsigned threads) {
   support::parallel_ranges(threads, sh.pencils.size(), [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       const Handle h = sh.pencils[i], hs = sh.dt.sym(h);
-      const VertexId rv = sh.dt.apex(hs);
       const bool ghost = sh.dt.is_ghost(triangle_of(hs));
       if (!sh.list_cut(triangle_of(h)) && (ghost || !sh.list_cut(triangle_of(hs)))) continue;
-      if (!ghost && incircle(sh.pts[sh.dt.org(h)], sh.pts[sh.dt.dest(h)], sh.pts[sh.dt.apex(h)], sh.pts[rv]) == 0) continue;
+      if (!ghost && sh.cocircular_edge(h)) continue;
       is_cut[i] = 1;
     }
   });

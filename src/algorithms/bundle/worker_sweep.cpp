@@ -60,13 +60,12 @@ void Worker::sweep(std::size_t index) {
 bool Worker::start_pencil(Handle h, VertexId rv) {
   const Mesh& dt = sh_.dt;
   const Handle hs = dt.sym(h);
-  const VertexId lv = dt.apex(h);
   pc_.pv = dt.org(h);
   pc_.qv = dt.dest(h);
   pc_.p = sh_.pts[pc_.pv];
   pc_.q = sh_.pts[pc_.qv];
   pc_.points = sh_.pts.data();
-  if (rv != kInfinite && incircle(pc_.p, pc_.q, sh_.pts[lv], sh_.pts[rv]) == 0) return false;
+  if (rv != kInfinite && sh_.cocircular_edge(h)) return false;
   if (given_[0] == nullptr && (sh_.list_cut(triangle_of(h)) || (rv != kInfinite && sh_.list_cut(triangle_of(hs))))) {
     return false;
   }

@@ -277,10 +277,13 @@ bool BundleRemoval::local_sample() {
 BundleRemoval::Step BundleRemoval::exact_test(bool ask_all) {
   ask_all_ = false;
   std::vector<std::uint8_t> exact(skinny_.size(), 0);
-  // From the second exact test on (the first pass changes most of the mesh; with the default K
-  // one test is often all there is).
+  // Sweeps are kept from the second exact test on (the first pass changes most of the mesh; with
+  // the default K one test is often all there is).
   const bool use_cache = stats_.exact_evaluations >= 1;
-  const bool use_clean = use_cache && skinny_.size() >= kCleanQueriesFrom;
+  // The clean list from the first test on: on 160k points on a spiral the first test marks ~140
+  // triangles, their pass inserts one vertex, and the second test asked all 182k skinny
+  // triangles again (as long as the first). The first test keeps no sweeps, only the reach boxes.
+  const bool use_clean = skinny_.size() >= kCleanQueriesFrom;
   if (!use_clean) clean_.clear();
   std::vector<TriangleId> asked;
   std::vector<std::size_t> asked_at;
@@ -303,8 +306,10 @@ BundleRemoval::Step BundleRemoval::exact_test(bool ask_all) {
   }
   left_marked_ = std::move(still_left);
   if (!asked.empty()) {
-    // Before the second test only DT(V) is kept (the next test inserts the new vertices into it).
-    sweep_cache_.reuse_sweeps = use_cache;
+    // Before the second test only DT(V) and the reach boxes are kept (the next test inserts the
+    // new vertices into DT(V)).
+    sweep_cache_.reuse_sweeps = use_cache || use_clean;
+    sweep_cache_.keep_sweeps = use_cache;
     std::vector<std::uint8_t> answers;
     try {
       answers = in_k_bundle(mesh_, K_, asked, nullptr, options_.threads, &sweep_cache_, deadline_);

@@ -136,6 +136,9 @@ class LocalBundleTest {
     std::uint64_t index_empty = 0;     // constrained mesh: disks the vertex index showed empty
     std::uint64_t index_holds = 0;     // constrained mesh: disks not flooded, the index found a vertex in
     std::uint64_t index_visits = 0;    // kd nodes and pending vertices the index looked at
+    std::uint64_t reached_k = 0;       // floods that counted K in-domain triangles
+    std::uint64_t index_queries = 0;   // constrained mesh: questions to the vertex index
+    std::uint64_t index_newer = 0;     // of them, about the vertices newer than the disk's last query only
   };
 
   // A flood pops at most cap_ + 1 triangles, so it adds at most 3 (cap_ + 1) + 1 triangles and
@@ -176,6 +179,15 @@ class LocalBundleTest {
     for (const TriangleId d : disks) {
       if (d != kNone && !found) found = cached_count(m, d) >= k_;
     }
+    // A neighbour outside the domain first (across a segment: a hole's triangles, whose disk, the
+    // hole's circle, is a witness for the skinny triangles beside it); the answer is the same in
+    // any order, each disk's count being its own.
+    for (std::size_t i = 2; i < 4; ++i) {
+      if (disks[i] != kNone && !m.in_domain(disks[i]) && (disks[1] == kNone || m.in_domain(disks[1]))) {
+        std::swap(disks[1], disks[i]);
+      }
+    }
+    if (disks[1] != kNone && !m.in_domain(disks[1])) std::swap(disks[0], disks[1]);
     for (const TriangleId d : disks) {
       if (d != kNone && !found) found = disk_count(m, d) >= k_;
     }
@@ -186,7 +198,7 @@ class LocalBundleTest {
   }
 
  private:
-  // Per slot, for the triangle its corners `v` make (24 bytes): in_bundle's answer in this epoch,
+  // Per slot, for the triangle its corners `v` make (28 bytes): in_bundle's answer in this epoch,
   // and the count of its circumdisk at a mesh version (disk_count).
   struct SlotCache {
     std::array<VertexId, 3> v{kNone, kNone, kNone};
@@ -195,6 +207,9 @@ class LocalBundleTest {
     std::uint16_t epoch = 0;    // in_bundle's answer is valid if equal to epoch_
     std::uint8_t value = 0;     // in_bundle's answer: 1 no, 2 yes
     bool holds_vertex = false;  // a vertex lies strictly inside the disk: count 0 whatever the version
+    // The index showed that none of the vertices below this id lies strictly inside the disk (0:
+    // not known): a later flood asks it about the newer ones only.
+    std::uint32_t empty_below = 0;
   };
 
   // circumdisk_count(m, c), remembered while the mesh is unchanged: the refinement only inserts
@@ -249,11 +264,13 @@ class LocalBundleTest {
       if (d.version == version) return d.count;
     }
     holds_vertex_ = false;
+    shown_empty_ = false;
     const std::uint32_t count = circumdisk_count(m, c);
     SlotCache& d = slot_cache(m, c);  // (a reference taken before the flood would do as well)
     d.version = version;
     d.count = count;
     d.holds_vertex = holds_vertex_;
+    if (shown_empty_) d.empty_below = version;
     return count;
   }
 
@@ -283,8 +300,20 @@ class LocalBundleTest {
     const Point& d = m.points[cv[2]];
     const double orient = (a.x - d.x) * (b.y - d.y) - (a.y - d.y) * (b.x - d.x);
     if (!delaunay_ && recent_holds_vertex(m, cv)) return 0;
-    const bool stop_at_k = delaunay_ || indexed_empty(m, cv);
-    if (holds_vertex_) return 0;
+    // Is the disk known to hold no vertex (then the flood stops at K and tests no vertex)? On a
+    // Delaunay mesh always. On a constrained mesh, if an earlier flood of this slot showed it empty
+    // of the vertices then present, the index is asked about the newer ones only (the refinement
+    // only appends vertices, and the disk is the circumdisk of the slot's corners); otherwise the
+    // index is asked only when the flood has counted K: a flood that ends below K has seen every
+    // triangle meeting the disk, hence every vertex in it.
+    bool known_empty = delaunay_;
+    bool index_asked = delaunay_;
+    if (!delaunay_ && cache_[c].empty_below != 0) {
+      index_asked = true;
+      ++stats_.index_newer;
+      known_empty = indexed_empty(m, cv, cache_[c].empty_below);
+      if (holds_vertex_) return 0;
+    }
     for (const VertexId v : cv) {
       seen_vertices_.insert(v);
       value_[v % kValueCache] = {v, stamp_, 0.0};
@@ -305,9 +334,17 @@ class LocalBundleTest {
         ++stats_.capped;
         return 0;
       }
-      if (m.in_domain(t) && ++count >= k_ && stop_at_k) {
-        ++stats_.stopped_at_k;
-        return count;
+      if (m.in_domain(t) && ++count >= k_) {
+        if (count == k_) ++stats_.reached_k;
+        if (!index_asked) {
+          index_asked = true;
+          known_empty = indexed_empty(m, cv, 0);
+          if (holds_vertex_) return 0;
+        }
+        if (known_empty) {
+          ++stats_.stopped_at_k;
+          return count;
+        }
       }
       for (unsigned e = 0; e < 3; ++e) {
         const Handle h = make_handle(t, e);
@@ -332,9 +369,10 @@ class LocalBundleTest {
         seen_triangles_.insert(n);
         if (seen_vertices_.insert(x)) {
           // The sign of the incircle determinant decides (exactly: incircle's filter, then its exact
-          // stage only when the filter cannot vouch); its rounded value serves the edge tests.
+          // stage only when the filter cannot vouch); its rounded value serves the edge tests. (In
+          // a disk known empty the sign is not needed.)
           const detail::FilteredDeterminant det = detail::incircle_determinant(a, b, d, m.points[x]);
-          if (det.value > det.bound || (!(-det.value > det.bound) && exact_sign(m, cv, x) > 0)) {
+          if (!known_empty && (det.value > det.bound || (!(-det.value > det.bound) && exact_sign(m, cv, x) > 0))) {
             holds_vertex_ = true;  // the disk is not vertex-empty, for good
             remember_inside(x);
             return 0;
@@ -367,18 +405,20 @@ class LocalBundleTest {
     return false;
   }
   // On a constrained mesh: is the circumdisk of corners cv shown vertex-empty by the index (then
-  // the flood may stop at K, as on a Delaunay mesh)? If the index finds a vertex strictly inside,
+  // the flood may stop at K, as on a Delaunay mesh)? Only the vertices from `from` on are asked
+  // (the caller knows the older ones are not inside). If the index finds a vertex strictly inside,
   // holds_vertex_ is set (the flood's answer is 0: it would find that vertex, a corner of a
-  // triangle meeting the disk, or pass its cap).
-  bool indexed_empty(const Mesh& m, const std::array<VertexId, 3>& cv) {
+  // triangle meeting the disk, or pass its cap); if it shows the disk empty, shown_empty_.
+  bool indexed_empty(const Mesh& m, const std::array<VertexId, 3>& cv, VertexId from) {
     index_.sync(m.points);
+    ++stats_.index_queries;
     const Point& a = m.points[cv[0]];
     const Point& b = m.points[cv[1]];
     const Point& d = m.points[cv[2]];
     const VertexIndex::Disk disk = index_.strictly_inside(m.points, cv, [&](VertexId x) {
       const detail::FilteredDeterminant det = detail::incircle_determinant(a, b, d, m.points[x]);
       return det.value > det.bound || (!(-det.value > det.bound) && exact_sign(m, cv, x) > 0);
-    });
+    }, from);
     stats_.index_visits += index_.last_visits();
     if (disk == VertexIndex::Disk::kHoldsVertex) {
       holds_vertex_ = true;
@@ -386,8 +426,10 @@ class LocalBundleTest {
       ++stats_.index_holds;
       return false;
     }
-    if (disk == VertexIndex::Disk::kEmpty) ++stats_.index_empty;
-    return disk == VertexIndex::Disk::kEmpty;
+    if (disk != VertexIndex::Disk::kEmpty) return false;
+    ++stats_.index_empty;
+    shown_empty_ = true;
+    return true;
   }
   VertexIndex index_;
 
@@ -436,6 +478,7 @@ class LocalBundleTest {
   std::array<ValueSlot, kValueCache> value_{};
   std::vector<SlotCache> cache_;
   bool holds_vertex_ = false;  // the last flood found a vertex strictly inside its disk
+  bool shown_empty_ = false;   // the index showed the last flood's disk vertex-empty
   std::uint16_t epoch_ = 1;
   bool delaunay_known_ = false;
   bool delaunay_ = false;  // every segment is a hull edge: circumdisks are vertex-empty

@@ -45,9 +45,13 @@ class VertexIndex {
   // Is a vertex (other than a, b, c) strictly inside the open circumdisk of a, b, c? kUnknown when
   // the disk is too flat for its computed centre, or when the search passes kMaxVisits (then the
   // caller must look at the whole disk).
-  // `inside(x)` is the exact test of vertex x (sign > 0: strictly inside).
+  // `inside(x)` is the exact test of vertex x (sign > 0: strictly inside). Only the vertices with
+  // ids from `from` on are asked: a caller that knows the disk held none of the older ones (the
+  // refinement only appends vertices) skips the kd subtrees that hold only older ones. (Fewer
+  // visits: a disk whose full search passes kMaxVisits may be shown empty of the newer ones.)
   template <class ExactInside>
-  Disk strictly_inside(const std::vector<Point>& points, const std::array<VertexId, 3>& cv, ExactInside inside) {
+  Disk strictly_inside(const std::vector<Point>& points, const std::array<VertexId, 3>& cv, ExactInside inside,
+                       VertexId from = 0) {
     visits_ = 0;
     found_ = kNone;
     const Point& a = points[cv[0]];
@@ -71,20 +75,21 @@ class VertexIndex {
     reach_ = r * (1.0 + 1e-4) + 1e-13 * magnitude + 1e-300;
     reach2_ = reach_ * reach_;
     auto check = [&](VertexId x) {
-      if (x == cv[0] || x == cv[1] || x == cv[2]) return false;
+      if (x < from || x == cv[0] || x == cv[1] || x == cv[2]) return false;
       const double dx = points[x].x - center_.x, dy = points[x].y - center_.y;
       if (!(dx * dx + dy * dy < reach2_) || !inside(x)) return false;
       found_ = x;
       return true;
     };
     for (const VertexId x : pending_) {
+      if (x < from) continue;
       ++visits_;
       if (check(x)) return Disk::kHoldsVertex;
     }
     constexpr double kInf = std::numeric_limits<double>::infinity();
     const Cell whole{-kInf, kInf, -kInf, kInf};
     for (const Block& blk : blocks_) {
-      if (!blk.ids.empty() && search(points, blk.ids, 0, blk.ids.size(), 0, whole, check)) return Disk::kHoldsVertex;
+      if (!blk.ids.empty() && search(points, blk, 0, blk.ids.size(), 0, whole, from, check)) return Disk::kHoldsVertex;
     }
     return visits_ > kMaxVisits ? Disk::kUnknown : Disk::kEmpty;
   }
@@ -97,6 +102,9 @@ class VertexIndex {
   static constexpr std::size_t kMaxVisits = 4096;
   struct Block {
     std::vector<VertexId> ids;  // a kd-tree: the median of [lo, hi) at (lo + hi) / 2, x then y
+    // newest[mid]: the largest id in the subtree whose median is ids[mid] (a merge mixes old and
+    // new vertices, so a search for the newer ones skips the subtrees holding only older ones).
+    std::vector<VertexId> newest;
   };
 
   // Merges the pending vertices with the blocks of the sizes below them (a binary counter).
@@ -110,6 +118,8 @@ class VertexIndex {
     }
     if (i == blocks_.size()) blocks_.emplace_back();
     build(points, ids, 0, ids.size(), 0);
+    blocks_[i].newest.assign(ids.size(), 0);
+    newest_in(ids, blocks_[i].newest, 0, ids.size());
     blocks_[i].ids = std::move(ids);
   }
 
@@ -126,6 +136,15 @@ class VertexIndex {
     build(points, ids, mid + 1, hi, depth + 1);
   }
 
+  // Fills newest[mid] for the subtree of ids[lo, hi) and its descendants; returns it.
+  static VertexId newest_in(const std::vector<VertexId>& ids, std::vector<VertexId>& newest, std::size_t lo,
+                            std::size_t hi) {
+    if (hi <= lo) return 0;
+    const std::size_t mid = lo + (hi - lo) / 2;
+    newest[mid] = std::max({ids[mid], newest_in(ids, newest, lo, mid), newest_in(ids, newest, mid + 1, hi)});
+    return newest[mid];
+  }
+
   // The region of a kd-tree node: its points lie in [x0, x1] × [y0, y1].
   struct Cell {
     double x0, x1, y0, y1;
@@ -136,16 +155,19 @@ class VertexIndex {
   // half whose cell lies farther than reach_ from the centre is skipped: its vertices would all
   // fail check (the order of the checks is that of the whole search, so the vertex found is the
   // same). Without it a large empty disk visited every vertex of its bounding box: on a fan, whose
-  // wide thin triangles have huge circumdisks, most of the vertices in every query.
+  // wide thin triangles have huge circumdisks, most of the vertices in every query. A subtree
+  // holding no id from `from` on is skipped as well.
   template <class Check>
-  bool search(const std::vector<Point>& points, const std::vector<VertexId>& ids, std::size_t lo, std::size_t hi,
-              unsigned depth, Cell cell, Check& check) {
+  bool search(const std::vector<Point>& points, const Block& blk, std::size_t lo, std::size_t hi, unsigned depth,
+              Cell cell, VertexId from, Check& check) {
+    const std::vector<VertexId>& ids = blk.ids;
     while (hi > lo && visits_ <= kMaxVisits) {
+      const std::size_t mid = lo + (hi - lo) / 2;
+      if (blk.newest[mid] < from) return false;  // only older vertices below
       const double dx = std::max({cell.x0 - center_.x, 0.0, center_.x - cell.x1});
       const double dy = std::max({cell.y0 - center_.y, 0.0, center_.y - cell.y1});
       if (!(dx * dx + dy * dy < reach2_)) return false;
       ++visits_;
-      const std::size_t mid = lo + (hi - lo) / 2;
       const VertexId x = ids[mid];
       if (check(x)) return true;
       const bool by_x = depth % 2 == 0;
@@ -153,7 +175,7 @@ class VertexIndex {
       ++depth;
       Cell low = cell;
       (by_x ? low.x1 : low.y1) = split;
-      if (search(points, ids, lo, mid, depth, low, check)) return true;
+      if (search(points, blk, lo, mid, depth, low, from, check)) return true;
       (by_x ? cell.x0 : cell.y0) = split;
       lo = mid + 1;
     }

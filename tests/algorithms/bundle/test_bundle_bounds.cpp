@@ -6,10 +6,12 @@
 #include <gtest/gtest.h>
 #include <gmpxx.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "algorithms/bundle/lists.hpp"
@@ -202,6 +204,83 @@ TEST(BundleBounds, FanBoundsBracketTheExactNumber) {
   for (const std::size_t budget : {std::size_t{1}, std::size_t{300}, 8 * tris.size()}) {
     expect_brackets(pts, tris, exact, budget);
   }
+}
+
+// count_cut_lists stops counting once no disk left can enter the few largest counts, and picks the
+// same disks as counting every cut list: points on an ellipse (whose cut disks meet all of their
+// lists: it stops early) and random points inside a circle (which it may not).
+TEST(BundleBounds, CutListCountsStopOnceTheLargestAreKnown) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> coordinate(-0.5, 0.5);
+  std::vector<Point> inside = ellipse_points(300, 0.5);
+  for (int i = 0; i < 300; ++i) inside.push_back({coordinate(rng), coordinate(rng)});
+  std::vector<Point> ellipse = ellipse_points(20000, 0.5);
+  bool stopped_early = false;
+  for (const std::vector<Point>* pts : {&ellipse, &inside}) {
+    const Mesh mesh = delaunay(*pts);
+    for (const std::size_t per_disk : {2u, 6u}) {
+      SCOPED_TRACE("budget per disk " + std::to_string(per_disk));
+      bundle::Shared sh(mesh);
+      ASSERT_TRUE(sh.build());
+      const std::size_t disks = sh.share_cocircular_disks();
+      auto workers = bundle::make_workers(sh, 2, false, true);
+      ASSERT_FALSE(bundle::build_lists_within_budget(sh, workers, per_disk * disks));
+      std::vector<std::pair<std::uint32_t, TriangleId>> cut, all;
+      for (TriangleId d = 0; d < sh.truncated.size(); ++d) {
+        if (sh.truncated[d]) cut.emplace_back(0, d);
+      }
+      ASSERT_GT(cut.size(), 4u);
+      all = cut;
+      for (auto& [count, d] : all) count = workers[0]->circumdisk_count(d, sh.list_data(d), sh.list_size(d), nullptr);
+      const std::size_t counted = bundle::count_cut_lists(sh, workers, cut, 4);
+      ASSERT_LE(counted, cut.size());
+      for (std::size_t i = 0; i < counted; ++i) EXPECT_EQ(cut[i], all[i]);
+      stopped_early = stopped_early || counted < cut.size();
+      const auto larger = [](const auto& x, const auto& y) {
+        return x.first > y.first || (x.first == y.first && x.second < y.second);
+      };
+      std::partial_sort(all.begin(), all.begin() + 4, all.end(), larger);
+      std::partial_sort(cut.begin(), cut.begin() + 4, cut.begin() + static_cast<std::ptrdiff_t>(counted), larger);
+      for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(cut[i], all[i]);
+    }
+  }
+  EXPECT_TRUE(stopped_early);
+}
+
+// bundle_number of a triangle list builds DT(V) from the points alone, in Shared::curve_order, on a
+// second thread while the covering mesh is built, and gives it to Shared::build as its prior DT:
+// the same renumbering, the same DT slot for slot, the same pencils, and (above the size where
+// the list version starts that thread) the same answer as on one thread.
+TEST(BundleBounds, DelaunayFromThePointsAloneIsSharedsOwn) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> coordinate(-0.5, 0.5);
+  std::vector<Point> pts = ellipse_points(2000, 0.5);
+  for (int i = 0; i < 12000; ++i) pts.push_back({coordinate(rng), 0.5 * coordinate(rng)});
+  const Mesh mesh = delaunay(pts);
+  bundle::Shared own(mesh);
+  ASSERT_TRUE(own.build());
+  std::vector<VertexId> ids = bundle::Shared::curve_order(mesh.points);
+  std::vector<Point> in_order;
+  for (const VertexId v : ids) in_order.push_back(mesh.points[v]);
+  Mesh prior = delaunay(in_order, nullptr, 1);
+  bundle::Shared given(mesh);
+  ASSERT_TRUE(given.build(true, nullptr, &prior, &ids));
+  EXPECT_TRUE(given.kept_dt);
+  EXPECT_EQ(given.mesh_id, own.mesh_id);
+  ASSERT_EQ(given.dt.triangle_slots(), own.dt.triangle_slots());
+  for (TriangleId t = 0; t < own.dt.triangle_slots(); ++t) {
+    EXPECT_EQ(given.dt.triangles[t].v, own.dt.triangles[t].v);
+    EXPECT_EQ(given.dt.triangles[t].n, own.dt.triangles[t].n);
+  }
+  EXPECT_EQ(given.pencils, own.pencils);
+  const std::vector<Tri> tris = domain_triangles(mesh);
+  ASSERT_GT(tris.size(), 20000u);
+  const BundleResult one = bundle_number(pts, tris, {.threads = 1});
+  const BundleResult two = bundle_number(pts, tris, {.threads = 2});
+  EXPECT_EQ(two.bundle_number, one.bundle_number);
+  EXPECT_EQ(two.triangles, one.triangles);
+  EXPECT_EQ(two.disk_center, one.disk_center);
+  EXPECT_EQ(two.disk_radius, one.disk_radius);
 }
 
 }  // namespace

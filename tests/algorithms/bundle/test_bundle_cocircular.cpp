@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "algorithms/bundle/shared.hpp"
 #include "mwst/algorithms/bundle.hpp"
 #include "mwst/mesh/delaunay.hpp"
 #include "mwst/mesh/mesh.hpp"
@@ -106,6 +107,42 @@ TEST(BundleCocircular, GridSquaresShareTheirDisk) {
     const BundleResult r = bundle_number(m);
     EXPECT_EQ(r.disks, static_cast<std::size_t>((k - 1) * (k - 1))) << k << " x " << k;
     EXPECT_TRUE(r.exact);
+  }
+}
+
+// Shared::share_cocircular_disks tests each Delaunay edge once and keeps the answers for the
+// pencils (Shared::cocircular_edge): on a grid and on points on a circle with one outside, they
+// are the exact incircle signs, the same from both triangles on the edge.
+TEST(BundleCocircular, EdgeAnswersAreTheExactIncircleSigns) {
+  std::vector<Point> grid;
+  for (int i = 0; i < 9; ++i) {
+    for (int j = 0; j < 7; ++j) grid.push_back({static_cast<double>(i), static_cast<double>(j)});
+  }
+  std::vector<Point> circle = lattice_circle(300);
+  circle.push_back({(circle[0].x + circle[1].x) * 0.5005, (circle[0].y + circle[1].y) * 0.5005});
+  for (const std::vector<Point>* pts : {&grid, &circle}) {
+    const Mesh m = delaunay(*pts);
+    bundle::Shared sh(m);
+    ASSERT_TRUE(sh.build());
+    sh.share_cocircular_disks(2);
+    ASSERT_EQ(sh.cocircular.size(), sh.dt.triangle_slots());
+    std::size_t cocircular = 0;
+    for (TriangleId t = 0; t < sh.dt.triangle_slots(); ++t) {
+      if (sh.dt.is_dead(t) || sh.dt.is_ghost(t)) continue;
+      for (unsigned e = 0; e < 3; ++e) {
+        const Handle h = make_handle(t, e), hs = sh.dt.sym(h);
+        if (sh.dt.is_ghost(triangle_of(hs))) {
+          EXPECT_EQ(sh.cocircular[t] >> e & 1u, 0u);
+          continue;
+        }
+        const bool exact = incircle(sh.pts[sh.dt.org(h)], sh.pts[sh.dt.dest(h)], sh.pts[sh.dt.apex(h)],
+                                    sh.pts[sh.dt.apex(hs)]) == 0;
+        EXPECT_EQ(sh.cocircular_edge(h), exact);
+        EXPECT_EQ(sh.cocircular_edge(hs), exact);
+        cocircular += exact ? 1 : 0;
+      }
+    }
+    EXPECT_GT(cocircular, 0u);
   }
 }
 

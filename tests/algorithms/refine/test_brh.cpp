@@ -110,17 +110,22 @@ TEST(Brh, UsesNoMoreSteinerPointsThanDelaunayRefinementInTotal) {
   EXPECT_LT(brh_total, dr_total);
 }
 
+// n points uniform in the unit square (std::mt19937_64 with `seed`).
+Pslg uniform_square(std::size_t n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  Pslg pslg;
+  pslg.points.resize(n);
+  for (auto& p : pslg.points) p = {unit(rng), unit(rng)};
+  return pslg;
+}
+
 TEST(Brh, PointSetWithManySkinnyTrianglesLeft) {
   // A point set (the convex hull as domain: long hull edges split, flat hull circumdisks) at K = 12,
   // where over a thousand skinny triangles stay: from the second exact test on BRH asks only those
   // not known clean (no triangle made by the last pass near them), and its sweeps reuse the last
   // test's. Every skinny triangle left must still be in no K-bundle (exact oracle).
-  std::mt19937_64 rng(5);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  Pslg pslg;
-  pslg.points.resize(5000);
-  for (auto& p : pslg.points) p = {unit(rng), unit(rng)};
-  Mesh m = constrained_delaunay(pslg);
+  Mesh m = constrained_delaunay(uniform_square(5000, 5));
   BrhOptions o;
   o.min_angle_deg = 20.0;
   o.bundle_k = 12;
@@ -131,6 +136,28 @@ TEST(Brh, PointSetWithManySkinnyTrianglesLeft) {
   EXPECT_GT(stats.skinny_left, 1024u);
   ASSERT_TRUE(validate(m, {.delaunay = true}).empty());
   expect_skinny_outside_k_bundles(m, o.min_angle_deg, o.bundle_k, stats.skinny_left);
+}
+
+TEST(Brh, SecondExactTestSkipsTrianglesTheFirstFoundClean) {
+  // The same point set, stopped after the pass of the second exact test: that test already skips
+  // the skinny triangles the first one found in no K-bundle and no triangle made since lies near
+  // (the first test keeps the reach boxes, not its sweeps). On 160k points on a spiral the first
+  // test marks ~140 triangles, their pass inserts one vertex, and the second test asked all 182k
+  // skinny triangles again.
+  const Pslg pslg = uniform_square(5000, 5);
+  for (std::size_t rounds = 1; rounds < 8; ++rounds) {
+    Mesh m = constrained_delaunay(pslg);
+    BrhOptions o;
+    o.min_angle_deg = 20.0;
+    o.bundle_k = 12;
+    o.max_rounds = rounds;
+    const BrhStats stats = bundle_removal(m, o);
+    if (stats.exact_evaluations < 2) continue;
+    ASSERT_EQ(stats.exact_evaluations, 2u);
+    EXPECT_GT(stats.known_clean, 100u);
+    return;
+  }
+  FAIL() << "no run with two exact tests";
 }
 
 // An area bound (RefineOptions::max_area, --max-area) holds for BRH as for DR: on a normal stop

@@ -61,6 +61,28 @@ std::size_t expect_local_yes_is_exact(const Mesh &m,
   return yes;
 }
 
+// A test kept across insertions answers every domain triangle as a fresh one;
+// returns the number of yeses.
+std::size_t expect_kept_answers_as_fresh(const Mesh &m,
+                                         brh::LocalBundleTest &kept,
+                                         brh::LocalBundleTest &fresh) {
+  std::size_t yes = 0;
+  for (const TriangleId t : domain_triangles(m)) {
+    const bool answer = fresh.in_bundle(m, t);
+    yes += answer ? 1 : 0;
+    EXPECT_EQ(kept.in_bundle(m, t), answer) << "triangle " << t;
+  }
+  return yes;
+}
+
+// The CDT of a generated polygon, every domain triangle asked at K (every yes
+// checked exact); returns the number of yeses.
+std::size_t ask_every_triangle(Distribution d, std::size_t n,
+                               brh::LocalBundleTest &local, std::uint32_t k) {
+  const Mesh m = constrained_delaunay(generate_input(d, n, 1));
+  return expect_local_yes_is_exact(m, local, k);
+}
+
 TEST(BrhLocalTest, DelaunayFloodStopsOnCountingK) {
   // 2,000 points on an ellipse: the Delaunay triangulation of a point set, so
   // every circumdisk is vertex-empty, and the circumdisks of the slivers meet
@@ -113,18 +135,60 @@ TEST(BrhLocalTest, ConstrainedMeshFloodStopsAtKWhereTheIndexShowsTheDiskEmpty) {
   EXPECT_LE(s.max_visits, local.cap() + 1);
 }
 
+TEST(BrhLocalTest, ConstrainedMeshAsksTheIndexOnlyWhenTheFloodCountsK) {
+  // A polygon with circular holes: a flood that ends below K has seen every
+  // triangle meeting its disk, hence every vertex in it, so the vertex index is
+  // asked only by the floods that counted K (it used to be asked before every
+  // flood). On a mesh that does not change no disk is asked twice.
+  const std::uint32_t k = static_cast<std::uint32_t>(default_bundle_k(20.0));
+  brh::LocalBundleTest local(k);
+  EXPECT_GT(ask_every_triangle(Distribution::kHoles, 2000, local, k), 0u);
+  const auto &s = local.stats();
+  EXPECT_GT(s.reached_k, 0u);
+  EXPECT_EQ(s.index_queries, s.reached_k);
+  EXPECT_EQ(s.index_newer, 0u);
+  EXPECT_LT(4 * s.index_queries, 3 * (s.floods - s.recent_inside));
+}
+
+TEST(BrhLocalTest, HoleDiskIsAskedFirstBesideAHole) {
+  // A triangle beside a circular hole (a segment edge with the hole's inside
+  // across it): the hole triangle's disk, the hole's circle, meets the ring of
+  // triangles around the hole and is the likely witness, so it is flooded
+  // first; when it is one, the query floods nothing else (the triangle's own
+  // disk came first and meets fewer than K triangles).
+  const Mesh m = constrained_delaunay(generate_input(Distribution::kHoles, 2000, 1));
+  const std::uint32_t k = static_cast<std::uint32_t>(default_bundle_k(20.0));
+  std::size_t beside = 0, yes = 0, one_flood = 0;
+  for (const TriangleId t : domain_triangles(m)) {
+    bool hole = false;
+    for (unsigned e = 0; e < 3; ++e) {
+      const TriangleId n = triangle_of(m.sym(make_handle(t, e)));
+      hole = hole || (m.is_segment(make_handle(t, e)) && !m.is_ghost(n) && !m.in_domain(n));
+    }
+    if (!hole)
+      continue;
+    ++beside;
+    brh::LocalBundleTest local(k);
+    if (!local.in_bundle(m, t))
+      continue;
+    ++yes;
+    one_flood += local.stats().floods == 1 ? 1 : 0;
+  }
+  EXPECT_GT(beside, 1000u);
+  EXPECT_GT(yes, beside / 2);
+  EXPECT_EQ(one_flood, yes);
+}
+
 TEST(BrhLocalTest, FanQueriesStopAtKInsteadOfTheCap) {
   // A fan of 2,000 narrow wedges (0.01°): the slivers' circumdisks reach
   // across hundreds of wedges and the gaps between them, so a flood that must
   // see the whole disk passes its cap (8K + 64 visits) and answers "unknown".
   // With the vertex index the empty ones stop on counting K: most floods stop
   // at K, few are capped, and every yes is an exact yes.
-  const Mesh m = constrained_delaunay(generate_input(Distribution::kFan, 2000, 1));
   const std::uint32_t k = static_cast<std::uint32_t>(default_bundle_k(20.0));
   brh::LocalBundleTest local(k);
-  const std::size_t yes = expect_local_yes_is_exact(m, local, k);
+  EXPECT_GT(ask_every_triangle(Distribution::kFan, 2000, local, k), 0u);
   const auto &s = local.stats();
-  EXPECT_GT(yes, 0u);
   EXPECT_GT(s.stopped_at_k, 10 * s.capped);
   EXPECT_LE(s.max_visits, local.cap() + 1);
 }
@@ -147,7 +211,7 @@ TEST(BrhLocalTest, VertexIndexAgreesWithAllVertices) {
       if (batch == 1)
         points = m.points;
       index.sync(points);
-      std::size_t empty = 0, holds = 0;
+      std::size_t empty = 0, holds = 0, newer_empty = 0, newer_holds = 0;
       for (int q = 0; q < 3000; ++q) {
         // Small disks (three nearby ids: the generators emit vertices in
         // order along the boundary) and arbitrary ones.
@@ -177,9 +241,26 @@ TEST(BrhLocalTest, VertexIndexAgreesWithAllVertices) {
         EXPECT_EQ(disk == brh::VertexIndex::Disk::kHoldsVertex, any)
             << (fan ? "fan" : "Plate") << " query " << q;
         ++(any ? holds : empty);
+        // Asked about the vertices from the second third on only: the
+        // answer is that of those vertices alone.
+        const VertexId from = static_cast<VertexId>(points.size() / 3 + 1);
+        bool any_newer = false;
+        for (VertexId x = from; x < points.size() && !any_newer; ++x)
+          any_newer = x != cv[0] && x != cv[1] && x != cv[2] && inside(x);
+        const auto newer = index.strictly_inside(points, cv, inside, from);
+        if (newer != brh::VertexIndex::Disk::kUnknown) {
+          EXPECT_EQ(newer == brh::VertexIndex::Disk::kHoldsVertex, any_newer)
+              << (fan ? "fan" : "Plate") << " query " << q << " from " << from;
+          newer_holds += any_newer && !any ? 1 : 0;  // (impossible: a subset)
+          newer_empty += !any_newer && any ? 1 : 0;
+        }
       }
       EXPECT_GT(empty, 0u) << (fan ? "fan" : "Plate") << " batch " << batch;
       EXPECT_GT(holds, 0u) << (fan ? "fan" : "Plate") << " batch " << batch;
+      EXPECT_EQ(newer_holds, 0u);
+      if (batch == 1) {  // disks holding only older vertices, shown empty of the newer ones
+        EXPECT_GT(newer_empty, 0u) << (fan ? "fan" : "Plate");
+      }
     }
   }
 }
@@ -243,18 +324,39 @@ TEST(BrhLocalTest, RememberedDisksAnswerAsAFreshTestAfterInsertions) {
     refine(m, ro);
     kept.clear();
     brh::LocalBundleTest fresh(kK);
-    std::size_t yes = 0;
-    for (const TriangleId t : domain_triangles(m)) {
-      const bool answer = fresh.in_bundle(m, t);
-      yes += answer ? 1 : 0;
-      EXPECT_EQ(kept.in_bundle(m, t), answer) << "triangle " << t;
-    }
-    EXPECT_GT(yes, 0u);
+    EXPECT_GT(expect_kept_answers_as_fresh(m, kept, fresh), 0u);
     if (fan) {
       EXPECT_GT(kept.stats().known_not_empty, 0u);
       EXPECT_GT(fresh.stats().recent_inside, 0u);  // disks found holding a vertex another one held
     }
   }
+}
+
+TEST(BrhLocalTest, DisksShownEmptyAreAskedAboutNewVerticesOnly) {
+  // A polygon with circular holes at the default K: the disks of the triangles
+  // inside a hole meet the ring of triangles around it and are witnesses for
+  // the skinny triangles beside the hole; the hole's vertices lie on their
+  // circles, where only the exact incircle sign decides. After insertions a
+  // disk the index showed empty is asked about the new vertices alone, and the
+  // test answers as a fresh one, with fewer index visits.
+  Mesh m = constrained_delaunay(generate_input(Distribution::kHoles, 2000, 1));
+  const std::uint32_t k = static_cast<std::uint32_t>(default_bundle_k(20.0));
+  brh::LocalBundleTest kept(k);
+  for (const TriangleId t : domain_triangles(m))
+    kept.in_bundle(m, t);
+  RefineOptions ro;
+  ro.min_angle_deg = 20.0;
+  ro.max_steiner = 200;
+  refine(m, ro);
+  kept.clear();
+  const std::uint64_t visits_before = kept.stats().index_visits;
+  brh::LocalBundleTest fresh(k);
+  EXPECT_GT(expect_kept_answers_as_fresh(m, kept, fresh), 0u);
+  EXPECT_GT(kept.stats().index_newer, 0u);
+  EXPECT_EQ(fresh.stats().index_newer, 0u);
+  // (A merge of the index's blocks mixes old and new vertices: the search skips
+  // the subtrees holding only old ones.)
+  EXPECT_LT(2 * (kept.stats().index_visits - visits_before), fresh.stats().index_visits);
 }
 
 TEST(BrhLocalTest, UniformPointsSound) {
