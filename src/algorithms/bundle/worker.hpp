@@ -25,6 +25,7 @@
 
 #include "algorithms/bundle/approx.hpp"
 #include "algorithms/bundle/circle_predicates.hpp"
+#include "algorithms/bundle/corner_incircle.hpp"
 #include "algorithms/bundle/pencil.hpp"
 #include "algorithms/bundle/shared.hpp"
 #include "mwst/algorithms/bundle.hpp"
@@ -148,6 +149,7 @@ class Worker {
     circle_[1] = sh_.pts[v[1]];
     circle_[2] = sh_.pts[v[2]];
     circle_orient_ = orient_approx(circle_[0], circle_[1], circle_[2]);
+    corner_circle_ = corner_circle(circle_[0], circle_[1], circle_[2]);
     if (triangle_stamp_.empty()) {
       flood_vertex_.assign(sh_.pts.size(), FloodVertex{});
       triangle_stamp_.assign(sh_.slots.size(), 0);
@@ -274,7 +276,9 @@ class Worker {
     FloodVertex& f = flood_vertex_[v];
     if (f.stamp != flood_stamp_) {
       f.stamp = flood_stamp_;
-      f.value = incircle_approx(circle_[0], circle_[1], circle_[2], sh_.pts[v]);
+      // (With the corner form when incircle's filter cannot vouch: a small disk's values at far
+      // vertices, which would let the flood cross every edge with such an end.)
+      f.value = incircle_from_either(circle_[0], circle_[1], circle_[2], sh_.pts[v], corner_circle_);
     }
     return f.value;
   }
@@ -331,6 +335,7 @@ class Worker {
   // Flood scratch.
   Point circle_[3];
   Approx circle_orient_;
+  CornerCircle corner_circle_;
   std::uint32_t flood_stamp_ = 0, triangle_mark_ = 0;
   std::vector<FloodVertex> flood_vertex_;
   std::vector<std::uint32_t> triangle_stamp_;
