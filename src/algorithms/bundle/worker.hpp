@@ -107,6 +107,10 @@ class Worker {
   std::size_t pencils = 0, candidate_pairs = 0, exact_comparisons = 0;
   std::size_t flood_visits = 0;      // triangles popped by floods (in the domain or not)
   std::uint32_t min_candidates = 0;  // pencils with fewer candidates are not swept
+  // Floods decide an edge the filters leave open exactly (an end's incircle sign, then
+  // segment_meets_open_circumdisk) instead of crossing it: in_k_bundle's, where the flat disks
+  // along a fan's hull edges (nearly collinear segment points) crossed every edge along it.
+  bool exact_edges = false;
   bool escaped = false;              // a flood reached Shared::outside (see Shared::build_region)
   // The bounding box (x0, y0, x1, y1) of the corners of every triangle the last flood visited
   // (in the domain or not): it holds every mesh triangle meeting the circumdisk.
@@ -437,9 +441,17 @@ inline TriangleId Worker::flood_start(VertexId a, VertexId b) const {
 inline bool Worker::edge_may_meet(VertexId u, VertexId w) {
   const Approx& gu = circle_value(u);
   const Approx& gw = circle_value(w);
-  if (gu.value > -gu.error || gw.value > -gw.error) return true;
   const Point& pu = sh_.pts[u];
   const Point& pw = sh_.pts[w];
+  if (gu.value > -gu.error || gw.value > -gw.error) {
+    if (!exact_edges) return true;
+    // An end inside or on the circle (exactly): the edge meets the closed disk.
+    if ((gu.value > -gu.error && incircle(circle_[0], circle_[1], circle_[2], pu) >= 0) ||
+        (gw.value > -gw.error && incircle(circle_[0], circle_[1], circle_[2], pw) >= 0)) {
+      return true;
+    }
+    return segment_meets_open_circumdisk(circle_[0], circle_[1], circle_[2], pu, pw);
+  }
   const double ex = pw.x - pu.x, ey = pw.y - pu.y;
   const double e2 = ex * ex + ey * ey;
   const double a = circle_orient_.value * e2;
@@ -453,7 +465,8 @@ inline bool Worker::edge_may_meet(VertexId u, VertexId w) {
   if (gmax > slack) return true;
   // Undecided: g_w − g_u cancels for the huge circles of flat Delaunay triangles (nearly
   // collinear hull vertices), which would flood along the whole hull; the centre-based filter
-  // rules most such edges out.
+  // rules most such edges out (and with exact_edges, integers decide the rest).
+  if (exact_edges) return segment_meets_open_circumdisk(circle_[0], circle_[1], circle_[2], pu, pw);
   return segment_meets_open_circumdisk_filtered(circle_[0], circle_[1], circle_[2], pu, pw) != 0;
 }
 

@@ -109,5 +109,49 @@ TEST(CornerIncircle, FloodOfASliverDiskStaysNearIt) {
   EXPECT_LE(w.flood_visits, 3 * meeting + 3);
 }
 
+// The flat Delaunay triangles along a hull edge of nearly collinear vertices (a fan's last wedge
+// edge at 90°: x = r·cos(π/2) rounded): their disks, of radius up to 10²³, lie outside the hull and
+// meet the triangles on the edge and a sliver beyond. The filters cannot place the other vertices
+// of the edge, so a flood crossed every edge along it; with exact_edges (in_k_bundle's floods) the
+// undecided edges are decided exactly, and the flood pops about what the disk meets.
+TEST(CornerIncircle, ExactEdgesKeepFlatHullFloodsShort) {
+  std::vector<Point> pts;
+  const double cos_right = std::cos(3.14159265358979323846 / 2.0);
+  for (int i = 1; i <= 200; ++i) {
+    const double r = 0.00731 * i + 0.0001 * (i % 7);
+    pts.push_back({r * cos_right, r});
+  }
+  for (int i = 0; i < 20; ++i) {
+    for (int j = 0; j < 20; ++j) pts.push_back({0.01 + 0.02 * i, 0.02 + 0.07 * j});
+  }
+  const Mesh mesh = delaunay(pts);
+  bundle::Shared sh(mesh);
+  ASSERT_TRUE(sh.build(false));
+  auto workers = bundle::make_workers(sh, 1, false, false);
+  bundle::Worker& w = *workers[0];
+  std::size_t flat = 0, leaked = 0;
+  for (TriangleId d = 0; d < sh.dt.triangle_slots(); ++d) {
+    if (sh.dt.is_dead(d) || sh.dt.is_ghost(d)) continue;
+    bool on_hull_line = true;
+    for (const VertexId v : sh.dt.triangles[d].v) on_hull_line = on_hull_line && std::fabs(sh.pts[v].x) < 1e-12;
+    if (!on_hull_line) continue;
+    ++flat;
+    std::uint32_t meeting = 0;  // by brute force, exactly
+    for (TriangleId t = 0; t < sh.slots.size(); ++t) {
+      if (!sh.is_ghost(t) && sh.in_domain(t) && w.disk_meets(d, t)) ++meeting;
+    }
+    w.exact_edges = false;
+    w.flood_visits = 0;
+    EXPECT_EQ(w.count_meeting(d, 100000), meeting);
+    if (w.flood_visits > 3 * meeting + 3) ++leaked;
+    w.exact_edges = true;
+    w.flood_visits = 0;
+    EXPECT_EQ(w.count_meeting(d, 100000), meeting);
+    EXPECT_LE(w.flood_visits, 3 * meeting + 3);
+  }
+  EXPECT_GT(flat, 10u);
+  EXPECT_GT(leaked, 0u);  // the premise: without exact edges, some of these floods ran along the edge
+}
+
 }  // namespace
 }  // namespace mwst
