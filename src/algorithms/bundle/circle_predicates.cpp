@@ -9,6 +9,7 @@
 
 #include <gmp.h>
 
+#include "algorithms/bundle/corner_incircle.hpp"
 #include "geometry/expansion.hpp"
 
 namespace mwst {
@@ -339,9 +340,19 @@ int segment_meets_open_circumdisk_filtered(const Point& a, const Point& b, const
 // (See circle_predicates.hpp.)
 bool circumdisk_may_meet(const Point& a, const Point& b, const Point& c, const Point* const x[3]) {
   Approx g[3];
+  CornerCircle circle;
+  bool have_circle = false;
   for (int i = 0; i < 3; ++i) {
     g[i] = incircle_approx(a, b, c, *x[i]);
-    if (g[i].value > -g[i].error) return true;
+    if (g[i].value > -g[i].error) {
+      // Undecided: a small circle far from x[i] (the corner form decides where the differences to
+      // x[i] cancel; see corner_incircle.hpp).
+      if (!have_circle) circle = corner_circle(a, b, c);
+      have_circle = true;
+      const Approx h = corner_incircle(circle, *x[i]);
+      if (!(h.value < -h.error) || g[i].value > g[i].error) return true;
+      g[i] = h;
+    }
   }
   const Approx o = orient_approx(a, b, c);
   for (int i = 0; i < 3; ++i) {

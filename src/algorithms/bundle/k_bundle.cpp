@@ -77,13 +77,19 @@ class KBundleAttempt {
     index_dt_vertices();
     const unsigned threads = bundle::worker_threads(threads_requested, 64 * queries_.size());
     workers_ = bundle::make_workers(sh_, threads, true, false);
+    // Stage 1's floods decide the edges the filters leave open exactly (see Worker::exact_edges):
+    // they count up to k, and a flat disk along a hull edge would otherwise run along the edge.
+    for (auto& w : workers_) w->exact_edges = true;
     disk_state_.reset(new std::atomic<std::uint8_t>[dt_slots_]());
     std::vector<Part> parts(workers_.size());
     first_stage(parts);
     if (!merge_parts(parts)) return Attempt::kGaveUp;
     std::vector<std::uint8_t> needed;  // 1: in some S(t); 2: a partner across an edge
     if (!mark_needed(needed)) return Attempt::kGaveUp;
-    for (auto& w : workers_) w->escaped = false;  // (stage 1's floods that left a region were cut short)
+    for (auto& w : workers_) {
+      w->escaped = false;  // (stage 1's floods that left a region were cut short)
+      w->exact_edges = false;  // the candidate lists: permissive floods, as `mwst bundle` builds them
+    }
     std::vector<std::array<double, 4>> boxes;
     bundle::build_lists(sh_, workers_, &needed, cache_ ? &boxes : nullptr);
     if (cache_) reach_boxes(boxes);

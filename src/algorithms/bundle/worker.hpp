@@ -25,6 +25,7 @@
 
 #include "algorithms/bundle/approx.hpp"
 #include "algorithms/bundle/circle_predicates.hpp"
+#include "algorithms/bundle/corner_incircle.hpp"
 #include "algorithms/bundle/pencil.hpp"
 #include "algorithms/bundle/shared.hpp"
 #include "mwst/algorithms/bundle.hpp"
@@ -106,6 +107,10 @@ class Worker {
   std::size_t pencils = 0, candidate_pairs = 0, exact_comparisons = 0;
   std::size_t flood_visits = 0;      // triangles popped by floods (in the domain or not)
   std::uint32_t min_candidates = 0;  // pencils with fewer candidates are not swept
+  // Floods decide an edge the filters leave open exactly (an end's incircle sign, then
+  // segment_meets_open_circumdisk) instead of crossing it: in_k_bundle's, where the flat disks
+  // along a fan's hull edges (nearly collinear segment points) crossed every edge along it.
+  bool exact_edges = false;
   bool escaped = false;              // a flood reached Shared::outside (see Shared::build_region)
   // The bounding box (x0, y0, x1, y1) of the corners of every triangle the last flood visited
   // (in the domain or not): it holds every mesh triangle meeting the circumdisk.
@@ -148,6 +153,7 @@ class Worker {
     circle_[1] = sh_.pts[v[1]];
     circle_[2] = sh_.pts[v[2]];
     circle_orient_ = orient_approx(circle_[0], circle_[1], circle_[2]);
+    corner_circle_ = corner_circle(circle_[0], circle_[1], circle_[2]);
     if (triangle_stamp_.empty()) {
       flood_vertex_.assign(sh_.pts.size(), FloodVertex{});
       triangle_stamp_.assign(sh_.slots.size(), 0);
@@ -274,7 +280,9 @@ class Worker {
     FloodVertex& f = flood_vertex_[v];
     if (f.stamp != flood_stamp_) {
       f.stamp = flood_stamp_;
-      f.value = incircle_approx(circle_[0], circle_[1], circle_[2], sh_.pts[v]);
+      // (With the corner form when incircle's filter cannot vouch: a small disk's values at far
+      // vertices, which would let the flood cross every edge with such an end.)
+      f.value = incircle_from_either(circle_[0], circle_[1], circle_[2], sh_.pts[v], corner_circle_);
     }
     return f.value;
   }
@@ -331,6 +339,7 @@ class Worker {
   // Flood scratch.
   Point circle_[3];
   Approx circle_orient_;
+  CornerCircle corner_circle_;
   std::uint32_t flood_stamp_ = 0, triangle_mark_ = 0;
   std::vector<FloodVertex> flood_vertex_;
   std::vector<std::uint32_t> triangle_stamp_;
@@ -432,9 +441,17 @@ inline TriangleId Worker::flood_start(VertexId a, VertexId b) const {
 inline bool Worker::edge_may_meet(VertexId u, VertexId w) {
   const Approx& gu = circle_value(u);
   const Approx& gw = circle_value(w);
-  if (gu.value > -gu.error || gw.value > -gw.error) return true;
   const Point& pu = sh_.pts[u];
   const Point& pw = sh_.pts[w];
+  if (gu.value > -gu.error || gw.value > -gw.error) {
+    if (!exact_edges) return true;
+    // An end inside or on the circle (exactly): the edge meets the closed disk.
+    if ((gu.value > -gu.error && incircle(circle_[0], circle_[1], circle_[2], pu) >= 0) ||
+        (gw.value > -gw.error && incircle(circle_[0], circle_[1], circle_[2], pw) >= 0)) {
+      return true;
+    }
+    return segment_meets_open_circumdisk(circle_[0], circle_[1], circle_[2], pu, pw);
+  }
   const double ex = pw.x - pu.x, ey = pw.y - pu.y;
   const double e2 = ex * ex + ey * ey;
   const double a = circle_orient_.value * e2;
@@ -448,7 +465,8 @@ inline bool Worker::edge_may_meet(VertexId u, VertexId w) {
   if (gmax > slack) return true;
   // Undecided: g_w − g_u cancels for the huge circles of flat Delaunay triangles (nearly
   // collinear hull vertices), which would flood along the whole hull; the centre-based filter
-  // rules most such edges out.
+  // rules most such edges out (and with exact_edges, integers decide the rest).
+  if (exact_edges) return segment_meets_open_circumdisk(circle_[0], circle_[1], circle_[2], pu, pw);
   return segment_meets_open_circumdisk_filtered(circle_[0], circle_[1], circle_[2], pu, pw) != 0;
 }
 
