@@ -14,7 +14,9 @@
 3. The same for Delaunay refinement at 25 degrees of 100k uniform points.
 
 Each mwst measurement is the best of --repeat runs (the machine may be loaded: compare CPU columns
-too); scipy and matplotlib run once (about 10 s each).
+too), each run's result dropped before the next unless it is the fastest so far (--keep-results:
+all kept alive, so that every call writes memory the system must clear first); scipy and
+matplotlib run once (about 10 s each).
 
     PYTHONPATH=build/python /usr/bin/python3 bench/python_bench.py [--cli build/mwst] [--repeat 3]
 """
@@ -38,10 +40,20 @@ def timed(call):
     return result, time.perf_counter() - wall, time.process_time() - cpu
 
 
-def best(call, repeat):
-    """The run with the least wall time of `repeat`: (result, wall, cpu)."""
-    runs = [timed(call) for _ in range(repeat)]
-    return min(runs, key=lambda r: r[1])
+def best(call, repeat, keep=False):
+    """The run with the least wall time of `repeat`: (result, wall, cpu). A run's result is freed
+    before the next run unless it is the fastest so far, as in a loop that triangulates and drops
+    each result (timeit's way); with `keep` every result stays alive until all runs are done, so
+    that every call writes fresh memory the system must clear (--keep-results)."""
+    kept, fastest = [], None
+    for _ in range(repeat):
+        run = timed(call)
+        if keep:
+            kept.append(run)
+        if fastest is None or run[1] < fastest[1]:
+            fastest = run
+        del run
+    return fastest
 
 
 def write_node(path, points):
@@ -64,15 +76,16 @@ def cli_seconds(cli, node, options, repeat):
     return best_call, best_wall
 
 
-def overhead_rows(name, points, kwargs, cli, cli_options, repeat, work):
+def overhead_rows(name, points, kwargs, cli, cli_options, repeat, work, keep=False):
     import mwst
 
     rows = []
     for threads in (0, 1):
-        mesh, wall, cpu = best(lambda: mwst.triangulate(points, threads=threads, **kwargs), repeat)
+        mesh, wall, cpu = best(lambda: mwst.triangulate(points, threads=threads, **kwargs), repeat, keep)
         call = mesh.report["seconds"]["total"]
         arrays = call + mesh.report["seconds"]["to_arrays"]
         rows.append((f"{name}, threads={threads or 'all'}", len(mesh.triangles), wall, cpu, call, arrays))
+        del mesh
     node = os.path.join(work, f"{name.replace(' ', '_')}.node")
     write_node(node, points)
     call, process = cli_seconds(cli, node, cli_options, repeat)
@@ -88,6 +101,9 @@ def main():
     parser.add_argument("--repeat", type=int, default=3, help="runs per mwst measurement (best kept)")
     parser.add_argument("--points", type=int, default=1_000_000, help="points of the Delaunay comparison")
     parser.add_argument("--dr-points", type=int, default=100_000, help="points of the DR comparison")
+    parser.add_argument("--keep-results", action="store_true",
+                        help="keep every run's result alive until all runs are done (each call then writes "
+                             "fresh memory); by default a result is dropped before the next run, as in a loop")
     parser.add_argument("--overhead-only", action="store_true",
                         help="only parts 2-3 (no scipy or matplotlib, which take about 10 s each)")
     args = parser.parse_args()
@@ -133,12 +149,15 @@ def compare_triangulators(points, args):
 
 def overhead_table(points, rng, args):
     """Parts 2-3: mwst's Python overhead over the C++ call."""
-    print("\n2.-3. mwst's Python overhead over the C++ call")
+    kept = "every result kept alive" if args.keep_results else "each result dropped before the next run"
+    print(f"\n2.-3. mwst's Python overhead over the C++ call (best of {args.repeat}, {kept})")
     with tempfile.TemporaryDirectory() as work:
-        rows = overhead_rows(f"dt {args.points // 1000}k", points, {}, args.cli, ["--method", "dt"], args.repeat, work)
+        rows = overhead_rows(f"dt {args.points // 1000}k", points, {}, args.cli, ["--method", "dt"], args.repeat, work,
+                             args.keep_results)
         dr_points = rng.random((args.dr_points, 2))
         rows += overhead_rows(f"dr 25 {args.dr_points // 1000}k", dr_points, {"method": "dr", "min_angle": 25},
-                              args.cli, ["--method", "dr", "--min-angle", "25"], args.repeat, work)
+                              args.cli, ["--method", "dr", "--min-angle", "25"], args.repeat, work,
+                              args.keep_results)
     print("| run | triangles | Python wall s | Python CPU s | triangulate() s | overhead over it "
           "| triangulate_arrays() s | overhead over it |")
     print("|---|---:|---:|---:|---:|---:|---:|---:|")
