@@ -13,6 +13,7 @@
 #include "mesh/keys.hpp"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <limits>
@@ -88,6 +89,20 @@ struct AlongPiece {
   }
   double operator()(const Point& q) const { return sign * (by_x ? q.x : q.y); }
 };
+
+// Does the closed segment ab meet the open triangle (t0, t1, t2), counter-clockwise? Exact: they are
+// apart iff a line separates them weakly (the separating-axis theorem), and for a segment and a
+// triangle the only candidates are the triangle's three edge lines and the segment's own line.
+bool segment_meets_open_triangle(const Point& a, const Point& b, const Point& t0, const Point& t1, const Point& t2) {
+  const std::array<const Point*, 3> t{&t0, &t1, &t2};
+  for (unsigned k = 0; k < 3; ++k) {
+    const Point& u = *t[k];
+    const Point& v = *t[(k + 1) % 3];
+    if (orient2d(u, v, a) <= 0 && orient2d(u, v, b) <= 0) return false;  // both outside edge uv
+  }
+  const int s0 = orient2d(a, b, t0), s1 = orient2d(a, b, t1), s2 = orient2d(a, b, t2);
+  return !((s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0));
+}
 
 // Which domain the mesh is checked against: chosen by area (the carved domain, or the convex hull
 // minus the holes when only that one's area agrees), or one of the two.
@@ -590,7 +605,13 @@ class Checker {
     }
     for (const std::uint32_t w : touched) dead_end_[w] = 0;
     if (found) return kNone;
-    // Does the segment, leaving `furthest` towards b, enter one of its triangles?
+    // Does the segment, leaving `furthest` towards b, enter one of its triangles? The direction
+    // from `furthest` (within the tolerance of the line, not on it) must enter the triangle, and the
+    // segment itself must meet the triangle's interior: a vertex near the line but off it (a
+    // vertex of another segment that the CDT resolved a crossing at, within rounding) can have a
+    // sliver on the far side of the line that the direction towards b enters and the segment
+    // misses (dt of a fuzzed input near -7e14, where the spacing of doubles is 0.125: an input
+    // vertex 2.1 units off the segment, a sliver 0.35 wide).
     *enters = false;
     const Point& c = p_[furthest];
     for (std::uint32_t k = adj_start_[furthest]; k < adj_start_[furthest + 1]; ++k) {
@@ -598,7 +619,10 @@ class Checker {
       const auto it = apex_.find(edge_key(furthest, w));
       if (it == apex_.end()) continue;
       const Point& q = p_[it->second.apex];
-      if (orient2d(c, p_[w], line.b) >= 0 && orient2d(c, q, line.b) <= 0) *enters = true;
+      if (orient2d(c, p_[w], line.b) >= 0 && orient2d(c, q, line.b) <= 0 &&
+          segment_meets_open_triangle(line.a, line.b, c, p_[w], q)) {
+        *enters = true;
+      }
     }
     return furthest;
   }

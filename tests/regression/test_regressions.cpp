@@ -225,4 +225,29 @@ TEST(FuzzRegressions, RoundedCrossingsThatBreedCrossingsAreRefused) {
   }
 }
 
+// The checker followed a segment to a vertex 2.1 units off it (within its tolerance) and reported
+// the segment running into the sliver beyond, which the segment misses (the CDT was right).
+TEST(FuzzRegressions, CheckerReportsASegmentOnlyWhereItMeetsATriangle) {
+  const Pslg pslg = read_regression("check_vertex_near_segment_with_sliver_beyond.poly");
+  TriangulateOptions options;
+  options.method = Method::kDt;
+  Mesh mesh;
+  triangulate(pslg, options, &mesh);
+  ASSERT_EQ(mesh.domain_triangle_count(), 1u);  // the sliver 5-3-2 closed by crossings resolved at ends
+  expect_checked(pslg, mesh);
+  // Still strict: with segment 1's far end moved into the sliver's side of vertex 2 (between the
+  // sliver's two long sides), the segment does run through the sliver, and that is reported.
+  Pslg moved = pslg;
+  moved.points[3] = {-703653081972708.0, -703653081972710.0};
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  for (TriangleId t = 0; t < mesh.triangles.size(); ++t) {
+    if (mesh.in_domain(t)) triangles.push_back(mesh.triangles[t].v);
+  }
+  const CheckResult check = check_triangulation(moved, mesh.points, triangles, {});
+  const bool reported = std::any_of(check.messages.begin(), check.messages.end(), [](const std::string& m) {
+    return m.find("input segment 1 ") != std::string::npos && m.find("runs into a triangle") != std::string::npos;
+  });
+  EXPECT_TRUE(reported);
+}
+
 }  // namespace
