@@ -575,8 +575,9 @@ class Checker {
   // Depth-first search from mesh vertex `from` to `to` (kNone: none) along mesh edges whose far
   // vertices are near the line and strictly further along it (so no cycles; a vertex that led
   // nowhere once leads nowhere again, dead_end_). Returns kNone when the chain reaches `to`,
-  // otherwise the vertex furthest along where it stopped, with *enters set when the segment runs
-  // from there into the interior of a mesh triangle (rather than out of the mesh).
+  // otherwise where it stopped: the vertex furthest along of those reached from which the segment
+  // runs out of the mesh, or, if it runs into the interior of a mesh triangle from every one of
+  // them, the furthest one reached, with *enters set.
   std::uint32_t follow_segment(const SegmentLine& line, std::uint32_t from, std::uint32_t to, bool* enters) {
     const auto s_end = line.along(line.b);
     std::vector<std::uint32_t>& stack = path_;
@@ -605,26 +606,45 @@ class Checker {
     }
     for (const std::uint32_t w : touched) dead_end_[w] = 0;
     if (found) return kNone;
-    // Does the segment, leaving `furthest` towards b, enter one of its triangles? The direction
-    // from `furthest` (within the tolerance of the line, not on it) must enter the triangle, and the
-    // segment itself must meet the triangle's interior: a vertex near the line but off it (a
-    // vertex of another segment that the CDT resolved a crossing at, within rounding) can have a
-    // sliver on the far side of the line that the direction towards b enters and the segment
-    // misses (dt of a fuzzed input near -7e14, where the spacing of doubles is 0.125: an input
-    // vertex 2.1 units off the segment, a sliver 0.35 wide).
-    *enters = false;
-    const Point& c = p_[furthest];
-    for (std::uint32_t k = adj_start_[furthest]; k < adj_start_[furthest + 1]; ++k) {
-      const std::uint32_t w = adj_[k];
-      const auto it = apex_.find(edge_key(furthest, w));
-      if (it == apex_.end()) continue;
-      const Point& q = p_[it->second.apex];
-      if (orient2d(c, p_[w], line.b) >= 0 && orient2d(c, q, line.b) <= 0 &&
-          segment_meets_open_triangle(line.a, line.b, c, p_[w], q)) {
-        *enters = true;
+    // The chain stops. Where the segment leaves the mesh from a vertex the walk reached (a hole,
+    // the outside), the walk from the other end checks the rest: the furthest such vertex is the
+    // stop. Only if the segment enters a triangle from every vertex reached is it reported, from
+    // the furthest one. (Near the line means within the tolerance, which at coordinates where
+    // doubles are coarse spans several vertices: the CDT, which resolves crossings at ends within
+    // its own rounding tolerance, chained a segment of a fuzzed input near -2.8e14 through a vertex
+    // 1.4 units off it, to the mesh's boundary and out, while the walk also reached a vertex 3.15
+    // units off on the other side, further along, from which the segment enters a triangle.)
+    std::uint32_t leaving = kNone;
+    touched.push_back(from);
+    for (const std::uint32_t c : touched) {
+      if (!segment_enters_from(line, c) && (leaving == kNone || line.along(p_[c]) > line.along(p_[leaving]))) {
+        leaving = c;
       }
     }
-    return furthest;
+    *enters = leaving == kNone;
+    return *enters ? furthest : leaving;
+  }
+
+  // Does the segment, leaving mesh vertex c towards b, enter one of c's triangles? The direction
+  // from c (within the tolerance of the line, not on it) must enter the triangle, and the segment
+  // itself must meet the triangle's interior: a vertex near the line but off it (a vertex of
+  // another segment that the CDT resolved a crossing at, within rounding) can have a sliver on the
+  // far side of the line that the direction towards b enters and the segment misses (dt of a
+  // fuzzed input near -7e14, where the spacing of doubles is 0.125: an input vertex 2.1 units off
+  // the segment, a sliver 0.35 wide).
+  bool segment_enters_from(const SegmentLine& line, std::uint32_t c) const {
+    const Point& pc = p_[c];
+    for (std::uint32_t k = adj_start_[c]; k < adj_start_[c + 1]; ++k) {
+      const std::uint32_t w = adj_[k];
+      const auto it = apex_.find(edge_key(c, w));
+      if (it == apex_.end()) continue;
+      const Point& q = p_[it->second.apex];
+      if (orient2d(pc, p_[w], line.b) >= 0 && orient2d(pc, q, line.b) <= 0 &&
+          segment_meets_open_triangle(line.a, line.b, pc, p_[w], q)) {
+        return true;
+      }
+    }
+    return false;
   }
 
   // The triangles around each vertex turn 360° inside the mesh and at most 360° on its boundary.

@@ -250,4 +250,19 @@ TEST(FuzzRegressions, CheckerReportsASegmentOnlyWhereItMeetsATriangle) {
   EXPECT_TRUE(reported);
 }
 
+// The checker judged a segment only from the furthest vertex its walk reached, though the chain the
+// CDT made (through other vertices within the tolerance) ran out of the mesh before it.
+TEST(FuzzRegressions, CheckerStopsWhereTheSegmentLeavesTheMesh) {
+  const Pslg pslg = read_regression("check_segment_leaves_from_a_vertex_not_furthest.poly");
+  for (const bool hull : {false, true}) {
+    TriangulateOptions options;
+    options.method = Method::kDt;
+    options.convex_hull = hull;
+    Mesh mesh;
+    triangulate(pslg, options, &mesh);
+    EXPECT_EQ(mesh.domain_triangle_count(), hull ? 8u : 3u);
+    expect_checked(pslg, mesh);
+  }
+}
+
 }  // namespace
