@@ -583,27 +583,41 @@ class SegmentInserter {
   }
 
   // The endpoint of the piece from→p.b or of the crossed subsegment c→d where the two cross, or
-  // kNone. An endpoint of either piece that lies within a few hundred ulps of the crossing point x,
-  // or of the other piece's line (between its ends), is where the two cross: the crossing is
-  // resolved there, with no new vertex. Otherwise nearly coincident chains (a segment given twice,
-  // overlapping near-collinear segments) make each rounded crossing point cross the other chain
-  // again, one ulp further on; and where long segments cross at a tiny angle θ the rounded point
-  // is off by rounding/θ along them (6e9 long, θ ≈ 1e-9: hundreds of units), so that each new
-  // point made a new crossing with the chains it had just passed (7 points and 4 distinct
-  // segments of a fuzzed input took 2183 crossing points), while the points already made lie
-  // within rounding of those chains' lines.
+  // kNone. An endpoint of either piece that lies within a few hundred times the rounding of the
+  // crossing point x, or of the other piece's line (between its ends), is where the two cross: the
+  // crossing is resolved there, with no new vertex. Otherwise nearly coincident chains (a segment
+  // given twice, overlapping near-collinear segments) make each rounded crossing point cross the
+  // other chain again, one ulp further on; and where long segments cross at a tiny angle θ the
+  // rounded point is off by rounding/θ along them (6e9 long, θ ≈ 1e-9: hundreds of units), so
+  // that each new point made a new crossing with the chains it had just passed (7 points and 4
+  // distinct segments of a fuzzed input took 2183 crossing points), while the points already made
+  // lie within rounding of those chains' lines.
+  //
+  // The rounding is that of the points involved, where they are: x's own, and each piece's line's
+  // at x, which interpolates its ends' (an end is an input point, or a crossing rounded to within
+  // an ulp of its magnitude); along the pieces it grows as 1/sin θ. It is capped by a few hundred
+  // ulps of the larger of x's magnitude and the pieces' lengths. That cap alone let a segment 13
+  // long near 1e11 (doubles 1.5e-5 apart) snap by 0.5 to the end of a segment 5.8e15 long that
+  // crosses it at 57°, off it by 33,000 of its ulps (a fuzzed input: the mesh's triangle then
+  // straddled the segment).
   VertexId crossing_snap(const Piece& p, VertexId from, VertexId c, VertexId d, const Point& x) const {
     const Point& pf = m_.points[from];
     const Point& pb = m_.points[p.b];
     const Point& pc = m_.points[c];
     const Point& pd = m_.points[d];
-    const double scale = std::max({std::fabs(x.x), std::fabs(x.y), distance(pf, pb), distance(pc, pd)});
-    const double tolerance = 256.0 * 0x1p-52 * scale;
-    // Is w within the tolerance of the line through u and v, and strictly between u and v along it?
+    const double cap = kSnapRoundings * 0x1p-52 *
+                       std::max({std::fabs(x.x), std::fabs(x.y), distance(pf, pb), distance(pc, pd)});
+    const double piece_dx = pb.x - pf.x, piece_dy = pb.y - pf.y, crossed_dx = pd.x - pc.x, crossed_dy = pd.y - pc.y;
+    const double sin_angle = std::fabs(piece_dx * crossed_dy - piece_dy * crossed_dx) /
+                             (std::hypot(piece_dx, piece_dy) * std::hypot(crossed_dx, crossed_dy));
+    const double at_x = kSnapRoundings * (rounding_of(x) + line_rounding_at(x, pf, pb) + line_rounding_at(x, pc, pd));
+    const double near_x = sin_angle > 0.0 ? std::min(cap, at_x / sin_angle) : cap;
+    // Is w within rounding of the line through u and v, and strictly between u and v along it?
     const auto on_line = [&](const Point& w, const Point& u, const Point& v) {
       const double ux = v.x - u.x, uy = v.y - u.y, wx = w.x - u.x, wy = w.y - u.y;
       const double length = std::hypot(ux, uy);
       const double along = ux * wx + uy * wy;
+      const double tolerance = std::min(cap, kSnapRoundings * (rounding_of(w) + line_rounding_at(w, u, v)));
       return along > 0.0 && along < length * length && std::fabs(ux * wy - uy * wx) <= tolerance * length;
     };
     double nearest = std::numeric_limits<double>::infinity();
@@ -611,7 +625,7 @@ class SegmentInserter {
     for (const VertexId w : {c, d, from, p.b}) {
       const double dist = distance(x, m_.points[w]);
       const bool is_end_of_crossed = w == c || w == d;
-      const bool near = dist <= tolerance ||
+      const bool near = dist <= near_x ||
                         (is_end_of_crossed ? on_line(m_.points[w], pf, pb) : on_line(m_.points[w], pc, pd));
       if (near && dist < nearest) {
         nearest = dist;
@@ -619,6 +633,20 @@ class SegmentInserter {
       }
     }
     return snap;
+  }
+  static constexpr double kSnapRoundings = 256.0;
+
+  // How far a point's coordinates may be from where exact arithmetic would put them: an ulp of
+  // its magnitude (2^-52 of it, rounded up to a power of two or not: within a factor 2).
+  static double rounding_of(const Point& q) { return 0x1p-52 * std::max(std::fabs(q.x), std::fabs(q.y)); }
+
+  // How far the line through u and v may be, at q (between them), from the line through where
+  // exact arithmetic would put u and v: their roundings, interpolated.
+  static double line_rounding_at(const Point& q, const Point& u, const Point& v) {
+    const double length = distance(u, v);
+    if (!(length > 0.0)) return std::max(rounding_of(u), rounding_of(v));
+    const double to_u = std::min(1.0, distance(q, u) / length), to_v = std::min(1.0, distance(q, v) / length);
+    return rounding_of(u) * to_v + rounding_of(v) * to_u;
   }
 
   // Unmarks the crossed subsegment (it is re-inserted in two pieces) and returns the vertex both

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -263,6 +264,24 @@ TEST(FuzzRegressions, CheckerStopsWhereTheSegmentLeavesTheMesh) {
     EXPECT_EQ(mesh.domain_triangle_count(), hull ? 8u : 3u);
     expect_checked(pslg, mesh);
   }
+}
+
+// The CDT resolved a crossing at a segment's end 0.66 away, where doubles are 1.5e-5 apart: its
+// snapping tolerance grew with the length of the other segment, 5.8e15.
+TEST(FuzzRegressions, CrossingSnapsOnlyWithinTheRoundingWhereItIs) {
+  const Pslg pslg = read_regression("cdt_crossing_snapped_by_a_long_segments_length.poly");
+  TriangulateOptions options;
+  options.method = Method::kDt;
+  Mesh mesh;
+  triangulate(pslg, options, &mesh);
+  // The crossing of segments 1 and 2 is a vertex of its own, within an ulp of both segments.
+  ASSERT_EQ(mesh.points.size(), 7u);
+  const Point& x = mesh.points[6];
+  const Point &a = pslg.points[3], &b = pslg.points[4], &c = pslg.points[5], &d = pslg.points[0];
+  const double ulp = 0x1p-52 * 103079215133.0;
+  EXPECT_LE(std::fabs((b.x - a.x) * (x.y - a.y) - (b.y - a.y) * (x.x - a.x)) / std::hypot(b.x - a.x, b.y - a.y), 2 * ulp);
+  EXPECT_LE(std::fabs((d.x - c.x) * (x.y - c.y) - (d.y - c.y) * (x.x - c.x)) / std::hypot(d.x - c.x, d.y - c.y), 2 * ulp);
+  expect_checked(pslg, mesh);
 }
 
 }  // namespace
