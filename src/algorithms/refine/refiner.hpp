@@ -10,7 +10,8 @@
 //   steiner.cpp      steiner_point (circumcenter / off-center), split_triangle, split_at_centroid
 //   insertion.cpp    walk, insert_for: insert_free (grow_cavity, check_cavity_boundary,
 //                    fill_star, queue_star) or insert_lawson; after_insertion
-//   segments.cpp     split_all_pending, split_subsegment (concentric shells; too_thin_to_split,
+//   segments.cpp     split_all_pending, split_subsegment (concentric shells, the shell through
+//                    an encroaching vertex on a segment at a small angle; too_thin_to_split,
 //                    find_split_point, insert_split_vertex, fold_hull_after_split), relax,
 //                    restore_hull, unfold_hull_slivers
 //   termination_guard.cpp   set_feature_guard and feature_guard_length
@@ -218,6 +219,15 @@ class Refiner {
   inline void insert_split_vertex(Handle h, const Point& p);
   inline void fold_hull_after_split(const std::array<Handle, 4>& opposite);
   bool shares_acute_segment(Handle h) const;
+  bool shell_through_encroacher(Handle h, double length, const Point& usual, Point& from, Point& to,
+                                double& t) const;
+  bool encroaches_subsegment_at(Handle around, const Point& q) const;
+  // If v is a split vertex of an input segment from c, that segment's other endpoint, else kNone.
+  VertexId split_segment_end(VertexId v, VertexId c) const {
+    if (m_.vertex_kind[v] != VertexKind::kSteinerOnSegment) return kNone;
+    const auto seg = original_segment(v);
+    return seg.first == c ? seg.second : (seg.second == c ? seg.first : kNone);
+  }
   bool split_point_valid(Handle h, const Point& p) const;
   void restore_hull(std::vector<TriangleId>& work);
   void relax();

@@ -109,6 +109,81 @@ bool Refiner::shares_acute_segment(Handle h) const {
   return false;
 }
 
+// Two input segments from a vertex c at an angle below 60° (below which a vertex on one can
+// encroach a subsegment of the other): subsegment h of one is encroached by v, the apex of a domain
+// triangle beside h and a split vertex of the other, and the usual split point (shells or midpoint)
+// would leave v encroaching one half of h and would itself encroach a subsegment of v's segment
+// at v. That is the loop concentric shells exist to prevent (Ruppert 1995; Shewchuk 2002; Triangle:
+// "each vertex added to split one segment will encroach upon the other segment, which must then be
+// split with a vertex that will encroach upon the first segment"), and shells do not prevent it once
+// a segment with both ends at acute angles was split at its midpoint (the rule that comment goes on
+// to give), off the shells of its neighbour. So h is split at v's distance r from c instead. On a ray from c, the
+// diametral disk of a subsegment with both ends within distance r of c lies in the disk of radius r
+// about c, touching its circle only at the subsegment's outer end; that of a subsegment with both
+// ends at least r from c lies outside the open disk. A vertex at distance r from c thus encroaches
+// no subsegment of a segment from c that has a vertex at distance r too (the lens lies inside the
+// disk): after this split v encroaches neither half of h, and the new vertex encroaches nothing on
+// v's segment. Only split vertices are followed: an input vertex is a feature, and the splits that
+// close in on it stop at its local feature size (Ruppert's bound); a split vertex is not, and the
+// mutual splits run down to the width of the angle all along both segments. The last spike of
+// `mwst generate fan 3000` (two sides of lengths 1 and 0.999 at 1.7e-7 radians, midpoints 5e-4
+// apart) took 760,453 segment splits that way, subsegments of 1e-6. Returns the split as from +
+// t (to − from), false if the usual point stays.
+bool Refiner::shell_through_encroacher(Handle h, double length, const Point& usual, Point& from, Point& to,
+                                       double& t) const {
+  if (!(length > 0.0)) return false;
+  const VertexId a = m_.org(h), b = m_.dest(h);
+  std::pair<VertexId, VertexId> own = original_segment(a);
+  if (own.first == kNone) own = original_segment(b);
+  if (own.first == kNone) own = {std::min(a, b), std::max(a, b)};
+  const Point& pa = m_.points[a];
+  const Point& pb = m_.points[b];
+  for (const Handle side : {h, m_.sym(h)}) {
+    if (!m_.in_domain(side >> 2)) continue;
+    const VertexId v = m_.apex(side);
+    const Point& pv = m_.points[v];
+    // The usual split point ends v's encroachment: it stays (Ruppert's and Shewchuk's rules).
+    if (!encroaches(pv, pa, pb) || (!encroaches(pv, pa, usual) && !encroaches(pv, usual, pb))) continue;
+    for (const VertexId c : {own.first, own.second}) {
+      const VertexId d = c == own.first ? own.second : own.first;
+      if (v == c || v == d) continue;
+      const VertexId e = split_segment_end(v, c);
+      if (e == kNone || e == d) continue;
+      const Point& pc = m_.points[c];
+      const double ux = m_.points[d].x - pc.x, uy = m_.points[d].y - pc.y;
+      const double wx = m_.points[e].x - pc.x, wy = m_.points[e].y - pc.y;
+      const double dot = ux * wx + uy * wy;
+      if (!(dot > 0.0 && dot * dot > 0.25 * (ux * ux + uy * uy) * (wx * wx + wy * wy))) continue;
+      const double r = distance(pc, pv), ra = distance(pc, pa), rb = distance(pc, pb);
+      const bool a_inner = ra <= rb;
+      const double s = (r - (a_inner ? ra : rb)) / length;
+      // Strictly inside h, and not within rounding of an end (where the ordinary rule does).
+      if (!(s > 1e-9 && s < 1.0 - 1e-9)) continue;
+      // Mutual encroachment starts only if the usual split point encroaches v's segment in turn.
+      if (!encroaches_subsegment_at(Mesh::lprev(side), usual)) continue;
+      from = a_inner ? pa : pb;
+      to = a_inner ? pb : pa;
+      t = s;
+      return true;
+    }
+  }
+  return false;
+}
+
+// Does q encroach a subsegment with an endpoint at org(around) (the diametral lens or circle)?
+bool Refiner::encroaches_subsegment_at(Handle around, const Point& q) const {
+  const Point& pv = m_.points[m_.org(around)];
+  Handle g = around;
+  std::size_t guard = 0;
+  do {
+    const VertexId x = m_.dest(g);
+    if (x != kInfinite && m_.is_segment(g) && encroaches(q, pv, m_.points[x])) return true;
+    g = m_.onext(g);
+    if (++guard > m_.triangles.size()) break;
+  } while (g != around);
+  return false;
+}
+
 // Can subsegment h = a→b (triangle of h in the domain) be split at the rounded point p? It must lie
 // strictly between a and b along the segment, and the new triangles on finite sides must be
 // counter-clockwise. (On a ghost side anything goes: restore_hull() makes the hull convex again.)
@@ -167,7 +242,8 @@ bool Refiner::too_thin_to_split(Handle h, double length) const {
   return false;
 }
 
-// The split point of subsegment h: concentric shells (Ruppert; Shewchuk) — with exactly one
+// The split point of subsegment h: the shell through an encroaching vertex on a segment at a small
+// angle (shell_through_encroacher), else concentric shells (Ruppert; Shewchuk) — with exactly one
 // endpoint shared with another segment at an acute angle, at a power of two P from it with
 // 1.5P ≤ L < 3P — else the midpoint; the intended rounded point, then its ulp neighbours, then
 // slightly shifted parameters: at double precision the point is almost never exactly on the
@@ -184,6 +260,8 @@ bool Refiner::find_split_point(Handle h, double length, Point& p) {
     const int k = std::ilogb(length / 1.5);
     t = std::ldexp(1.0, k) / length;
   }
+  const Point usual{from.x + t * (to.x - from.x), from.y + t * (to.y - from.y)};
+  shell_through_encroacher(h, length, usual, from, to, t);
   auto at = [&](double s) {
     if (s == 0.5) return midpoint(from, to);
     return Point{snap_to_range(from.x + s * (to.x - from.x)), snap_to_range(from.y + s * (to.y - from.y))};

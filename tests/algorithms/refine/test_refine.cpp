@@ -562,6 +562,51 @@ TEST(Refine, HullSliversAlongAFlatConvexArcAreSplit) {
   EXPECT_GT(r.stats.segment_splits, 0u);
 }
 
+// Issue 32: two segments from a vertex at a tiny angle, 0.9 and about 0.89 long, both ends of the
+// longer one at acute angles (so its first split is its midpoint, 0.45 from the tip) and the other
+// split on the shell at 0.5. A split vertex on one encroached a subsegment of the other across the
+// angle; midpoint splits of it landed next to that vertex's distance again, and the vertices they
+// made encroached back: subsegments as short as the width of the angle all along both segments
+// (9,989 segment splits at a 1° wedge, 74,976 at 0.1°; the last spike of `mwst generate fan 3000`
+// took 760,453). Split on the shell through the encroaching vertex, each segment gets a few
+// vertices per octave of distance from the tip.
+TEST(RefineTermination, SegmentsAtATinyAngleDoNotSplitEachOtherAway) {
+  for (const double wedge_deg : {1.0, 0.1}) {
+    SCOPED_TRACE(wedge_deg);
+    const double phi = 30.0 * std::numbers::pi / 180.0, wedge = wedge_deg * std::numbers::pi / 180.0;
+    const double inner = 1e-2, tip = 0.9;
+    Pslg g;
+    g.is_poly = true;
+    // The apex of a 30° sector, its short sides and the spike: the angle at the tip is about
+    // inner · wedge / tip (2e-4 and 2e-5 radians).
+    test::add_ring(g, {{0.0, 0.0},
+                       {inner, 0.0},
+                       {inner * std::cos(phi - wedge), inner * std::sin(phi - wedge)},
+                       {tip * std::cos(phi), tip * std::sin(phi)}});
+    for (SteinerRule rule : {SteinerRule::kOffCenter, SteinerRule::kCircumcenter}) {
+      RefineOptions o;
+      o.min_angle_deg = 20.0;
+      o.rule = rule;
+      const Refined r = refine_and_check(g, o);
+      EXPECT_LE(r.stats.segment_splits, 64u);
+      EXPECT_LE(r.mesh.domain_triangle_count(), 128u);
+    }
+  }
+}
+
+// The same on the generated fan at 3,000 vertices (its last spike is such a pair, with an angle of
+// 1.7e-7 radians): about 20 splits per input vertex, as at 2,000 and 10,000 vertices, not 253.
+TEST(RefineTermination, GeneratedFanSplitsInProportionToItsSize) {
+  const std::size_t n = 3000;
+  Mesh m = constrained_delaunay(generate_input(Distribution::kFan, n, 1));
+  RefineOptions o;
+  o.min_angle_deg = 20.0;
+  const RefineStats stats = refine(m, o);
+  EXPECT_LE(stats.segment_splits, 25 * n);
+  EXPECT_LE(m.domain_triangle_count(), 25 * n);
+  EXPECT_TRUE(validate(m).empty());
+}
+
 TEST(RefineTermination, HoleAlmostTouchingTheBoundary) {
   Pslg g;
   g.is_poly = true;
