@@ -284,4 +284,24 @@ TEST(FuzzRegressions, CrossingSnapsOnlyWithinTheRoundingWhereItIs) {
   expect_checked(pslg, mesh);
 }
 
+// DR's rounded split point of a subsegment 1.1 long, where doubles are 0.5 apart, fell level with
+// one end of it: the segment's chain doubled back.
+TEST(FuzzRegressions, DrSplitPointsKeepTheChainInOrderAtCoarseDoubles) {
+  const Pslg pslg = read_regression("dr_split_chain_doubles_back_at_coarse_doubles.poly");
+  for (const bool flip : {false, true}) {
+    TriangulateOptions options;
+    options.method = Method::kDr;
+    options.flip = flip;
+    options.convex_hull = true;
+    options.steiner = SteinerRule::kCircumcenter;
+    options.min_angle_deg = 0.0;
+    options.max_area = 7.0;
+    options.max_steiner = 31;
+    Mesh mesh;
+    triangulate(pslg, options, &mesh);
+    EXPECT_GT(mesh.points.size(), 14u);  // past the split that went wrong (the 7th Steiner point)
+    expect_checked(pslg, mesh);
+  }
+}
+
 }  // namespace

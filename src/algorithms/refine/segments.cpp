@@ -185,13 +185,21 @@ bool Refiner::encroaches_subsegment_at(Handle around, const Point& q) const {
 }
 
 // Can subsegment h = a→b (triangle of h in the domain) be split at the rounded point p? It must lie
-// strictly between a and b along the segment, and the new triangles on finite sides must be
-// counter-clockwise. (On a ghost side anything goes: restore_hull() makes the hull convex again.)
+// strictly between a and b in each coordinate in which they differ, and level with them in one in
+// which they agree: then every chain of splits runs monotonically in both coordinates, so it stays
+// in order along its segment however coarse the doubles are (near 2.5e15, where they are 0.5
+// apart, the rounded midpoint of a subsegment 1.1 long fell level with one end and the chain
+// doubled back). And the new triangles on finite sides must be counter-clockwise. (On a ghost side
+// anything goes: restore_hull() makes the hull convex again.)
 bool Refiner::split_point_valid(Handle h, const Point& p) const {
   const VertexId a = m_.org(h), b = m_.dest(h), c = m_.apex(h);
   const Point& pa = m_.points[a];
   const Point& pb = m_.points[b];
   if (p == pa || p == pb) return false;
+  const auto between = [](double q, double from, double to) {
+    return from == to ? q == from : (from < to ? from < q && q < to : to < q && q < from);
+  };
+  if (!between(p.x, pa.x, pb.x) || !between(p.y, pa.y, pb.y)) return false;
   const double ux = pb.x - pa.x, uy = pb.y - pa.y;
   if ((p.x - pa.x) * ux + (p.y - pa.y) * uy <= 0.0) return false;
   if ((pb.x - p.x) * ux + (pb.y - p.y) * uy <= 0.0) return false;
