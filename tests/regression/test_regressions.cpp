@@ -304,4 +304,19 @@ TEST(FuzzRegressions, DrSplitPointsKeepTheChainInOrderAtCoarseDoubles) {
   }
 }
 
+// BRH's splits on a needle 3.7e19 long turned its convex hull reflex.
+TEST(FuzzRegressions, BrhKeepsTheHullOfAHugeNeedleConvex) {
+  const Pslg pslg = read_regression("brh_hull_reflex_after_split_of_huge_needle.node");
+  TriangulateOptions options;
+  options.method = Method::kBrh;
+  options.flip = true;
+  options.convex_hull = true;
+  options.steiner = SteinerRule::kCircumcenter;
+  options.min_angle_deg = 33.0;
+  options.max_area = 7.0;
+  options.max_steiner = 32;
+  options.opt_trials = 0;
+  expect_valid_or_input_error(pslg, options);
+}
+
 }  // namespace

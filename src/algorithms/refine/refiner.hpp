@@ -13,7 +13,7 @@
 //   segments.cpp     split_all_pending, split_subsegment (concentric shells, the shell through
 //                    an encroaching vertex on a segment at a small angle; too_thin_to_split,
 //                    find_split_point, insert_split_vertex, fold_hull_after_split), relax,
-//                    restore_hull, unfold_hull_slivers
+//                    restore_hull, unfold_hull_slivers, queue_unfolded_corners
 //   termination_guard.cpp   set_feature_guard and feature_guard_length
 #pragma once
 
@@ -232,6 +232,7 @@ class Refiner {
   void restore_hull(std::vector<TriangleId>& work);
   void relax();
   bool unfold_hull_slivers(Handle h);
+  void queue_unfolded_corners();
   std::pair<VertexId, VertexId> original_segment(VertexId v) const {
     const auto it = segment_of_.find(v);
     return it == segment_of_.end() ? std::pair<VertexId, VertexId>{kNone, kNone} : it->second;

@@ -301,7 +301,18 @@ bool Refiner::find_split_point(Handle h, double length, Point& p) {
   };
   bool ok = search(p);
   unfolded_.clear();
-  if (!ok && unfold_hull_slivers(h)) ok = search(p);
+  if (!ok && unfold_hull_slivers(h)) {
+    ok = search(p);
+    if (!ok) {
+      // No point fits the unfolded side either (the split point must lie strictly between the
+      // ends in each coordinate, which coarse doubles may not allow): fold the hull again, or it
+      // is left reflex where the slivers were (BRH on a needle 3.7e19 long, found by fuzzing).
+      hull_work_.clear();
+      queue_unfolded_corners();
+      unfolded_.clear();
+      restore_hull(hull_work_);
+    }
+  }
   return ok;
 }
 
@@ -365,8 +376,14 @@ void Refiner::fold_hull_after_split(const std::array<Handle, 4>& opposite) {
   hull_work_.push_back(m_.sym(make_handle(u, prev3(j))) >> 2);  // the ghost ending at b
   hull_work_.push_back(u1);                                      // check at a
   hull_work_.push_back(u);                                       // check at v
+  queue_unfolded_corners();
+  restore_hull(hull_work_);
+}
+
+// Every corner of a stretch of hull unfold_hull_slivers opened may be reflex: queues the ghosts
+// it made for restore_hull, to check at both finite corners of each.
+void Refiner::queue_unfolded_corners() {
   for (const TriangleId g : unfolded_) {
-    // Every corner of an unfolded stretch of hull may be reflex: check at both finite corners.
     if (!m_.is_ghost(g)) continue;
     hull_work_.push_back(g);
     const Triangle& G = m_.triangles[g];
@@ -374,7 +391,6 @@ void Refiner::fold_hull_after_split(const std::array<Handle, 4>& opposite) {
     while (G.v[k] != kInfinite) ++k;
     hull_work_.push_back(m_.sym(make_handle(g, prev3(k))) >> 2);
   }
-  restore_hull(hull_work_);
 }
 
 // ---- flips and the hull begin here ----------------------------------------------------------------
