@@ -11,6 +11,7 @@
 // by (rounded) Steiner points; the mesh boundary must be exactly those chains, and the areas agree.
 #include "mwst/mesh/check.hpp"
 #include "mesh/keys.hpp"
+#include "geometry/expansion.hpp"
 
 #include <algorithm>
 #include <array>
@@ -530,7 +531,7 @@ class Checker {
           const SegmentLine back(b, a);
           const std::uint32_t back_stop = follow_segment(back, v, u, &enters);
           if (back_stop == kNone) continue;
-          if (enters || line.along(p_[back_stop]) < line.along(p_[stop])) stop = back_stop;
+          if (enters || line.ahead(p_[stop], p_[back_stop])) stop = back_stop;
         }
       } else {
         const SegmentLine back(b, a);
@@ -549,19 +550,21 @@ class Checker {
   // The line of an input segment: exact-enough distance and a strictly increasing position.
   struct SegmentLine {
     Point a, b;
-    double sign_x, sign_y;  // the directions in which x and y grow from a to b (+1 if they stay)
-    bool by_x;              // x changes at least as much as y
     double length;
     double tolerance;  // on the cross product: kSegmentUlps ulps of the magnitude, times length
-    // Position along the line: the coordinate that changes most, then the other one, each signed
-    // to grow from a to b (lexicographic). Exact; on a long nearly diagonal segment rounded chain
-    // vertices can share the first coordinate and differ in the second.
-    std::pair<double, double> along(const Point& q) const {
-      return by_x ? std::pair{sign_x * q.x, sign_y * q.y} : std::pair{sign_y * q.y, sign_x * q.x};
+    // Is q strictly further along the segment than r: (q − r)·(b − a) > 0, exactly (expansion
+    // arithmetic)? Along the segment, not along its larger coordinate: the CDT resolves crossings
+    // at vertices within its rounding tolerance of a segment, on either side of it, so near a long
+    // diagonal segment at coarse coordinates (doubles 0.0625 apart near 2.8e14) its chain ran from
+    // a vertex 2 units below the line to one 5 units above it and 7 further along, but 1.75 back
+    // in y. Exactly, so that vertices an ulp apart (refinement puts clusters of Steiner points
+    // within 1e-20 of each other 16 units along a hull edge) are ordered as they lie.
+    bool ahead(const Point& q, const Point& r) const {
+      const exact::Expansion<8> along_x = exact::difference(q.x, r.x) * exact::difference(b.x, a.x);
+      const exact::Expansion<8> along_y = exact::difference(q.y, r.y) * exact::difference(b.y, a.y);
+      return exact::sign(along_x + along_y) > 0;
     }
-    SegmentLine(const Point& from, const Point& to)
-        : a(from), b(to), sign_x(to.x >= from.x ? 1.0 : -1.0), sign_y(to.y >= from.y ? 1.0 : -1.0),
-          by_x(std::fabs(to.x - from.x) >= std::fabs(to.y - from.y)), length(distance(from, to)) {
+    SegmentLine(const Point& from, const Point& to) : a(from), b(to), length(distance(from, to)) {
       const double magnitude = std::max({std::fabs(a.x), std::fabs(a.y), std::fabs(b.x), std::fabs(b.y)});
       const double ulp = std::nextafter(magnitude, std::numeric_limits<double>::infinity()) - magnitude;
       tolerance = kSegmentUlps * ulp * length;
@@ -579,7 +582,6 @@ class Checker {
   // runs out of the mesh, or, if it runs into the interior of a mesh triangle from every one of
   // them, the furthest one reached, with *enters set.
   std::uint32_t follow_segment(const SegmentLine& line, std::uint32_t from, std::uint32_t to, bool* enters) {
-    const auto s_end = line.along(line.b);
     std::vector<std::uint32_t>& stack = path_;
     stack.assign(1, from);
     std::vector<std::uint32_t> touched;
@@ -588,8 +590,7 @@ class Checker {
     while (!stack.empty() && !found) {
       const std::uint32_t cur = stack.back();
       stack.pop_back();
-      if (line.along(p_[cur]) > line.along(p_[furthest])) furthest = cur;
-      const auto s_cur = line.along(p_[cur]);
+      if (line.ahead(p_[cur], p_[furthest])) furthest = cur;
       for (std::uint32_t k = adj_start_[cur]; k < adj_start_[cur + 1]; ++k) {
         const std::uint32_t w = adj_[k];
         if (w == to) {
@@ -597,8 +598,7 @@ class Checker {
           break;
         }
         if (dead_end_[w]) continue;
-        const auto s = line.along(p_[w]);
-        if (!(s > s_cur && s < s_end) || !line.near(p_[w])) continue;
+        if (!line.ahead(p_[w], p_[cur]) || !line.ahead(line.b, p_[w]) || !line.near(p_[w])) continue;
         dead_end_[w] = 1;  // visited: reached once, never expanded again
         touched.push_back(w);
         stack.push_back(w);
@@ -617,7 +617,7 @@ class Checker {
     std::uint32_t leaving = kNone;
     touched.push_back(from);
     for (const std::uint32_t c : touched) {
-      if (!segment_enters_from(line, c) && (leaving == kNone || line.along(p_[c]) > line.along(p_[leaving]))) {
+      if (!segment_enters_from(line, c) && (leaving == kNone || line.ahead(p_[c], p_[leaving]))) {
         leaving = c;
       }
     }

@@ -319,4 +319,16 @@ TEST(FuzzRegressions, BrhKeepsTheHullOfAHugeNeedleConvex) {
   expect_valid_or_input_error(pslg, options);
 }
 
+// The checker ordered a segment's chain by the coordinate that changes most; the CDT's chain,
+// through vertices within its rounding tolerance on either side of the line, stepped back in it.
+TEST(FuzzRegressions, CheckerOrdersAChainAlongTheSegmentItself) {
+  const Pslg pslg = read_regression("check_chain_steps_back_in_its_larger_coordinate.poly");
+  TriangulateOptions options;
+  options.method = Method::kDt;
+  Mesh mesh;
+  triangulate(pslg, options, &mesh);
+  EXPECT_EQ(mesh.domain_triangle_count(), 3u);
+  expect_checked(pslg, mesh);
+}
+
 }  // namespace
