@@ -30,6 +30,7 @@ namespace {
 using bundle::CachedSweep;
 using bundle::DenseIds;
 using bundle::kInf;
+using bundle::release;
 using bundle::Shared;
 using bundle::SweepKey;
 using bundle::Worker;
@@ -84,6 +85,11 @@ class KBundleAttempt {
     std::vector<Part> parts(workers_.size());
     first_stage(parts);
     if (!merge_parts(parts)) return Attempt::kGaveUp;
+    if (!subset_) {
+      second_stage_one_sided();
+      for (const auto& w : workers_) st_.flood_visits += w->flood_visits;
+      return Attempt::kAnswered;
+    }
     std::vector<std::uint8_t> needed;  // 1: in some S(t); 2: a partner across an edge
     if (!mark_needed(needed)) return Attempt::kGaveUp;
     for (auto& w : workers_) {
@@ -306,15 +312,7 @@ class KBundleAttempt {
   // a pencil, meets the mesh only inside one), so every triangle it meets is in the box. A query
   // answered 1 gets its own box (bundle removal keeps the boxes of queries answered 0 only).
   void reach_boxes(const std::vector<std::array<double, 4>>& boxes) {
-    cache_->reach.assign(queries_.size(), {kInf, kInf, -kInf, -kInf});
-    for (std::size_t qi = 0; qi < queries_.size(); ++qi) {
-      if (!answer_[qi]) continue;
-      auto& r = cache_->reach[qi];
-      for (const VertexId v : sh_.slots[queries_[qi]].v) {
-        const Point& p = sh_.pts[v];
-        r = {std::min(r[0], p.x), std::min(r[1], p.y), std::max(r[2], p.x), std::max(r[3], p.y)};
-      }
-    }
+    own_boxes();
     auto widen = [&](std::array<double, 4>& r, TriangleId d) {
       const auto& b = boxes[d];
       r = {std::min(r[0], b[0]), std::min(r[1], b[1]), std::max(r[2], b[2]), std::max(r[3], b[3])};
@@ -385,6 +383,168 @@ class KBundleAttempt {
     std::sort(pencils.begin(), pencils.end());
     pencils.erase(std::unique(pencils.begin(), pencils.end()), pencils.end());
     return pencils;
+  }
+
+  // ---- stage 2 over DT(V): one-sided pencils ----
+
+  // Stage 2 over DT(V). A disk of the pencil of a Delaunay edge meeting t lies in the union of the
+  // two end circumdisks, and the part of it on either side of the edge lies in that side's end
+  // disk, so one of the two ends meets t (bundle-number.md, "One-sided pencils"); a query left
+  // undecided meets only end disks counted below k (one meeting k or more would have decided it).
+  // So its pencils are those of the edges of R(t), the circumdisks of S(t) meeting t (exactly),
+  // and an end meeting k triangles or more is never listed: the pencil is swept from the other
+  // end's list and a lens (Worker::sweep_one_sided). On the fan of `mwst generate fan` (40k) the
+  // neighbours of S(t) listed in full held 75M of the 81M candidates of the first exact test.
+  void second_stage_one_sided() {
+    std::vector<std::uint8_t> meets(s_list_.size(), 0);  // per S(t) entry: in R(t)
+    bundle::for_ranges(workers_, queries_.size(), [&](Worker& w, std::size_t begin, std::size_t end, std::size_t) {
+      for (std::size_t qi = begin; qi < end; ++qi) {
+        if (!in_domain(queries_[qi]) || answer_[qi]) continue;
+        sh_.check_deadline();
+        for (std::uint32_t i = s_begin_[qi]; i < s_begin_[qi + 1]; ++i) {
+          const TriangleId d = s_list_[i];
+          if (disk_state_[d].load(std::memory_order_relaxed) == 1 && w.disk_meets(d, queries_[qi])) meets[i] = 1;
+        }
+      }
+    });
+    // The pencils of the edges of R(t), each directed as pencils_to_sweep directs it, with their
+    // queries.
+    std::vector<std::pair<Handle, std::uint32_t>> entries;  // (pencil, query index)
+    for (std::size_t qi = 0; qi < queries_.size(); ++qi) {
+      for (std::uint32_t i = s_begin_[qi]; i < s_begin_[qi + 1]; ++i) {
+        if (!meets[i]) continue;
+        for (unsigned e = 0; e < 3; ++e) {
+          const Handle h = make_handle(s_list_[i], e);
+          const Handle hs = dt_.sym(h);
+          const bool left = dt_.is_ghost(triangle_of(hs)) || sh_.mesh_id[dt_.org(h)] < sh_.mesh_id[dt_.dest(h)];
+          entries.emplace_back(left ? h : hs, static_cast<std::uint32_t>(qi));
+        }
+      }
+    }
+    release(meets);
+    std::sort(entries.begin(), entries.end());
+    entries.erase(std::unique(entries.begin(), entries.end()), entries.end());
+    std::vector<Handle> pencils;
+    std::vector<std::uint32_t> pencil_of(entries.size()), query_begin;
+    std::vector<TriangleId> pencil_queries(entries.size());
+    for (std::size_t i = 0; i < entries.size(); ++i) {
+      if (i == 0 || entries[i].first != entries[i - 1].first) {
+        pencils.push_back(entries[i].first);
+        query_begin.push_back(static_cast<std::uint32_t>(i));
+      }
+      pencil_of[i] = static_cast<std::uint32_t>(pencils.size() - 1);
+      pencil_queries[i] = queries_[entries[i].second];
+    }
+    query_begin.push_back(static_cast<std::uint32_t>(entries.size()));
+    const std::vector<std::uint8_t> mode = end_modes(pencils);
+    std::vector<std::uint8_t> needed(dt_slots_, 0);
+    for (std::size_t p = 0; p < pencils.size(); ++p) {
+      const TriangleId left = triangle_of(pencils[p]), right = triangle_of(dt_.sym(pencils[p]));
+      if (mode[p] != 2) needed[left] = 1;
+      if (mode[p] != 1 && !dt_.is_ghost(right)) needed[right] = 1;
+    }
+    for (TriangleId d = 0; d < dt_slots_; ++d) st_.flooded += needed[d] != 0 ? 1 : 0;
+    for (auto& w : workers_) w->exact_edges = false;  // the lists: permissive floods, as `mwst bundle`'s
+    std::vector<std::array<double, 4>> boxes, lens_boxes;
+    bundle::build_lists(sh_, workers_, &needed, cache_ ? &boxes : nullptr);
+    count_bounded_queries(entries, pencil_of, pencils, mode);
+    st_.pencils_swept = pencils.size();
+    if (cache_) lens_boxes.assign(pencils.size(), {kInf, kInf, -kInf, -kInf});
+    const bundle::OneSided one_sided{&mode, &query_begin, &pencil_queries, cache_ ? &lens_boxes : nullptr, k_};
+    for (auto& w : workers_) w->one_sided = &one_sided;
+    const std::vector<Handle> swept = pencils;
+    if (!pencils.empty()) sweep_pencils(std::move(pencils));
+    for (const auto& w : workers_) {
+      st_.lens_visits += w->lens_visits;
+      st_.candidate_pairs += w->candidate_pairs;
+      w->one_sided = nullptr;
+    }
+    for (std::size_t p = 0; p < mode.size(); ++p) st_.pencils_one_sided += mode[p] != 0 ? 1 : 0;
+    if (cache_) reach_boxes_one_sided(entries, pencil_of, swept, mode, boxes, lens_boxes);
+  }
+
+  // Per pencil: 0 both ends listed (or a hull edge), 1 only the left end (the right one's disk
+  // meets k triangles or more), 2 only the right end. Ends not counted in stage 1 are counted now,
+  // up to k (each once, by the flood that stops at k).
+  std::vector<std::uint8_t> end_modes(const std::vector<Handle>& pencils) {
+    std::vector<TriangleId> uncounted;
+    for (const Handle h : pencils) {
+      for (const TriangleId d : {triangle_of(h), triangle_of(dt_.sym(h))}) {
+        if (!dt_.is_ghost(d) && disk_state_[d].load(std::memory_order_relaxed) == 0) uncounted.push_back(d);
+      }
+    }
+    std::sort(uncounted.begin(), uncounted.end());
+    uncounted.erase(std::unique(uncounted.begin(), uncounted.end()), uncounted.end());
+    st_.disks_counted += uncounted.size();
+    bundle::for_ranges(workers_, uncounted.size(), [&](Worker& w, std::size_t begin, std::size_t end, std::size_t) {
+      for (std::size_t i = begin; i < end; ++i) {
+        if ((i & 15) == 0) sh_.check_deadline();
+        const TriangleId d = uncounted[i];
+        disk_state_[d].store(w.count_meeting(d, k_) >= k_ ? 2 : 1, std::memory_order_relaxed);
+      }
+    });
+    std::vector<std::uint8_t> mode(pencils.size(), 0);
+    for (std::size_t p = 0; p < pencils.size(); ++p) {
+      const TriangleId left = triangle_of(pencils[p]), right = triangle_of(dt_.sym(pencils[p]));
+      if (dt_.is_ghost(right)) continue;
+      const std::uint8_t l = disk_state_[left].load(std::memory_order_relaxed);
+      const std::uint8_t r = disk_state_[right].load(std::memory_order_relaxed);
+      if (l == 1 && r == 2) mode[p] = 1;
+      if (l == 2 && r == 1) mode[p] = 2;
+    }
+    return mode;
+  }
+
+  // Queries whose pencils all have both ends listed with fewer than k candidates together.
+  void count_bounded_queries(const std::vector<std::pair<Handle, std::uint32_t>>& entries,
+                             const std::vector<std::uint32_t>& pencil_of, const std::vector<Handle>& pencils,
+                             const std::vector<std::uint8_t>& mode) {
+    auto list_size = [&](TriangleId d) { return dt_.is_ghost(d) ? 0u : sh_.list_size(d); };
+    std::vector<std::uint8_t> may_reach(queries_.size(), 0);
+    for (std::size_t i = 0; i < entries.size(); ++i) {
+      const std::uint32_t p = pencil_of[i];
+      if (mode[p] != 0 || list_size(triangle_of(pencils[p])) + list_size(triangle_of(dt_.sym(pencils[p]))) >= k_) {
+        may_reach[entries[i].second] = 1;
+      }
+    }
+    for (std::size_t qi = 0; qi < queries_.size(); ++qi) {
+      if (in_domain(queries_[qi]) && !answer_[qi] && !may_reach[qi]) ++st_.decided_by_bound;
+    }
+  }
+
+  // The reach boxes (see reach_boxes) over one-sided pencils: a disk of a pencil meeting t meets
+  // only triangles meeting the end listed for t or the lens flooded for t's bound (a pencil with
+  // both ends listed: either end).
+  void reach_boxes_one_sided(const std::vector<std::pair<Handle, std::uint32_t>>& entries,
+                             const std::vector<std::uint32_t>& pencil_of, const std::vector<Handle>& pencils,
+                             const std::vector<std::uint8_t>& mode, const std::vector<std::array<double, 4>>& boxes,
+                             const std::vector<std::array<double, 4>>& lens_boxes) {
+    own_boxes();
+    auto widen = [](std::array<double, 4>& r, const std::array<double, 4>& b) {
+      r = {std::min(r[0], b[0]), std::min(r[1], b[1]), std::max(r[2], b[2]), std::max(r[3], b[3])};
+    };
+    for (std::size_t i = 0; i < entries.size(); ++i) {
+      const std::uint32_t qi = entries[i].second, p = pencil_of[i];
+      if (answer_[qi]) continue;
+      auto& r = cache_->reach[qi];
+      const TriangleId left = triangle_of(pencils[p]), right = triangle_of(dt_.sym(pencils[p]));
+      if (mode[p] != 2) widen(r, boxes[left]);
+      if (mode[p] != 1 && !dt_.is_ghost(right)) widen(r, boxes[right]);
+      if (mode[p] != 0) widen(r, lens_boxes[p]);
+    }
+  }
+
+  // A query answered 1 gets the box of its own corners; the others start empty.
+  void own_boxes() {
+    cache_->reach.assign(queries_.size(), {kInf, kInf, -kInf, -kInf});
+    for (std::size_t qi = 0; qi < queries_.size(); ++qi) {
+      if (!answer_[qi]) continue;
+      auto& r = cache_->reach[qi];
+      for (const VertexId v : sh_.slots[queries_[qi]].v) {
+        const Point& p = sh_.pts[v];
+        r = {std::min(r[0], p.x), std::min(r[1], p.y), std::max(r[2], p.x), std::max(r[3], p.y)};
+      }
+    }
   }
 
   // Sweeps the pencils (reusing the cache's sweeps), keeps what the cache should, and answers the
