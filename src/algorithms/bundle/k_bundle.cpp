@@ -108,7 +108,10 @@ class KBundleAttempt {
     std::vector<Handle> pencils = pencils_to_sweep();
     st_.pencils_swept = pencils.size();
     if (!pencils.empty()) sweep_pencils(std::move(pencils));
-    for (const auto& w : workers_) st_.flood_visits += w->flood_visits;
+    for (const auto& w : workers_) {
+      st_.flood_visits += w->flood_visits;
+      st_.candidate_pairs += w->candidate_pairs;
+    }
     return Attempt::kAnswered;
   }
 
