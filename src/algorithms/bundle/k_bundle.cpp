@@ -428,42 +428,46 @@ class KBundleAttempt {
     std::sort(entries.begin(), entries.end());
     entries.erase(std::unique(entries.begin(), entries.end()), entries.end());
     std::vector<Handle> pencils;
-    std::vector<std::uint32_t> pencil_of(entries.size()), query_begin;
-    std::vector<TriangleId> pencil_queries(entries.size());
+    std::vector<std::uint32_t> query_begin, pencil_queries(entries.size());  // per pencil: its query indices
     for (std::size_t i = 0; i < entries.size(); ++i) {
       if (i == 0 || entries[i].first != entries[i - 1].first) {
         pencils.push_back(entries[i].first);
         query_begin.push_back(static_cast<std::uint32_t>(i));
       }
-      pencil_of[i] = static_cast<std::uint32_t>(pencils.size() - 1);
-      pencil_queries[i] = queries_[entries[i].second];
+      pencil_queries[i] = entries[i].second;
     }
     query_begin.push_back(static_cast<std::uint32_t>(entries.size()));
+    release(entries);
     const std::vector<std::uint8_t> mode = end_modes(pencils);
     std::vector<std::uint8_t> needed(dt_slots_, 0);
+    std::vector<std::uint32_t> box_index(cache_ ? pencils.size() : 0, kNone);  // one-sided: its lens box
+    std::size_t one_sided_count = 0;
     for (std::size_t p = 0; p < pencils.size(); ++p) {
       const TriangleId left = triangle_of(pencils[p]), right = triangle_of(dt_.sym(pencils[p]));
       if (mode[p] != 2) needed[left] = 1;
       if (mode[p] != 1 && !dt_.is_ghost(right)) needed[right] = 1;
+      if (mode[p] != 0 && cache_) box_index[p] = static_cast<std::uint32_t>(one_sided_count);
+      one_sided_count += mode[p] != 0 ? 1 : 0;
     }
     for (TriangleId d = 0; d < dt_slots_; ++d) st_.flooded += needed[d] != 0 ? 1 : 0;
     for (auto& w : workers_) w->exact_edges = false;  // the lists: permissive floods, as `mwst bundle`'s
     std::vector<std::array<double, 4>> boxes, lens_boxes;
     bundle::build_lists(sh_, workers_, &needed, cache_ ? &boxes : nullptr);
-    count_bounded_queries(entries, pencil_of, pencils, mode);
+    release(needed);
+    count_bounded_queries(query_begin, pencil_queries, pencils, mode);
     st_.pencils_swept = pencils.size();
-    if (cache_) lens_boxes.assign(pencils.size(), {kInf, kInf, -kInf, -kInf});
-    const bundle::OneSided one_sided{&mode, &query_begin, &pencil_queries, cache_ ? &lens_boxes : nullptr, k_};
+    st_.pencils_one_sided = one_sided_count;
+    if (cache_) lens_boxes.assign(one_sided_count, {kInf, kInf, -kInf, -kInf});
+    const bundle::OneSided one_sided{&mode,          &query_begin, &pencil_queries, &queries_,
+                                     cache_ ? &box_index : nullptr, cache_ ? &lens_boxes : nullptr, k_};
     for (auto& w : workers_) w->one_sided = &one_sided;
-    const std::vector<Handle> swept = pencils;
     if (!pencils.empty()) sweep_pencils(std::move(pencils));
     for (const auto& w : workers_) {
       st_.lens_visits += w->lens_visits;
       st_.candidate_pairs += w->candidate_pairs;
       w->one_sided = nullptr;
     }
-    for (std::size_t p = 0; p < mode.size(); ++p) st_.pencils_one_sided += mode[p] != 0 ? 1 : 0;
-    if (cache_) reach_boxes_one_sided(entries, pencil_of, swept, mode, boxes, lens_boxes);
+    if (cache_) reach_boxes_one_sided(query_begin, pencil_queries, mode, box_index, boxes, lens_boxes);
   }
 
   // Per pencil: 0 both ends listed (or a hull edge), 1 only the left end (the right one's disk
@@ -499,16 +503,13 @@ class KBundleAttempt {
   }
 
   // Queries whose pencils all have both ends listed with fewer than k candidates together.
-  void count_bounded_queries(const std::vector<std::pair<Handle, std::uint32_t>>& entries,
-                             const std::vector<std::uint32_t>& pencil_of, const std::vector<Handle>& pencils,
-                             const std::vector<std::uint8_t>& mode) {
+  void count_bounded_queries(const std::vector<std::uint32_t>& query_begin, const std::vector<std::uint32_t>& pencil_queries,
+                             const std::vector<Handle>& pencils, const std::vector<std::uint8_t>& mode) {
     auto list_size = [&](TriangleId d) { return dt_.is_ghost(d) ? 0u : sh_.list_size(d); };
     std::vector<std::uint8_t> may_reach(queries_.size(), 0);
-    for (std::size_t i = 0; i < entries.size(); ++i) {
-      const std::uint32_t p = pencil_of[i];
-      if (mode[p] != 0 || list_size(triangle_of(pencils[p])) + list_size(triangle_of(dt_.sym(pencils[p]))) >= k_) {
-        may_reach[entries[i].second] = 1;
-      }
+    for (std::size_t p = 0; p < pencils.size(); ++p) {
+      if (mode[p] == 0 && list_size(triangle_of(pencils[p])) + list_size(triangle_of(dt_.sym(pencils[p]))) < k_) continue;
+      for (std::uint32_t i = query_begin[p]; i < query_begin[p + 1]; ++i) may_reach[pencil_queries[i]] = 1;
     }
     for (std::size_t qi = 0; qi < queries_.size(); ++qi) {
       if (in_domain(queries_[qi]) && !answer_[qi] && !may_reach[qi]) ++st_.decided_by_bound;
@@ -518,22 +519,25 @@ class KBundleAttempt {
   // The reach boxes (see reach_boxes) over one-sided pencils: a disk of a pencil meeting t meets
   // only triangles meeting the end listed for t or the lens flooded for t's bound (a pencil with
   // both ends listed: either end).
-  void reach_boxes_one_sided(const std::vector<std::pair<Handle, std::uint32_t>>& entries,
-                             const std::vector<std::uint32_t>& pencil_of, const std::vector<Handle>& pencils,
-                             const std::vector<std::uint8_t>& mode, const std::vector<std::array<double, 4>>& boxes,
+  void reach_boxes_one_sided(const std::vector<std::uint32_t>& query_begin, const std::vector<std::uint32_t>& pencil_queries,
+                             const std::vector<std::uint8_t>& mode, const std::vector<std::uint32_t>& box_index,
+                             const std::vector<std::array<double, 4>>& boxes,
                              const std::vector<std::array<double, 4>>& lens_boxes) {
     own_boxes();
     auto widen = [](std::array<double, 4>& r, const std::array<double, 4>& b) {
       r = {std::min(r[0], b[0]), std::min(r[1], b[1]), std::max(r[2], b[2]), std::max(r[3], b[3])};
     };
-    for (std::size_t i = 0; i < entries.size(); ++i) {
-      const std::uint32_t qi = entries[i].second, p = pencil_of[i];
-      if (answer_[qi]) continue;
-      auto& r = cache_->reach[qi];
-      const TriangleId left = triangle_of(pencils[p]), right = triangle_of(dt_.sym(pencils[p]));
-      if (mode[p] != 2) widen(r, boxes[left]);
-      if (mode[p] != 1 && !dt_.is_ghost(right)) widen(r, boxes[right]);
-      if (mode[p] != 0) widen(r, lens_boxes[p]);
+    for (std::size_t p = 0; p < mode.size(); ++p) {
+      const Handle h = sh_.pencils[p];
+      const TriangleId left = triangle_of(h), right = triangle_of(dt_.sym(h));
+      for (std::uint32_t i = query_begin[p]; i < query_begin[p + 1]; ++i) {
+        const std::uint32_t qi = pencil_queries[i];
+        if (answer_[qi]) continue;
+        auto& r = cache_->reach[qi];
+        if (mode[p] != 2) widen(r, boxes[left]);
+        if (mode[p] != 1 && !dt_.is_ghost(right)) widen(r, boxes[right]);
+        if (mode[p] != 0) widen(r, lens_boxes[box_index[p]]);
+      }
     }
   }
 

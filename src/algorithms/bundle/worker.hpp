@@ -92,9 +92,11 @@ struct OneSided {
   const std::vector<std::uint8_t>* mode = nullptr;     // per pencil: 0 both ends listed (or a hull
                                                        // edge); 1 the left end is listed; 2 the right
   const std::vector<std::uint32_t>* begin = nullptr;   // per pencil: its queries in `queries`
-  const std::vector<TriangleId>* queries = nullptr;    // slots of Shared
-  std::vector<std::array<double, 4>>* boxes = nullptr; // per pencil (null: not wanted): the box of
-                                                       // every triangle its lens flood visited
+  const std::vector<std::uint32_t>* queries = nullptr; // indices into `slots`
+  const std::vector<TriangleId>* slots = nullptr;      // the queries: slots of Shared
+  const std::vector<std::uint32_t>* box_index = nullptr;  // per pencil: its entry in `boxes`
+  std::vector<std::array<double, 4>>* boxes = nullptr; // (null: not wanted) per one-sided pencil, the
+                                                       // box of every triangle its lens flood visited
   std::uint32_t k = 0;
 };
 

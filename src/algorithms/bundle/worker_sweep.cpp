@@ -362,7 +362,7 @@ void Worker::sweep_one_sided(std::size_t index) {
   // Each query with its bound x_t: a_t (left listed: met for s > a_t) or b_t (right: s < b_t).
   one_sided_queries_.clear();
   for (std::uint32_t i = (*one_sided->begin)[index]; i < (*one_sided->begin)[index + 1]; ++i) {
-    const TriangleId t = (*one_sided->queries)[i];
+    const TriangleId t = (*one_sided->slots)[(*one_sided->queries)[i]];
     Threshold bound;
     if (!one_sided_query(t, left_listed, s_lo, s_hi, bound)) {
       one_sided_fallback(index, left_listed);
@@ -387,7 +387,7 @@ void Worker::sweep_one_sided(std::size_t index) {
   }
   candidate_pairs += candidates_.size();
   if (next == one_sided_queries_.size()) return;
-  if (one_sided->boxes) (*one_sided->boxes)[index] = lens_box_;
+  if (one_sided->boxes) (*one_sided->boxes)[(*one_sided->box_index)[index]] = lens_box_;
   end_events(lv, rv);
   order_events();
   std::uint32_t lo_group = kNone, hi_group = kNone;
@@ -532,7 +532,7 @@ void Worker::one_sided_fallback(std::size_t index, bool left_listed) {
   std::vector<TriangleId>& listed_list = lists[left_listed ? 0 : 1];
   listed_list.assign(sh_.list_data(listed), sh_.list_data(listed) + sh_.list_size(listed));
   flood(large, lists[left_listed ? 1 : 0]);
-  if (one_sided->boxes) (*one_sided->boxes)[index] = flood_box;
+  if (one_sided->boxes) (*one_sided->boxes)[(*one_sided->box_index)[index]] = flood_box;
   --pencils;  // (counted again by the sweep)
   sweep_with_lists(index, lists[0], lists[1]);
 }
