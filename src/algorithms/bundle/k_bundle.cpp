@@ -394,70 +394,76 @@ class KBundleAttempt {
   // two end circumdisks, and the part of it on either side of the edge lies in that side's end
   // disk, so one of the two ends meets t (bundle-number.md, "One-sided pencils"); a query left
   // undecided meets only end disks counted below k (one meeting k or more would have decided it).
-  // So its pencils are those of the edges of R(t), the circumdisks of S(t) meeting t (exactly),
-  // and an end meeting k triangles or more is never listed: the pencil is swept from the other
-  // end's list and a lens (Worker::sweep_one_sided). On the fan of `mwst generate fan` (40k) the
+  // So an end meeting k triangles or more is never listed: a pencil of an edge of S(t) with one
+  // such end is swept from the other end's list and a lens (Worker::sweep_one_sided), one with
+  // two is not swept. On the fan of `mwst generate fan` (40k) the
   // neighbours of S(t) listed in full held 75M of the 81M candidates of the first exact test.
   void second_stage_one_sided() {
-    std::vector<std::uint8_t> meets(s_list_.size(), 0);  // per S(t) entry: in R(t)
-    bundle::for_ranges(workers_, queries_.size(), [&](Worker& w, std::size_t begin, std::size_t end, std::size_t) {
-      for (std::size_t qi = begin; qi < end; ++qi) {
-        if (!in_domain(queries_[qi]) || answer_[qi]) continue;
-        sh_.check_deadline();
-        for (std::uint32_t i = s_begin_[qi]; i < s_begin_[qi + 1]; ++i) {
-          const TriangleId d = s_list_[i];
-          if (disk_state_[d].load(std::memory_order_relaxed) == 1 && w.disk_meets(d, queries_[qi])) meets[i] = 1;
-        }
-      }
-    });
-    // The pencils of the edges of R(t), each directed as pencils_to_sweep directs it, with their
-    // queries.
-    std::vector<std::pair<Handle, std::uint32_t>> entries;  // (pencil, query index)
-    for (std::size_t qi = 0; qi < queries_.size(); ++qi) {
-      for (std::uint32_t i = s_begin_[qi]; i < s_begin_[qi + 1]; ++i) {
-        if (!meets[i]) continue;
-        for (unsigned e = 0; e < 3; ++e) {
-          const Handle h = make_handle(s_list_[i], e);
-          const Handle hs = dt_.sym(h);
-          const bool left = dt_.is_ghost(triangle_of(hs)) || sh_.mesh_id[dt_.org(h)] < sh_.mesh_id[dt_.dest(h)];
-          entries.emplace_back(left ? h : hs, static_cast<std::uint32_t>(qi));
-        }
-      }
-    }
-    release(meets);
-    std::sort(entries.begin(), entries.end());
-    entries.erase(std::unique(entries.begin(), entries.end()), entries.end());
-    std::vector<Handle> pencils;
-    std::vector<std::uint32_t> query_begin, pencil_queries(entries.size());  // per pencil: its query indices
-    for (std::size_t i = 0; i < entries.size(); ++i) {
-      if (i == 0 || entries[i].first != entries[i - 1].first) {
-        pencils.push_back(entries[i].first);
-        query_begin.push_back(static_cast<std::uint32_t>(i));
-      }
-      pencil_queries[i] = entries[i].second;
-    }
-    query_begin.push_back(static_cast<std::uint32_t>(entries.size()));
-    release(entries);
-    const std::vector<std::uint8_t> mode = end_modes(pencils);
+    std::vector<std::uint8_t> in_s(dt_slots_, 0);  // the Delaunay triangles of some S(t)
+    for (const TriangleId d : s_list_) in_s[d] = 1;
+    count_ends(in_s);
+    // The ends to list and the pencils to sweep: one-sided, or both ends listed (with k candidates
+    // together, once listed), each once, directed as pencils_to_sweep directs them.
     std::vector<std::uint8_t> needed(dt_slots_, 0);
+    std::vector<Handle> pencils;
+    for (int pass = 0; pass < 2; ++pass) {
+      for (TriangleId d = 0; d < dt_slots_; ++d) {
+        if (!in_s[d]) continue;
+        for (unsigned e = 0; e < 3; ++e) {
+          const Handle h = normalized(make_handle(d, e));
+          const std::uint8_t m = mode_of(h);
+          if (pass == 0) {
+            const TriangleId left = triangle_of(h), right = triangle_of(dt_.sym(h));
+            if (m == 0 || m == 1) needed[left] = 1;
+            if ((m == 0 || m == 2) && !dt_.is_ghost(right)) needed[right] = 1;
+          } else if (may_reach(h, m)) {
+            pencils.push_back(h);
+          }
+        }
+      }
+      if (pass > 0) break;
+      for (TriangleId d = 0; d < dt_slots_; ++d) st_.flooded += needed[d] != 0 ? 1 : 0;
+      for (auto& w : workers_) w->exact_edges = false;  // the lists: permissive floods, as `mwst bundle`'s
+      bundle::build_lists(sh_, workers_, &needed, cache_ ? &boxes_ : nullptr);
+      release(needed);
+    }
+    release(in_s);
+    std::sort(pencils.begin(), pencils.end());
+    pencils.erase(std::unique(pencils.begin(), pencils.end()), pencils.end());
+    std::vector<std::uint8_t> mode(pencils.size());
+    for (std::size_t p = 0; p < pencils.size(); ++p) mode[p] = mode_of(pencils[p]);
+    // The queries of the one-sided pencils, per pencil (Worker::sweep_one_sided reads them), and
+    // the queries none of whose pencils is swept.
+    std::vector<std::uint32_t> query_begin(pencils.size() + 1, 0), pencil_queries;
+    {
+      std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;  // (pencil, query index)
+      std::vector<std::uint8_t> reached(queries_.size(), 0);
+      for_each_s_edge([&](std::size_t qi, Handle h) {
+        const std::uint8_t m = mode_of(h);
+        if (!may_reach(h, m)) return;
+        reached[qi] = 1;
+        if (m != 0) pairs.emplace_back(index_of(pencils, h), static_cast<std::uint32_t>(qi));
+      });
+      for (std::size_t qi = 0; qi < queries_.size(); ++qi) {
+        if (in_domain(queries_[qi]) && !answer_[qi] && !reached[qi]) ++st_.decided_by_bound;
+      }
+      std::sort(pairs.begin(), pairs.end());
+      pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+      for (const auto& [p, qi] : pairs) ++query_begin[p + 1];
+      for (std::size_t p = 0; p < pencils.size(); ++p) query_begin[p + 1] += query_begin[p];
+      pencil_queries.reserve(pairs.size());
+      for (const auto& pair : pairs) pencil_queries.push_back(pair.second);
+    }
     std::vector<std::uint32_t> box_index(cache_ ? pencils.size() : 0, kNone);  // one-sided: its lens box
     std::size_t one_sided_count = 0;
     for (std::size_t p = 0; p < pencils.size(); ++p) {
-      const TriangleId left = triangle_of(pencils[p]), right = triangle_of(dt_.sym(pencils[p]));
-      if (mode[p] != 2) needed[left] = 1;
-      if (mode[p] != 1 && !dt_.is_ghost(right)) needed[right] = 1;
-      if (mode[p] != 0 && cache_) box_index[p] = static_cast<std::uint32_t>(one_sided_count);
-      one_sided_count += mode[p] != 0 ? 1 : 0;
+      if (mode[p] == 0) continue;
+      if (cache_) box_index[p] = static_cast<std::uint32_t>(one_sided_count);
+      ++one_sided_count;
     }
-    for (TriangleId d = 0; d < dt_slots_; ++d) st_.flooded += needed[d] != 0 ? 1 : 0;
-    for (auto& w : workers_) w->exact_edges = false;  // the lists: permissive floods, as `mwst bundle`'s
-    std::vector<std::array<double, 4>> boxes, lens_boxes;
-    bundle::build_lists(sh_, workers_, &needed, cache_ ? &boxes : nullptr);
-    release(needed);
-    count_bounded_queries(query_begin, pencil_queries, pencils, mode);
     st_.pencils_swept = pencils.size();
     st_.pencils_one_sided = one_sided_count;
-    if (cache_) lens_boxes.assign(one_sided_count, {kInf, kInf, -kInf, -kInf});
+    std::vector<std::array<double, 4>> lens_boxes(cache_ ? one_sided_count : 0, {kInf, kInf, -kInf, -kInf});
     const bundle::OneSided one_sided{&mode,          &query_begin, &pencil_queries, &queries_,
                                      cache_ ? &box_index : nullptr, cache_ ? &lens_boxes : nullptr, k_};
     for (auto& w : workers_) w->one_sided = &one_sided;
@@ -467,17 +473,49 @@ class KBundleAttempt {
       st_.candidate_pairs += w->candidate_pairs;
       w->one_sided = nullptr;
     }
-    if (cache_) reach_boxes_one_sided(query_begin, pencil_queries, mode, box_index, boxes, lens_boxes);
+    if (cache_) reach_boxes_one_sided(box_index, boxes_, lens_boxes);
   }
 
-  // Per pencil: 0 both ends listed (or a hull edge), 1 only the left end (the right one's disk
-  // meets k triangles or more), 2 only the right end. Ends not counted in stage 1 are counted now,
-  // up to k (each once, by the flood that stops at k).
-  std::vector<std::uint8_t> end_modes(const std::vector<Handle>& pencils) {
+  // Edge h of a Delaunay triangle directed as pencils_to_sweep directs it: from its smaller mesh
+  // vertex id, or with its finite side on the left on the hull.
+  Handle normalized(Handle h) const {
+    const Handle hs = dt_.sym(h);
+    return dt_.is_ghost(triangle_of(hs)) || sh_.mesh_id[dt_.org(h)] < sh_.mesh_id[dt_.dest(h)] ? h : hs;
+  }
+
+  // Can a pencil of mode m (mode_of) put a query left in a k-bundle? One-sided: yes; both ends
+  // large: no; both listed: if their lists hold k triangles together.
+  bool may_reach(Handle h, std::uint8_t m) const {
+    if (m == 3) return false;
+    if (m != 0) return true;
+    auto list_size = [&](TriangleId d) { return dt_.is_ghost(d) ? 0u : sh_.list_size(d); };
+    return list_size(triangle_of(h)) + list_size(triangle_of(dt_.sym(h))) >= k_;
+  }
+
+  // Calls f(query index, pencil) for each edge of each Delaunay triangle in S(t) of the queries
+  // left, the pencil directed as pencils_to_sweep directs it.
+  template <class F>
+  void for_each_s_edge(F f) const {
+    for (std::size_t qi = 0; qi < queries_.size(); ++qi) {
+      for (std::uint32_t i = s_begin_[qi]; i < s_begin_[qi + 1]; ++i) {
+        for (unsigned e = 0; e < 3; ++e) f(qi, normalized(make_handle(s_list_[i], e)));
+      }
+    }
+  }
+
+  static std::uint32_t index_of(const std::vector<Handle>& sorted, Handle h) {
+    return static_cast<std::uint32_t>(std::lower_bound(sorted.begin(), sorted.end(), h) - sorted.begin());
+  }
+
+  // The ends of the pencils of S(t) not counted in stage 1 (its neighbours), counted now up to k
+  // (each once, by the flood that stops at k): mode_of reads the counts.
+  void count_ends(const std::vector<std::uint8_t>& in_s) {
     std::vector<TriangleId> uncounted;
-    for (const Handle h : pencils) {
-      for (const TriangleId d : {triangle_of(h), triangle_of(dt_.sym(h))}) {
-        if (!dt_.is_ghost(d) && disk_state_[d].load(std::memory_order_relaxed) == 0) uncounted.push_back(d);
+    for (TriangleId d = 0; d < dt_slots_; ++d) {
+      if (!in_s[d]) continue;
+      for (unsigned e = 0; e < 3; ++e) {
+        const TriangleId n = triangle_of(dt_.sym(make_handle(d, e)));
+        if (!dt_.is_ghost(n) && disk_state_[n].load(std::memory_order_relaxed) == 0) uncounted.push_back(n);
       }
     }
     std::sort(uncounted.begin(), uncounted.end());
@@ -490,55 +528,41 @@ class KBundleAttempt {
         disk_state_[d].store(w.count_meeting(d, k_) >= k_ ? 2 : 1, std::memory_order_relaxed);
       }
     });
-    std::vector<std::uint8_t> mode(pencils.size(), 0);
-    for (std::size_t p = 0; p < pencils.size(); ++p) {
-      const TriangleId left = triangle_of(pencils[p]), right = triangle_of(dt_.sym(pencils[p]));
-      if (dt_.is_ghost(right)) continue;
-      const std::uint8_t l = disk_state_[left].load(std::memory_order_relaxed);
-      const std::uint8_t r = disk_state_[right].load(std::memory_order_relaxed);
-      if (l == 1 && r == 2) mode[p] = 1;
-      if (l == 2 && r == 1) mode[p] = 2;
-    }
-    return mode;
   }
 
-  // Queries whose pencils all have both ends listed with fewer than k candidates together.
-  void count_bounded_queries(const std::vector<std::uint32_t>& query_begin, const std::vector<std::uint32_t>& pencil_queries,
-                             const std::vector<Handle>& pencils, const std::vector<std::uint8_t>& mode) {
-    auto list_size = [&](TriangleId d) { return dt_.is_ghost(d) ? 0u : sh_.list_size(d); };
-    std::vector<std::uint8_t> may_reach(queries_.size(), 0);
-    for (std::size_t p = 0; p < pencils.size(); ++p) {
-      if (mode[p] == 0 && list_size(triangle_of(pencils[p])) + list_size(triangle_of(dt_.sym(pencils[p]))) < k_) continue;
-      for (std::uint32_t i = query_begin[p]; i < query_begin[p + 1]; ++i) may_reach[pencil_queries[i]] = 1;
-    }
-    for (std::size_t qi = 0; qi < queries_.size(); ++qi) {
-      if (in_domain(queries_[qi]) && !answer_[qi] && !may_reach[qi]) ++st_.decided_by_bound;
-    }
+  // The mode of a pencil: 0 both ends listed (or a hull edge), 1 only the left end (the right
+  // one's disk meets k triangles or more), 2 only the right end, 3 neither (both ends meet k
+  // triangles or more, or a hull edge's one end does: then no disk of the pencil meets a query
+  // left).
+  std::uint8_t mode_of(Handle h) const {
+    const TriangleId left = triangle_of(h), right = triangle_of(dt_.sym(h));
+    const bool left_large = disk_state_[left].load(std::memory_order_relaxed) != 1;
+    const bool right_large = !dt_.is_ghost(right) && disk_state_[right].load(std::memory_order_relaxed) != 1;
+    // (A hull edge's disks meet triangles only on the left, so only where its left end does.)
+    if (left_large && (right_large || dt_.is_ghost(right))) return 3;
+    if (right_large) return 1;
+    return left_large ? 2 : 0;
   }
 
   // The reach boxes (see reach_boxes) over one-sided pencils: a disk of a pencil meeting t meets
-  // only triangles meeting the end listed for t or the lens flooded for t's bound (a pencil with
-  // both ends listed: either end).
-  void reach_boxes_one_sided(const std::vector<std::uint32_t>& query_begin, const std::vector<std::uint32_t>& pencil_queries,
-                             const std::vector<std::uint8_t>& mode, const std::vector<std::uint32_t>& box_index,
-                             const std::vector<std::array<double, 4>>& boxes,
+  // only triangles meeting the listed end or the lens flooded for the lowest bound of the queries
+  // it meets (a pencil with both ends listed: either end; with neither, no disk of it meets t).
+  void reach_boxes_one_sided(const std::vector<std::uint32_t>& box_index, const std::vector<std::array<double, 4>>& boxes,
                              const std::vector<std::array<double, 4>>& lens_boxes) {
     own_boxes();
     auto widen = [](std::array<double, 4>& r, const std::array<double, 4>& b) {
       r = {std::min(r[0], b[0]), std::min(r[1], b[1]), std::max(r[2], b[2]), std::max(r[3], b[3])};
     };
-    for (std::size_t p = 0; p < mode.size(); ++p) {
-      const Handle h = sh_.pencils[p];
+    for_each_s_edge([&](std::size_t qi, Handle h) {
+      if (answer_[qi]) return;
+      auto& r = cache_->reach[qi];
+      const std::uint8_t m = mode_of(h);
       const TriangleId left = triangle_of(h), right = triangle_of(dt_.sym(h));
-      for (std::uint32_t i = query_begin[p]; i < query_begin[p + 1]; ++i) {
-        const std::uint32_t qi = pencil_queries[i];
-        if (answer_[qi]) continue;
-        auto& r = cache_->reach[qi];
-        if (mode[p] != 2) widen(r, boxes[left]);
-        if (mode[p] != 1 && !dt_.is_ghost(right)) widen(r, boxes[right]);
-        if (mode[p] != 0) widen(r, lens_boxes[box_index[p]]);
-      }
-    }
+      if (m == 3) return;
+      if (m != 2) widen(r, boxes[left]);
+      if (m != 1 && !dt_.is_ghost(right)) widen(r, boxes[right]);
+      if (m != 0) widen(r, lens_boxes[box_index[index_of(sh_.pencils, h)]]);
+    });
   }
 
   // A query answered 1 gets the box of its own corners; the others start empty.
@@ -609,6 +633,7 @@ class KBundleAttempt {
   std::vector<std::uint32_t> s_count_ = std::vector<std::uint32_t>(queries_.size(), 0);  // |S(t)| per query
   std::vector<std::uint32_t> s_begin_;
   std::vector<TriangleId> s_list_, fan_;
+  std::vector<std::array<double, 4>> boxes_;  // per Delaunay triangle listed: its flood's box
 };
 
 Attempt in_k_bundle_attempt(Shared& sh, std::uint32_t k, const std::vector<TriangleId>& queries, KBundleStats& st,

@@ -90,7 +90,8 @@ using SweepKey = std::uint64_t;  // p << 32 | q (mesh ids)
 // only the triangles of a lens next to the chord are needed, not the large end's list.
 struct OneSided {
   const std::vector<std::uint8_t>* mode = nullptr;     // per pencil: 0 both ends listed (or a hull
-                                                       // edge); 1 the left end is listed; 2 the right
+                                                       // edge); 1 the left end is listed; 2 the right;
+                                                       // 3 neither (not swept)
   const std::vector<std::uint32_t>* begin = nullptr;   // per pencil: its queries in `queries`
   const std::vector<std::uint32_t>* queries = nullptr; // indices into `slots`
   const std::vector<TriangleId>* slots = nullptr;      // the queries: slots of Shared
@@ -332,7 +333,7 @@ class Worker {
   inline void gather_list(const TriangleId* list, std::size_t size);
   // A one-sided pencil (see OneSided): its lens, the queries' counts (worker_sweep.cpp).
   void sweep_one_sided(std::size_t index);
-  bool one_sided_query(TriangleId t, bool left_listed, const Threshold& s_lo, const Threshold& s_hi, Threshold& bound);
+  int one_sided_query(TriangleId t, bool left_listed, const Threshold& s_lo, const Threshold& s_hi, Threshold& bound);
   bool lens_flood(const Threshold& x, bool left_listed, std::uint32_t& always_count, std::uint32_t& b_total);
   void one_sided_fallback(std::size_t index, bool left_listed);
   inline void order_events();

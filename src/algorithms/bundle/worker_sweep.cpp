@@ -13,13 +13,19 @@ namespace mwst::bundle {
 
 void Worker::sweep(std::size_t index) {
   if (given_[0] == nullptr && one_sided != nullptr && (*one_sided->mode)[index] != 0) {
-    sweep_one_sided(index);
+    if ((*one_sided->mode)[index] != 3) sweep_one_sided(index);  // (3: both ends large, not swept)
     return;
   }
   const Mesh& dt = sh_.dt;
   const Handle h = sh_.pencils[index];
   const Handle hs = dt.sym(h);
   const VertexId lv = dt.apex(h), rv = dt.apex(hs);  // rv = kInfinite on a hull edge
+  // Fewer candidates than asked for (in_k_bundle's k) even in the two lists together: the pencil
+  // cannot matter, and its candidates are not gathered.
+  if (min_candidates > 0 && given_[0] == nullptr &&
+      sh_.list_size(triangle_of(h)) + (rv == kInfinite ? 0 : sh_.list_size(triangle_of(hs))) < min_candidates) {
+    return;
+  }
   if (!start_pencil(h, rv)) return;
   ++pencils;
   // The two lists hold at least as many triangles as their union: a pencil that cannot beat the
@@ -364,11 +370,12 @@ void Worker::sweep_one_sided(std::size_t index) {
   for (std::uint32_t i = (*one_sided->begin)[index]; i < (*one_sided->begin)[index + 1]; ++i) {
     const TriangleId t = (*one_sided->slots)[(*one_sided->queries)[i]];
     Threshold bound;
-    if (!one_sided_query(t, left_listed, s_lo, s_hi, bound)) {
+    const int met = one_sided_query(t, left_listed, s_lo, s_hi, bound);
+    if (met < 0) {
       one_sided_fallback(index, left_listed);
       return;
     }
-    one_sided_queries_.emplace_back(t, bound);
+    if (met > 0) one_sided_queries_.emplace_back(t, bound);
   }
   // The largest lens first (left listed: the lowest a_t), equal bounds together.
   const int order = left_listed ? 1 : -1;
@@ -413,14 +420,16 @@ void Worker::sweep_one_sided(std::size_t index) {
   }
 }
 
-// Query t of a one-sided pencil, classified with the listed end's candidates: its bound (a_t, left
-// listed; b_t, right), or false if the classification does not put it on the listed end's side
-// alone (then the pencil falls back to both lists).
-bool Worker::one_sided_query(TriangleId t, bool left_listed, const Threshold& s_lo, const Threshold& s_hi,
-                             Threshold& bound) {
-  if (!is_candidate(t)) return false;
+// Query t of a one-sided pencil, classified with the listed end's candidates: 1 and its bound (a_t,
+// left listed; b_t, right) if the pencil's disks meet it on the listed end's side only; 0 if they
+// meet it nowhere (not in the listed end's list, whose disk it then misses, nor met by the large
+// end's, which stage 1 showed); -1 if the classification puts it on the large end's side, which
+// contradicts the exact circumdisk tests of stage 1 (then the pencil falls back to both lists).
+int Worker::one_sided_query(TriangleId t, bool left_listed, const Threshold& s_lo, const Threshold& s_hi,
+                            Threshold& bound) {
+  if (!is_candidate(t)) return 0;
   const std::uint32_t i = candidate_index_[t];
-  if (candidates_[i].always) return false;
+  if (candidates_[i].always) return -1;
   bool has_a = false, has_b = false;
   Threshold a, b;
   for (const Event& ev : events_) {
@@ -435,13 +444,15 @@ bool Worker::one_sided_query(TriangleId t, bool left_listed, const Threshold& s_
   }
   auto cmp = [&](const Threshold& x, const Threshold& y) { return compare_thresholds(pc_, x, y, exact_comparisons); };
   if (left_listed) {
-    if ((has_b && cmp(b, s_lo) > 0) || !has_a || cmp(a, s_hi) >= 0 || cmp(a, s_lo) < 0) return false;
+    if ((has_b && cmp(b, s_lo) > 0) || (has_a && cmp(a, s_lo) < 0)) return -1;
+    if (!has_a || cmp(a, s_hi) >= 0) return 0;
     bound = a;
   } else {
-    if ((has_a && cmp(a, s_hi) < 0) || !has_b || cmp(b, s_lo) <= 0 || cmp(b, s_hi) > 0) return false;
+    if ((has_a && cmp(a, s_hi) < 0) || (has_b && cmp(b, s_hi) > 0)) return -1;
+    if (!has_b || cmp(b, s_lo) <= 0) return 0;
     bound = b;
   }
-  return true;
+  return 1;
 }
 
 // Adds to the candidates the in-domain triangles meeting the lens Λ(x) (left listed: the part of
