@@ -333,8 +333,9 @@ void Worker::spread_per_triangle(std::uint32_t j_min, std::uint32_t j_max, bool 
 
 // The pencil of Delaunay edge p→q, whose left end D_hi (s_hi) or right end D_lo (s_lo) is listed
 // and whose other end meets at least k triangles and none of the queries (OneSided). Say the left
-// end is listed: each query t is met by D_hi, so a_t < s_hi, and not by D_lo, so a_t ≥ s_lo and
-// b_t ≤ s_lo: the disks D_s meeting t are those with s > a_t. A triangle meets such a disk above
+// end is listed: a query t not met by D_hi is met by no disk of the pencil (one_sided_query); one
+// met has a_t < s_hi, and as D_lo misses it, a_t ≥ s_lo and b_t ≤ s_lo: the disks D_s meeting t
+// are those with s > a_t. A triangle meets such a disk above
 // the line pq only if it meets D_hi (the part of D_s above the line grows with s), so it is in the
 // listed end's list; below the line only if b_c > s > a_t: it meets the lens Λ(a_t), the part of
 // D_{a_t} below the line, which shrinks as s grows. Λ(x) holds no vertex (x ≥ s_lo) and is convex
