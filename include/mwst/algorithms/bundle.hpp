@@ -125,6 +125,9 @@ struct KBundleStats {
   std::size_t decided_by_pencils = 0;      // queries found in a k-bundle by the pencil sweep
   std::size_t pencils_swept = 0;
   std::size_t pencils_reused = 0;  // of those, answered from a KBundleCache
+  std::size_t pencils_one_sided = 0;  // of those, swept from one list and a lens (over DT(V))
+  std::size_t lens_visits = 0;        // mesh triangles the lens floods of those popped
+  std::size_t candidate_pairs = 0;    // (pencil, candidate triangle) pairs the sweeps classified
   bool local = false;  // answered from the Delaunay triangulation of the vertices near the queries
   bool kept_dt = false;  // DT(V) was a KBundleCache's, with the vertices added since inserted
 };
@@ -136,9 +139,13 @@ struct KBundleStats {
 // circumdisks meet it (S(t)) are walked until one is found whose circumdisk meets the query and at
 // least k triangles — counted by a flood that stops at k, once per Delaunay triangle — which
 // decides: O(k) per query even where every circumdisk meets most of the mesh (points on a circle
-// or an ellipse). For the queries left, S(t) and its neighbours are flooded in full and only the
-// pencils of edges of S(t) whose two candidate lists hold at least k triangles are swept. With few
-// queries (fewer than 1/256 of the triangle slots) it first tries the Delaunay triangulation of
+// or an ellipse). For the queries left, the pencils of the edges of S(t) are swept (a disk of a
+// pencil meets the query only if one of its ends does); their ends are flooded in full, except an
+// end meeting k triangles or more (it meets no query left): a pencil with one such end is swept
+// from its other end's list and the lens of the large end next to the edge, flooded until it
+// counts k (one-sided pencils), one with two is not swept. (Over the DT(W) of the local attempt,
+// S(t) and its neighbours are flooded in full, and the pencils of edges of S(t) whose two lists
+// hold at least k triangles are swept.) With few queries (fewer than 1/256 of the triangle slots) it first tries the Delaunay triangulation of
 // the vertices within 12 rings of mesh triangles around them instead of DT(V), over a copy of the
 // mesh region around them (those rings and every triangle around their vertices; 32 rings if a
 // flood would leave it, then the whole mesh), so in time proportional to the region, not to the

@@ -30,6 +30,7 @@ namespace {
 using bundle::CachedSweep;
 using bundle::DenseIds;
 using bundle::kInf;
+using bundle::release;
 using bundle::Shared;
 using bundle::SweepKey;
 using bundle::Worker;
@@ -84,6 +85,11 @@ class KBundleAttempt {
     std::vector<Part> parts(workers_.size());
     first_stage(parts);
     if (!merge_parts(parts)) return Attempt::kGaveUp;
+    if (!subset_) {
+      second_stage_one_sided();
+      for (const auto& w : workers_) st_.flood_visits += w->flood_visits;
+      return Attempt::kAnswered;
+    }
     std::vector<std::uint8_t> needed;  // 1: in some S(t); 2: a partner across an edge
     if (!mark_needed(needed)) return Attempt::kGaveUp;
     for (auto& w : workers_) {
@@ -102,7 +108,10 @@ class KBundleAttempt {
     std::vector<Handle> pencils = pencils_to_sweep();
     st_.pencils_swept = pencils.size();
     if (!pencils.empty()) sweep_pencils(std::move(pencils));
-    for (const auto& w : workers_) st_.flood_visits += w->flood_visits;
+    for (const auto& w : workers_) {
+      st_.flood_visits += w->flood_visits;
+      st_.candidate_pairs += w->candidate_pairs;
+    }
     return Attempt::kAnswered;
   }
 
@@ -306,15 +315,7 @@ class KBundleAttempt {
   // a pencil, meets the mesh only inside one), so every triangle it meets is in the box. A query
   // answered 1 gets its own box (bundle removal keeps the boxes of queries answered 0 only).
   void reach_boxes(const std::vector<std::array<double, 4>>& boxes) {
-    cache_->reach.assign(queries_.size(), {kInf, kInf, -kInf, -kInf});
-    for (std::size_t qi = 0; qi < queries_.size(); ++qi) {
-      if (!answer_[qi]) continue;
-      auto& r = cache_->reach[qi];
-      for (const VertexId v : sh_.slots[queries_[qi]].v) {
-        const Point& p = sh_.pts[v];
-        r = {std::min(r[0], p.x), std::min(r[1], p.y), std::max(r[2], p.x), std::max(r[3], p.y)};
-      }
-    }
+    own_boxes();
     auto widen = [&](std::array<double, 4>& r, TriangleId d) {
       const auto& b = boxes[d];
       r = {std::min(r[0], b[0]), std::min(r[1], b[1]), std::max(r[2], b[2]), std::max(r[3], b[3])};
@@ -387,6 +388,196 @@ class KBundleAttempt {
     return pencils;
   }
 
+  // ---- stage 2 over DT(V): one-sided pencils ----
+
+  // Stage 2 over DT(V). A disk of the pencil of a Delaunay edge meeting t lies in the union of the
+  // two end circumdisks, and the part of it on either side of the edge lies in that side's end
+  // disk, so one of the two ends meets t (bundle-number.md, "One-sided pencils"); a query left
+  // undecided meets only end disks counted below k (one meeting k or more would have decided it).
+  // So an end meeting k triangles or more is never listed: a pencil of an edge of S(t) with one
+  // such end is swept from the other end's list and a lens (Worker::sweep_one_sided), one with
+  // two is not swept. On the fan of `mwst generate fan` (40k) the
+  // neighbours of S(t) listed in full held 75M of the 81M candidates of the first exact test.
+  void second_stage_one_sided() {
+    std::vector<std::uint8_t> in_s(dt_slots_, 0);  // the Delaunay triangles of some S(t)
+    for (const TriangleId d : s_list_) in_s[d] = 1;
+    count_ends(in_s);
+    // The ends to list and the pencils to sweep: one-sided, or both ends listed (with k candidates
+    // together, once listed), each once, directed as pencils_to_sweep directs them.
+    std::vector<std::uint8_t> needed(dt_slots_, 0);
+    std::vector<Handle> pencils;
+    for (int pass = 0; pass < 2; ++pass) {
+      for (TriangleId d = 0; d < dt_slots_; ++d) {
+        if (!in_s[d]) continue;
+        for (unsigned e = 0; e < 3; ++e) {
+          const Handle h = normalized(make_handle(d, e));
+          const std::uint8_t m = mode_of(h);
+          if (pass == 0) {
+            const TriangleId left = triangle_of(h), right = triangle_of(dt_.sym(h));
+            if (m == 0 || m == 1) needed[left] = 1;
+            if ((m == 0 || m == 2) && !dt_.is_ghost(right)) needed[right] = 1;
+          } else if (may_reach(h, m)) {
+            pencils.push_back(h);
+          }
+        }
+      }
+      if (pass > 0) break;
+      for (TriangleId d = 0; d < dt_slots_; ++d) st_.flooded += needed[d] != 0 ? 1 : 0;
+      for (auto& w : workers_) w->exact_edges = false;  // the lists: permissive floods, as `mwst bundle`'s
+      bundle::build_lists(sh_, workers_, &needed, cache_ ? &boxes_ : nullptr);
+      release(needed);
+    }
+    release(in_s);
+    std::sort(pencils.begin(), pencils.end());
+    pencils.erase(std::unique(pencils.begin(), pencils.end()), pencils.end());
+    std::vector<std::uint8_t> mode(pencils.size());
+    for (std::size_t p = 0; p < pencils.size(); ++p) mode[p] = mode_of(pencils[p]);
+    // The queries of the one-sided pencils, per pencil (Worker::sweep_one_sided reads them), and
+    // the queries none of whose pencils is swept.
+    std::vector<std::uint32_t> query_begin(pencils.size() + 1, 0), pencil_queries;
+    {
+      std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;  // (pencil, query index)
+      std::vector<std::uint8_t> reached(queries_.size(), 0);
+      for_each_s_edge([&](std::size_t qi, Handle h) {
+        const std::uint8_t m = mode_of(h);
+        if (!may_reach(h, m)) return;
+        reached[qi] = 1;
+        if (m != 0) pairs.emplace_back(index_of(pencils, h), static_cast<std::uint32_t>(qi));
+      });
+      for (std::size_t qi = 0; qi < queries_.size(); ++qi) {
+        if (in_domain(queries_[qi]) && !answer_[qi] && !reached[qi]) ++st_.decided_by_bound;
+      }
+      std::sort(pairs.begin(), pairs.end());
+      pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+      for (const auto& [p, qi] : pairs) ++query_begin[p + 1];
+      for (std::size_t p = 0; p < pencils.size(); ++p) query_begin[p + 1] += query_begin[p];
+      pencil_queries.reserve(pairs.size());
+      for (const auto& pair : pairs) pencil_queries.push_back(pair.second);
+    }
+    std::vector<std::uint32_t> box_index(cache_ ? pencils.size() : 0, kNone);  // one-sided: its lens box
+    std::size_t one_sided_count = 0;
+    for (std::size_t p = 0; p < pencils.size(); ++p) {
+      if (mode[p] == 0) continue;
+      if (cache_) box_index[p] = static_cast<std::uint32_t>(one_sided_count);
+      ++one_sided_count;
+    }
+    st_.pencils_swept = pencils.size();
+    st_.pencils_one_sided = one_sided_count;
+    std::vector<std::array<double, 4>> lens_boxes(cache_ ? one_sided_count : 0, {kInf, kInf, -kInf, -kInf});
+    const bundle::OneSided one_sided{&mode,          &query_begin, &pencil_queries, &queries_,
+                                     cache_ ? &box_index : nullptr, cache_ ? &lens_boxes : nullptr, k_};
+    for (auto& w : workers_) w->one_sided = &one_sided;
+    if (!pencils.empty()) sweep_pencils(std::move(pencils));
+    for (const auto& w : workers_) {
+      st_.lens_visits += w->lens_visits;
+      st_.candidate_pairs += w->candidate_pairs;
+      w->one_sided = nullptr;
+    }
+    if (cache_) reach_boxes_one_sided(box_index, boxes_, lens_boxes);
+  }
+
+  // Edge h of a Delaunay triangle directed as pencils_to_sweep directs it: from its smaller mesh
+  // vertex id, or with its finite side on the left on the hull.
+  Handle normalized(Handle h) const {
+    const Handle hs = dt_.sym(h);
+    return dt_.is_ghost(triangle_of(hs)) || sh_.mesh_id[dt_.org(h)] < sh_.mesh_id[dt_.dest(h)] ? h : hs;
+  }
+
+  // Can a pencil of mode m (mode_of) put a query left in a k-bundle? One-sided: yes; both ends
+  // large: no; both listed: if their lists hold k triangles together.
+  bool may_reach(Handle h, std::uint8_t m) const {
+    if (m == 3) return false;
+    if (m != 0) return true;
+    auto list_size = [&](TriangleId d) { return dt_.is_ghost(d) ? 0u : sh_.list_size(d); };
+    return list_size(triangle_of(h)) + list_size(triangle_of(dt_.sym(h))) >= k_;
+  }
+
+  // Calls f(query index, pencil) for each edge of each Delaunay triangle in S(t) of the queries
+  // left, the pencil directed as pencils_to_sweep directs it.
+  template <class F>
+  void for_each_s_edge(F f) const {
+    for (std::size_t qi = 0; qi < queries_.size(); ++qi) {
+      for (std::uint32_t i = s_begin_[qi]; i < s_begin_[qi + 1]; ++i) {
+        for (unsigned e = 0; e < 3; ++e) f(qi, normalized(make_handle(s_list_[i], e)));
+      }
+    }
+  }
+
+  static std::uint32_t index_of(const std::vector<Handle>& sorted, Handle h) {
+    return static_cast<std::uint32_t>(std::lower_bound(sorted.begin(), sorted.end(), h) - sorted.begin());
+  }
+
+  // The ends of the pencils of S(t) not counted in stage 1 (its neighbours), counted now up to k
+  // (each once, by the flood that stops at k): mode_of reads the counts.
+  void count_ends(const std::vector<std::uint8_t>& in_s) {
+    std::vector<TriangleId> uncounted;
+    for (TriangleId d = 0; d < dt_slots_; ++d) {
+      if (!in_s[d]) continue;
+      for (unsigned e = 0; e < 3; ++e) {
+        const TriangleId n = triangle_of(dt_.sym(make_handle(d, e)));
+        if (!dt_.is_ghost(n) && disk_state_[n].load(std::memory_order_relaxed) == 0) uncounted.push_back(n);
+      }
+    }
+    std::sort(uncounted.begin(), uncounted.end());
+    uncounted.erase(std::unique(uncounted.begin(), uncounted.end()), uncounted.end());
+    st_.disks_counted += uncounted.size();
+    bundle::for_ranges(workers_, uncounted.size(), [&](Worker& w, std::size_t begin, std::size_t end, std::size_t) {
+      for (std::size_t i = begin; i < end; ++i) {
+        if ((i & 15) == 0) sh_.check_deadline();
+        const TriangleId d = uncounted[i];
+        disk_state_[d].store(w.count_meeting(d, k_) >= k_ ? 2 : 1, std::memory_order_relaxed);
+      }
+    });
+  }
+
+  // The mode of a pencil: 0 both ends listed (or a hull edge), 1 only the left end (the right
+  // one's disk meets k triangles or more), 2 only the right end, 3 neither (both ends meet k
+  // triangles or more, or a hull edge's one end does: then no disk of the pencil meets a query
+  // left).
+  std::uint8_t mode_of(Handle h) const {
+    const TriangleId left = triangle_of(h), right = triangle_of(dt_.sym(h));
+    const bool left_large = disk_state_[left].load(std::memory_order_relaxed) != 1;
+    const bool right_large = !dt_.is_ghost(right) && disk_state_[right].load(std::memory_order_relaxed) != 1;
+    // (A hull edge's disks meet triangles only on the left, so only where its left end does.)
+    if (left_large && (right_large || dt_.is_ghost(right))) return 3;
+    if (right_large) return 1;
+    return left_large ? 2 : 0;
+  }
+
+  // The reach boxes (see reach_boxes) over one-sided pencils: a disk of a pencil meeting t meets
+  // only triangles meeting the listed end or the lens flooded for the lowest bound of the queries
+  // it meets (a pencil with both ends listed: either end; with neither, no disk of it meets t).
+  void reach_boxes_one_sided(const std::vector<std::uint32_t>& box_index, const std::vector<std::array<double, 4>>& boxes,
+                             const std::vector<std::array<double, 4>>& lens_boxes) {
+    own_boxes();
+    auto widen = [](std::array<double, 4>& r, const std::array<double, 4>& b) {
+      r = {std::min(r[0], b[0]), std::min(r[1], b[1]), std::max(r[2], b[2]), std::max(r[3], b[3])};
+    };
+    for_each_s_edge([&](std::size_t qi, Handle h) {
+      if (answer_[qi]) return;
+      auto& r = cache_->reach[qi];
+      const std::uint8_t m = mode_of(h);
+      const TriangleId left = triangle_of(h), right = triangle_of(dt_.sym(h));
+      if (m == 3) return;
+      if (m != 2) widen(r, boxes[left]);
+      if (m != 1 && !dt_.is_ghost(right)) widen(r, boxes[right]);
+      if (m != 0) widen(r, lens_boxes[box_index[index_of(sh_.pencils, h)]]);
+    });
+  }
+
+  // A query answered 1 gets the box of its own corners; the others start empty.
+  void own_boxes() {
+    cache_->reach.assign(queries_.size(), {kInf, kInf, -kInf, -kInf});
+    for (std::size_t qi = 0; qi < queries_.size(); ++qi) {
+      if (!answer_[qi]) continue;
+      auto& r = cache_->reach[qi];
+      for (const VertexId v : sh_.slots[queries_[qi]].v) {
+        const Point& p = sh_.pts[v];
+        r = {std::min(r[0], p.x), std::min(r[1], p.y), std::max(r[2], p.x), std::max(r[3], p.y)};
+      }
+    }
+  }
+
   // Sweeps the pencils (reusing the cache's sweeps), keeps what the cache should, and answers the
   // queries left from the per-triangle counts.
   void sweep_pencils(std::vector<Handle> pencils) {
@@ -442,6 +633,7 @@ class KBundleAttempt {
   std::vector<std::uint32_t> s_count_ = std::vector<std::uint32_t>(queries_.size(), 0);  // |S(t)| per query
   std::vector<std::uint32_t> s_begin_;
   std::vector<TriangleId> s_list_, fan_;
+  std::vector<std::array<double, 4>> boxes_;  // per Delaunay triangle listed: its flood's box
 };
 
 Attempt in_k_bundle_attempt(Shared& sh, std::uint32_t k, const std::vector<TriangleId>& queries, KBundleStats& st,

@@ -83,6 +83,24 @@ struct CachedSweep {
 
 using SweepKey = std::uint64_t;  // p << 32 | q (mesh ids)
 
+// in_k_bundle's one-sided pencils: a pencil one of whose two circumdisks meets at least k
+// triangles (the "large" end) and none of the queries asked of it, while the other (the "listed"
+// end, with a candidate list) meets each of them. Such a pencil's disks meet a query t only on the
+// listed end's side of one threshold (docs/algorithms/bundle-number.md, "One-sided pencils"), so
+// only the triangles of a lens next to the chord are needed, not the large end's list.
+struct OneSided {
+  const std::vector<std::uint8_t>* mode = nullptr;     // per pencil: 0 both ends listed (or a hull
+                                                       // edge); 1 the left end is listed; 2 the right;
+                                                       // 3 neither (not swept)
+  const std::vector<std::uint32_t>* begin = nullptr;   // per pencil: its queries in `queries`
+  const std::vector<std::uint32_t>* queries = nullptr; // indices into `slots`
+  const std::vector<TriangleId>* slots = nullptr;      // the queries: slots of Shared
+  const std::vector<std::uint32_t>* box_index = nullptr;  // per pencil: its entry in `boxes`
+  std::vector<std::array<double, 4>>* boxes = nullptr; // (null: not wanted) per one-sided pencil, the
+                                                       // box of every triangle its lens flood visited
+  std::uint32_t k = 0;
+};
+
 }  // namespace bundle
 
 struct KBundleCache::Impl {
@@ -119,6 +137,10 @@ class Worker {
   // Sweep results of an earlier call (read only while the workers run), the keys reused and the
   // results made now (merged into the cache afterwards).
   const KBundleCache::Impl* reuse = nullptr;
+  // in_k_bundle's one-sided pencils (null: every pencil is swept from both lists), and what they
+  // cost: triangles their lens floods popped, and pencils that fell back to the large end's list.
+  const OneSided* one_sided = nullptr;
+  std::size_t lens_visits = 0, one_sided_fallbacks = 0;
   std::size_t pencils_reused = 0;
   std::vector<SweepKey> reused_keys;
   std::vector<std::pair<SweepKey, CachedSweep>> made;
@@ -305,6 +327,15 @@ class Worker {
   inline bool reuse_cached_sweep(VertexId lv, VertexId rv);
   inline void count_pencil_ends(Handle h, Handle hs);
   inline void collect_events(VertexId lv, VertexId rv, std::uint32_t& always_count, std::uint32_t& b_total);
+  inline void begin_events();
+  inline void classify_from(std::uint32_t first, std::uint32_t& always_count, std::uint32_t& b_total);
+  inline void end_events(VertexId lv, VertexId rv);
+  inline void gather_list(const TriangleId* list, std::size_t size);
+  // A one-sided pencil (see OneSided): its lens, the queries' counts (worker_sweep.cpp).
+  void sweep_one_sided(std::size_t index);
+  int one_sided_query(TriangleId t, bool left_listed, const Threshold& s_lo, const Threshold& s_hi, Threshold& bound);
+  bool lens_flood(const Threshold& x, bool left_listed, std::uint32_t& always_count, std::uint32_t& b_total);
+  void one_sided_fallback(std::size_t index, bool left_listed);
   inline void order_events();
   inline void group_events(std::uint32_t& lo_group, std::uint32_t& hi_group);
   inline std::uint32_t count_at_end(std::uint32_t g, std::uint32_t always_count) const;
@@ -365,6 +396,12 @@ class Worker {
   std::vector<std::uint32_t> group_start_, group_a_, group_b_, counts_, prefix_max_, suffix_max_;
   std::vector<std::uint32_t> key_order_, key_best_;       // the cache key's order; results by candidate
   std::vector<std::array<VertexId, 3>> key_triangles_;   // by candidate
+  // One-sided pencils: the lens flood's marks per mesh slot, its stack and box, the queries.
+  std::uint32_t lens_mark_ = 0;
+  std::vector<std::uint32_t> lens_stamp_;
+  std::vector<TriangleId> lens_stack_;
+  std::array<double, 4> lens_box_{};
+  std::vector<std::pair<TriangleId, Threshold>> one_sided_queries_;
 };
 
 // ---- Worker: the floods and the circumdisk test (inline: called per flood and per triangle) ----
@@ -395,6 +432,8 @@ inline void Worker::release_sweep_scratch() {
   release(edge_info_);
   release(edge_ref_);
   release(events_);
+  release(lens_stamp_);
+  release(lens_stack_);
 }
 
 // The finite mesh triangle around vertex a whose closed corner at a contains the direction

@@ -2,6 +2,9 @@
 // Delaunay edge (worker.hpp; the geometry is in docs/algorithms/bundle-number.md, "One pencil").
 #include "algorithms/bundle/worker.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include "algorithms/bundle/circle_predicates.hpp"
 
 namespace mwst::bundle {
@@ -9,10 +12,20 @@ namespace mwst::bundle {
 // ---- the sweep begins here ------------------------------------------------------------------------
 
 void Worker::sweep(std::size_t index) {
+  if (given_[0] == nullptr && one_sided != nullptr && (*one_sided->mode)[index] != 0) {
+    if ((*one_sided->mode)[index] != 3) sweep_one_sided(index);  // (3: both ends large, not swept)
+    return;
+  }
   const Mesh& dt = sh_.dt;
   const Handle h = sh_.pencils[index];
   const Handle hs = dt.sym(h);
   const VertexId lv = dt.apex(h), rv = dt.apex(hs);  // rv = kInfinite on a hull edge
+  // Fewer candidates than asked for (in_k_bundle's k) even in the two lists together: the pencil
+  // cannot matter, and its candidates are not gathered.
+  if (min_candidates > 0 && given_[0] == nullptr &&
+      sh_.list_size(triangle_of(h)) + (rv == kInfinite ? 0 : sh_.list_size(triangle_of(hs))) < min_candidates) {
+    return;
+  }
   if (!start_pencil(h, rv)) return;
   ++pencils;
   // The two lists hold at least as many triangles as their union: a pencil that cannot beat the
@@ -75,25 +88,28 @@ bool Worker::start_pencil(Handle h, VertexId rv) {
 // The candidates: the union of the lists of the two Delaunay triangles on the edge (every disk of
 // the pencil lies in their circumdisks), each triangle once.
 void Worker::gather_candidates(Handle h, Handle hs, VertexId rv) {
+  candidates_.clear();
+  auto gather = [&](TriangleId dtt, const std::vector<TriangleId>* given) {
+    gather_list(given ? given->data() : sh_.list_data(dtt), given ? given->size() : sh_.list_size(dtt));
+  };
+  gather(triangle_of(h), given_[0]);
+  if (rv != kInfinite) gather(triangle_of(hs), given_[1]);
+}
+
+// Appends the triangles of a list that are not candidates yet.
+void Worker::gather_list(const TriangleId* list, std::size_t size) {
   if (candidate_index_.empty()) {
     candidate_index_.assign(sh_.slots.size(), kNone);
     pencil_vertex_.assign(sh_.pts.size(), PencilVertex{});
   }
-  candidates_.clear();
-  auto gather = [&](TriangleId dtt, const std::vector<TriangleId>* given) {
-    const TriangleId* list = given ? given->data() : sh_.list_data(dtt);
-    const std::size_t size = given ? given->size() : sh_.list_size(dtt);
-    for (std::size_t i = 0; i < size; ++i) {
-      const TriangleId t = list[i];
-      if (is_candidate(t)) continue;
-      candidate_index_[t] = static_cast<std::uint32_t>(candidates_.size());
-      Candidate c;
-      c.triangle = t;
-      candidates_.push_back(c);
-    }
-  };
-  gather(triangle_of(h), given_[0]);
-  if (rv != kInfinite) gather(triangle_of(hs), given_[1]);
+  for (std::size_t i = 0; i < size; ++i) {
+    const TriangleId t = list[i];
+    if (is_candidate(t)) continue;
+    candidate_index_[t] = static_cast<std::uint32_t>(candidates_.size());
+    Candidate c;
+    c.triangle = t;
+    candidates_.push_back(c);
+  }
 }
 
 // Looks the pencil up in the cache of an earlier call (KBundleCache); true if its result was
@@ -151,17 +167,28 @@ void Worker::count_pencil_ends(Handle h, Handle hs) {
 // The thresholds of every candidate (classify) and of the pencil's ends s_hi (apex lv) and s_lo
 // (apex rv, none on a hull edge); counts the candidates that meet every disk and the b_t events.
 void Worker::collect_events(VertexId lv, VertexId rv, std::uint32_t& always_count, std::uint32_t& b_total) {
+  begin_events();
+  classify_from(0, always_count, b_total);
+  end_events(lv, rv);
+}
+
+// The pencil's local frame, and no events yet.
+void Worker::begin_events() {
   pc_.bx = pc_.q.x - pc_.p.x;
   pc_.by = pc_.q.y - pc_.p.y;
   pc_.local_scale = 2.0 / (pc_.bx * pc_.bx + pc_.by * pc_.by);
   bump(pencil_stamp_, [this] {
     for (auto& x : pencil_vertex_) x.stamp = 0;
   });
-  const auto n_cand = static_cast<std::uint32_t>(candidates_.size());
-  if (edge_ref_.size() < 3 * static_cast<std::size_t>(n_cand)) edge_ref_.resize(3 * static_cast<std::size_t>(n_cand));
   edge_info_.clear();
   events_.clear();
-  for (std::uint32_t i = 0; i < n_cand; ++i) {
+}
+
+// The events of the candidates from index `first` on.
+void Worker::classify_from(std::uint32_t first, std::uint32_t& always_count, std::uint32_t& b_total) {
+  const auto n_cand = static_cast<std::uint32_t>(candidates_.size());
+  if (edge_ref_.size() < 3 * static_cast<std::size_t>(n_cand)) edge_ref_.resize(3 * static_cast<std::size_t>(n_cand));
+  for (std::uint32_t i = first; i < n_cand; ++i) {
     bool has_a = false, has_b = false;
     Threshold a, b;
     classify(i, has_a, a, has_b, b);
@@ -175,6 +202,10 @@ void Worker::collect_events(VertexId lv, VertexId rv, std::uint32_t& always_coun
       ++b_total;
     }
   }
+}
+
+// The events of the pencil's ends: s_hi (apex lv) and s_lo (apex rv, none on a hull edge).
+void Worker::end_events(VertexId lv, VertexId rv) {
   events_.push_back({rational_threshold(pc_, Kind::kThroughVertex, lv, sh_.pts[lv]), kNone, kRoleHi});
   if (rv != kInfinite) {
     events_.push_back({rational_threshold(pc_, Kind::kThroughVertex, rv, sh_.pts[rv]), kNone, kRoleLo});
@@ -296,6 +327,226 @@ void Worker::spread_per_triangle(std::uint32_t j_min, std::uint32_t j_max, bool 
     std::vector<std::uint32_t>& out = made.back().second.best;
     for (std::size_t j = 0; j < key_order_.size(); ++j) out[j] = key_best_[key_order_[j]];
   }
+}
+
+// ---- one-sided pencils (in_k_bundle) begin here ---------------------------------------------------
+
+// The pencil of Delaunay edge p→q, whose left end D_hi (s_hi) or right end D_lo (s_lo) is listed
+// and whose other end meets at least k triangles and none of the queries (OneSided). Say the left
+// end is listed: a query t not met by D_hi is met by no disk of the pencil (one_sided_query); one
+// met has a_t < s_hi, and as D_lo misses it, a_t ≥ s_lo and b_t ≤ s_lo: the disks D_s meeting t
+// are those with s > a_t. A triangle meets such a disk above
+// the line pq only if it meets D_hi (the part of D_s above the line grows with s), so it is in the
+// listed end's list; below the line only if b_c > s > a_t: it meets the lens Λ(a_t), the part of
+// D_{a_t} below the line, which shrinks as s grows. Λ(x) holds no vertex (x ≥ s_lo) and is convex
+// with the open chord on its boundary, so the triangles meeting it are reached from those meeting
+// the chord across edges meeting Λ(x) (edges with b_e > x, or crossing the chord): a flood of the
+// lens, not of D_lo. The counts of the disks with s > x are then exact with the listed end's list
+// and the lens's triangles as candidates. With queries met at several thresholds, x is the lowest
+// (the largest lens) whose query is not already answered: a lens holding enough triangles answers
+// its queries at once (the interval just above x already counts k) and the flood stops there, so
+// a pencil costs about k + the listed end's list, not what the large end meets (the fan of
+// `mwst generate fan`: the spike bases' pencils, one end a sliver's disk meeting ~10 triangles, the
+// other reaching across the apex's thousands). The right end listed is the mirror image (a ↔ b,
+// lens above the line). Whatever the classification of a query contradicts (the exact circumdisk
+// test said D_hi meets it and D_lo does not) falls back to the large end's list.
+void Worker::sweep_one_sided(std::size_t index) {
+  const Mesh& dt = sh_.dt;
+  const Handle h = sh_.pencils[index];
+  const Handle hs = dt.sym(h);
+  const VertexId lv = dt.apex(h), rv = dt.apex(hs);
+  if (!start_pencil(h, rv)) return;  // four cocircular vertices: a single disk, a circumdisk
+  ++pencils;
+  const bool left_listed = (*one_sided->mode)[index] == 1;
+  const TriangleId listed = triangle_of(left_listed ? h : hs);
+  candidates_.clear();
+  gather_list(sh_.list_data(listed), sh_.list_size(listed));
+  std::uint32_t always_count = 0, b_total = 0;
+  begin_events();
+  classify_from(0, always_count, b_total);
+  const Threshold s_hi = rational_threshold(pc_, Kind::kThroughVertex, lv, sh_.pts[lv]);
+  const Threshold s_lo = rational_threshold(pc_, Kind::kThroughVertex, rv, sh_.pts[rv]);
+  // Each query with its bound x_t: a_t (left listed: met for s > a_t) or b_t (right: s < b_t).
+  one_sided_queries_.clear();
+  for (std::uint32_t i = (*one_sided->begin)[index]; i < (*one_sided->begin)[index + 1]; ++i) {
+    const TriangleId t = (*one_sided->slots)[(*one_sided->queries)[i]];
+    Threshold bound;
+    const int met = one_sided_query(t, left_listed, s_lo, s_hi, bound);
+    if (met < 0) {
+      one_sided_fallback(index, left_listed);
+      return;
+    }
+    if (met > 0) one_sided_queries_.emplace_back(t, bound);
+  }
+  // The largest lens first (left listed: the lowest a_t), equal bounds together.
+  const int order = left_listed ? 1 : -1;
+  std::sort(one_sided_queries_.begin(), one_sided_queries_.end(), [&](const auto& x, const auto& y) {
+    return compare_thresholds(pc_, x.second, y.second, exact_comparisons) * order < 0;
+  });
+  std::size_t next = 0;
+  while (next < one_sided_queries_.size()) {
+    const Threshold x = one_sided_queries_[next].second;
+    if (lens_flood(x, left_listed, always_count, b_total)) break;
+    // The interval next to x meets k triangles: every query bounded by x is in a k-bundle.
+    for (; next < one_sided_queries_.size() && compare_thresholds(pc_, one_sided_queries_[next].second, x, exact_comparisons) == 0; ++next) {
+      std::uint32_t& slot = per_triangle_[one_sided_queries_[next].first];
+      slot = std::max(slot, one_sided->k);
+    }
+  }
+  candidate_pairs += candidates_.size();
+  if (next == one_sided_queries_.size()) return;
+  if (one_sided->boxes) (*one_sided->boxes)[(*one_sided->box_index)[index]] = lens_box_;
+  end_events(lv, rv);
+  order_events();
+  std::uint32_t lo_group = kNone, hi_group = kNone;
+  group_events(lo_group, hi_group);
+  const std::uint32_t j_min = lo_group + 1, j_max = hi_group;
+  if (lo_group == kNone || j_min > j_max) return;  // cannot happen: s_lo < s_hi strictly here
+  // The counts of the open intervals (exact above the class of x, left listed; below it, right).
+  counts_.resize(static_cast<std::size_t>(j_max) + 1);
+  std::uint32_t a_below = 0, b_below = 0;
+  for (std::uint32_t j = 0; j <= j_max; ++j) {
+    counts_[j] = always_count + a_below + (b_total - b_below);
+    a_below += group_a_[j];
+    b_below += group_b_[j];
+  }
+  for (std::size_t q = next; q < one_sided_queries_.size(); ++q) {
+    const Candidate& c = candidates_[candidate_index_[one_sided_queries_[q].first]];
+    const std::uint32_t from = left_listed ? std::max(c.a_group + 1, j_min) : j_min;
+    const std::uint32_t to = left_listed ? j_max : std::min(c.b_group, j_max);
+    std::uint32_t best = 0;
+    for (std::uint32_t j = from; j <= to; ++j) best = std::max(best, counts_[j]);
+    std::uint32_t& slot = per_triangle_[one_sided_queries_[q].first];
+    slot = std::max(slot, best);
+  }
+}
+
+// Query t of a one-sided pencil, classified with the listed end's candidates: 1 and its bound (a_t,
+// left listed; b_t, right) if the pencil's disks meet it on the listed end's side only; 0 if they
+// meet it nowhere (not in the listed end's list, whose disk it then misses, nor met by the large
+// end's, which stage 1 showed); -1 if the classification puts it on the large end's side, which
+// contradicts the exact circumdisk tests of stage 1 (then the pencil falls back to both lists).
+int Worker::one_sided_query(TriangleId t, bool left_listed, const Threshold& s_lo, const Threshold& s_hi,
+                            Threshold& bound) {
+  if (!is_candidate(t)) return 0;
+  const std::uint32_t i = candidate_index_[t];
+  if (candidates_[i].always) return -1;
+  bool has_a = false, has_b = false;
+  Threshold a, b;
+  for (const Event& ev : events_) {
+    if (ev.candidate != i) continue;
+    if (ev.role == kRoleA) {
+      has_a = true;
+      a = ev.th;
+    } else if (ev.role == kRoleB) {
+      has_b = true;
+      b = ev.th;
+    }
+  }
+  auto cmp = [&](const Threshold& x, const Threshold& y) { return compare_thresholds(pc_, x, y, exact_comparisons); };
+  if (left_listed) {
+    if ((has_b && cmp(b, s_lo) > 0) || (has_a && cmp(a, s_lo) < 0)) return -1;
+    if (!has_a || cmp(a, s_hi) >= 0) return 0;
+    bound = a;
+  } else {
+    if ((has_a && cmp(a, s_hi) < 0) || (has_b && cmp(b, s_hi) > 0)) return -1;
+    if (!has_b || cmp(b, s_lo) <= 0) return 0;
+    bound = b;
+  }
+  return 1;
+}
+
+// Adds to the candidates the in-domain triangles meeting the lens Λ(x) (left listed: the part of
+// D_x below the line; right: above), by a flood from the triangles meeting the open chord across
+// the edges that may meet it (permissive: the candidates are classified exactly, and a superset
+// changes no count above x). Counts as it goes the candidates meeting the disks of the open
+// interval next to x; true if the flood ends below k, false once it reaches k (then that
+// interval's disks are vertex-empty, meet every query bounded by x and k triangles).
+bool Worker::lens_flood(const Threshold& x, bool left_listed, std::uint32_t& always_count, std::uint32_t& b_total) {
+  auto cmp = [&](const Threshold& y) { return compare_thresholds(pc_, y, x, exact_comparisons); };
+  // Does the interval next to x count this event's candidate? (Left: s just above x, the
+  // candidate's a below s or its b above; right: s just below x.)
+  auto counted = [&](const Event& ev) {
+    if (ev.role == kRoleA) return left_listed ? cmp(ev.th) <= 0 : cmp(ev.th) < 0;
+    if (ev.role == kRoleB) return left_listed ? cmp(ev.th) > 0 : cmp(ev.th) >= 0;
+    return false;
+  };
+  std::uint32_t count = always_count;
+  for (const Event& ev : events_) count += counted(ev) ? 1 : 0;
+  if (count >= one_sided->k) return false;
+  if (lens_stamp_.empty()) lens_stamp_.assign(sh_.slots.size(), 0);
+  bump(lens_mark_, [this] { std::fill(lens_stamp_.begin(), lens_stamp_.end(), 0); });
+  lens_box_ = {kInf, kInf, -kInf, -kInf};
+  lens_stack_.clear();
+  auto push = [&](TriangleId t) {
+    if (t == sh_.outside || sh_.is_ghost(t) || lens_stamp_[t] == lens_mark_) return;
+    lens_stamp_[t] = lens_mark_;
+    lens_stack_.push_back(t);
+  };
+  // The seeds: the mesh triangle around p (or q) whose corner holds the chord, and across pq
+  // when pq is a mesh edge (then the two triangles on it meet the open chord).
+  const TriangleId first = flood_start(pc_.pv, pc_.qv);
+  push(first);
+  for (unsigned e = 0; e < 3; ++e) {
+    const Handle eh = make_handle(first, e);
+    const VertexId u = sh_.org(eh), w = sh_.dest(eh);
+    if ((u == pc_.pv && w == pc_.qv) || (u == pc_.qv && w == pc_.pv)) push(triangle_of(sh_.sym(eh)));
+  }
+  // Permissive: an edge whose threshold is within its and x's error windows of x, or within
+  // 1e-9 relatively (tangencies are rounded), is crossed too.
+  auto near_side = [&](const Threshold& y) {
+    const double slack = y.error + x.error + 1e-9 * (1.0 + std::fabs(x.value) + std::fabs(y.value));
+    return left_listed ? y.value + slack > x.value : y.value - slack < x.value;
+  };
+  while (!lens_stack_.empty()) {
+    const TriangleId t = lens_stack_.back();
+    lens_stack_.pop_back();
+    ++lens_visits;
+    for (const VertexId v : sh_.slots[t].v) {
+      const Point& pt = sh_.pts[v];
+      lens_box_ = {std::min(lens_box_[0], pt.x), std::min(lens_box_[1], pt.y), std::max(lens_box_[2], pt.x),
+                   std::max(lens_box_[3], pt.y)};
+    }
+    if (sh_.in_domain(t) && !is_candidate(t)) {
+      const auto i = static_cast<std::uint32_t>(candidates_.size());
+      candidate_index_[t] = i;
+      Candidate c;
+      c.triangle = t;
+      candidates_.push_back(c);
+      const std::size_t first_event = events_.size();
+      const std::uint32_t always_before = always_count;
+      classify_from(i, always_count, b_total);
+      count += always_count - always_before;
+      for (std::size_t k = first_event; k < events_.size(); ++k) count += counted(events_[k]) ? 1 : 0;
+      if (count >= one_sided->k) return false;
+    }
+    for (unsigned e = 0; e < 3; ++e) {
+      const Handle eh = make_handle(t, e);
+      const TriangleId n = triangle_of(sh_.sym(eh));
+      if (n == sh_.outside || sh_.is_ghost(n) || lens_stamp_[n] == lens_mark_) continue;
+      EdgeInfo info;
+      classify_edge(sh_.org(eh), sh_.dest(eh), info);
+      if (info.crosses || (left_listed ? info.has_b && near_side(info.b) : info.has_a && near_side(info.a))) push(n);
+    }
+  }
+  return true;
+}
+
+// The pencil swept from both ends' lists: the large end flooded now (its flood's box is the
+// pencil's).
+void Worker::one_sided_fallback(std::size_t index, bool left_listed) {
+  ++one_sided_fallbacks;
+  const Mesh& dt = sh_.dt;
+  const Handle h = sh_.pencils[index];
+  const TriangleId listed = triangle_of(left_listed ? h : dt.sym(h));
+  const TriangleId large = triangle_of(left_listed ? dt.sym(h) : h);
+  std::vector<TriangleId> lists[2];
+  std::vector<TriangleId>& listed_list = lists[left_listed ? 0 : 1];
+  listed_list.assign(sh_.list_data(listed), sh_.list_data(listed) + sh_.list_size(listed));
+  flood(large, lists[left_listed ? 1 : 0]);
+  if (one_sided->boxes) (*one_sided->boxes)[(*one_sided->box_index)[index]] = flood_box;
+  --pencils;  // (counted again by the sweep)
+  sweep_with_lists(index, lists[0], lists[1]);
 }
 
 // ---- classifying the candidates begins here -------------------------------------------------------

@@ -61,29 +61,50 @@ class CleanQueries {
     if (made_.empty()) return;
     // A grid over the made boxes: the cells each covers are marked; an entry is forgotten if its box
     // covers a marked cell. Cell indices are monotone in the coordinate, so two closed boxes that
-    // meet share a cell.
+    // meet share a cell. Marking a box and asking about one cost O(1), not their areas in cells
+    // (a fan's slivers reach across the grid, as do the boxes of their disks: walking the cells
+    // was 22% of BRH on `mwst generate fan` 40k): the boxes' corners go into a difference table,
+    // whose prefix sums count the made boxes over each cell, and the prefix sums of the marked
+    // cells (a summed-area table) give the marked cells under any box.
     const double sx = all[2] > all[0] ? kGrid / (all[2] - all[0]) : 0.0;
     const double sy = all[3] > all[1] ? kGrid / (all[3] - all[1]) : 0.0;
     auto cell = [](double v, double v0, double scale) {
       return static_cast<std::size_t>(std::clamp(std::floor((v - v0) * scale), 0.0, kGrid - 1.0));
     };
-    marks_.assign(static_cast<std::size_t>(kGrid * kGrid), 0);
-    for (const auto& b : made_) {
-      for (std::size_t y = cell(b[1], all[1], sy); y <= cell(b[3], all[1], sy); ++y) {
-        for (std::size_t x = cell(b[0], all[0], sx); x <= cell(b[2], all[0], sx); ++x) {
-          marks_[y * static_cast<std::size_t>(kGrid) + x] = 1;
-        }
+    constexpr auto n = static_cast<std::size_t>(kGrid) + 1;  // a row of either table
+    table_.assign(n * n, 0);
+    for (const auto& b : made_) {  // +1 over the box's cells, in the difference table
+      const std::size_t x0 = cell(b[0], all[0], sx), x1 = cell(b[2], all[0], sx) + 1;
+      const std::size_t y0 = cell(b[1], all[1], sy), y1 = cell(b[3], all[1], sy) + 1;
+      ++table_[y0 * n + x0];
+      --table_[y0 * n + x1];
+      --table_[y1 * n + x0];
+      ++table_[y1 * n + x1];
+    }
+    // table_[y][x] becomes the number of made boxes over cell (x, y) (two-dimensional prefix
+    // sums), then the number of marked cells (x' < x, y' < y): cell (x, y) moves to (x + 1, y + 1).
+    for (std::size_t y = 0; y < n; ++y) {
+      for (std::size_t x = 0; x < n; ++x) {
+        if (x > 0) table_[y * n + x] += table_[y * n + x - 1];
+        if (y > 0) table_[y * n + x] += table_[(y - 1) * n + x];
+        if (x > 0 && y > 0) table_[y * n + x] -= table_[(y - 1) * n + x - 1];
+      }
+    }
+    for (std::size_t y = n - 1; y-- > 0;) {
+      for (std::size_t x = n - 1; x-- > 0;) table_[(y + 1) * n + x + 1] = table_[y * n + x] > 0 ? 1 : 0;
+    }
+    for (std::size_t i = 0; i < n; ++i) table_[i] = table_[i * n] = 0;
+    for (std::size_t y = 1; y < n; ++y) {
+      for (std::size_t x = 1; x < n; ++x) {
+        table_[y * n + x] += table_[y * n + x - 1] + table_[(y - 1) * n + x] - table_[(y - 1) * n + x - 1];
       }
     }
     std::erase_if(boxes_, [&](const auto& entry) {
       const auto& b = entry.second;
       if (b[2] < all[0] || b[0] > all[2] || b[3] < all[1] || b[1] > all[3]) return false;
-      for (std::size_t y = cell(b[1], all[1], sy); y <= cell(b[3], all[1], sy); ++y) {
-        for (std::size_t x = cell(b[0], all[0], sx); x <= cell(b[2], all[0], sx); ++x) {
-          if (marks_[y * static_cast<std::size_t>(kGrid) + x]) return true;
-        }
-      }
-      return false;
+      const std::size_t x0 = cell(b[0], all[0], sx), x1 = cell(b[2], all[0], sx) + 1;
+      const std::size_t y0 = cell(b[1], all[1], sy), y1 = cell(b[3], all[1], sy) + 1;
+      return table_[y1 * n + x1] - table_[y0 * n + x1] - table_[y1 * n + x0] + table_[y0 * n + x0] > 0;
     });
   }
 
@@ -94,7 +115,7 @@ class CleanQueries {
   std::vector<std::array<VertexId, 3>> before_v_;
   std::vector<std::uint8_t> before_flags_;
   std::vector<std::array<double, 4>> made_;
-  std::vector<std::uint8_t> marks_;
+  std::vector<std::int64_t> table_;  // update()'s difference table, then its summed-area table
 };
 
 // Below this many skinny triangles the exact test is local and cheap: no clean-list bookkeeping.

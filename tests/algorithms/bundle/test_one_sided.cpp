@@ -1,0 +1,63 @@
+// tests/algorithms/bundle/test_one_sided.cpp — in_k_bundle's one-sided pencils (k_bundle.cpp,
+// Worker::sweep_one_sided): over DT(V) a pencil one of whose ends meets k triangles or more is
+// swept from the other end's list and a lens next to the chord, not from the large end's list.
+// On the Delaunay-refined narrow fan (`mwst generate fan`) the spike bases' pencils have one end
+// a sliver's disk meeting ~10 triangles and the other reaching across thousands: the answers
+// must stay those of the exact per-triangle bundle values, and the work must stay near k per
+// query, not the large disks' sizes.
+#include <gtest/gtest.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "mwst/algorithms/bundle.hpp"
+#include "mwst/algorithms/refine.hpp"
+#include "mwst/io/generate.hpp"
+#include "mwst/mesh/delaunay.hpp"
+#include "support/mesh_queries.hpp"
+
+namespace mwst {
+namespace {
+
+struct FanCase {
+  Mesh mesh;
+  std::vector<TriangleId> skinny;  // below 20°: what bundle removal asks
+};
+
+FanCase refined_fan(std::size_t vertices) {
+  FanCase c;
+  c.mesh = constrained_delaunay(generate_input(Distribution::kFan, vertices, 1));
+  RefineOptions ro;
+  ro.min_angle_deg = 20.0;
+  refine(c.mesh, ro);
+  for (TriangleId t = 0; t < c.mesh.triangle_slots(); ++t) {
+    if (c.mesh.in_domain(t) && test::min_angle_of(c.mesh, t) < 20.0) c.skinny.push_back(t);
+  }
+  return c;
+}
+
+// The Delaunay-refined fan of 800 vertices (34k triangles, 15k skinny). Each candidate of a
+// one-sided pencil is a triangle of the listed end's list (a disk meeting fewer than k) or of a lens
+// flood that stops at k, so the sweeps classify fewer than k candidates per pencil on average
+// (k = 39: 20; with both ends listed, as before one-sided pencils: 53, and on BRH's fan of 40,000
+// vertices about 5,000).
+TEST(OneSidedPencils, FanAnswersAreExactAndCostAboutKPerPencil) {
+  const FanCase fan = refined_fan(800);
+  ASSERT_GT(fan.skinny.size(), 1000u);
+  const BundleResult per = bundle_number(fan.mesh, {.per_triangle = true});
+  for (const std::uint32_t k : {20u, 39u}) {
+    SCOPED_TRACE(k);
+    KBundleStats st;
+    const std::vector<std::uint8_t> in = in_k_bundle(fan.mesh, k, fan.skinny, &st, 1);
+    for (std::size_t i = 0; i < fan.skinny.size(); ++i) {
+      EXPECT_EQ(in[i] != 0, per.per_triangle[fan.skinny[i]] >= k) << "triangle " << fan.skinny[i];
+    }
+    EXPECT_GT(st.pencils_one_sided, 100u);
+    EXPECT_LE(st.lens_visits, 4 * std::size_t{k} * st.pencils_one_sided);
+    EXPECT_LE(st.candidate_pairs, std::size_t{k} * st.pencils_swept);
+  }
+}
+
+}  // namespace
+}  // namespace mwst
