@@ -52,6 +52,32 @@ void expect_valid_or_input_error(const Pslg& pslg, const TriangulateOptions& opt
   expect_checked(pslg, mesh);
 }
 
+// The constrained Delaunay triangulation of the graph, of its carved domain or its convex hull.
+Mesh dt_mesh(const Pslg& pslg, bool convex_hull) {
+  TriangulateOptions options;
+  options.method = Method::kDt;
+  options.convex_hull = convex_hull;
+  Mesh mesh;
+  triangulate(pslg, options, &mesh);
+  return mesh;
+}
+
+// Options as the harness draws them for a run on the convex hull with circumcenters and an area
+// bound (the flags of several fuzzed needles).
+TriangulateOptions hull_circumcenter_options(Method method, double min_angle, double max_area,
+                                             std::size_t max_steiner, std::size_t opt_trials) {
+  TriangulateOptions options;
+  options.method = method;
+  options.flip = true;
+  options.convex_hull = true;
+  options.steiner = SteinerRule::kCircumcenter;
+  options.min_angle_deg = min_angle;
+  options.max_area = max_area;
+  options.max_steiner = max_steiner;
+  options.opt_trials = opt_trials;
+  return options;
+}
+
 // EFH flipped QTR's split boundary segment into a sliver with two subsegment sides (Texas.poly cut).
 TEST(FuzzRegressions, QtrConvexHullFlipKeepsSegmentsStraight) {
   const Pslg texas = read_regression("qtr_hull_flip_sliver_along_segment.poly");
@@ -136,11 +162,7 @@ TEST(FuzzRegressions, OptKeepsCrossingPointsOnAStraightChain) {
 TEST(FuzzRegressions, CheckerTellsTheHullFromACarvedDomainASliverSmaller) {
   const Pslg pslg = read_regression("check_hull_or_carved_domain_notch.poly");
   for (const bool hull : {false, true}) {
-    TriangulateOptions options;
-    options.method = Method::kDt;
-    options.convex_hull = hull;
-    Mesh mesh;
-    triangulate(pslg, options, &mesh);
+    const Mesh mesh = dt_mesh(pslg, hull);
     EXPECT_EQ(mesh.domain_triangle_count(), hull ? 4u : 3u);
     const CheckResult check = check_mesh(pslg, mesh);
     EXPECT_TRUE(check.ok()) << (check.messages.empty() ? "" : check.messages.front());
@@ -181,15 +203,7 @@ TEST(FuzzRegressions, CheckerOrdersAClusterOfPointsOnALongEdge) {
 // An OPT slide along a needle-shaped hull's edge turned the hull reflex.
 TEST(FuzzRegressions, OptKeepsTheConvexHullOfANeedleConvex) {
   const Pslg pslg = read_regression("opt_slide_makes_needle_hull_reflex.poly");
-  TriangulateOptions options;
-  options.method = Method::kOpt;
-  options.flip = true;
-  options.convex_hull = true;
-  options.steiner = SteinerRule::kCircumcenter;
-  options.min_angle_deg = 0.0;
-  options.max_area = 7.0;
-  options.max_steiner = 27;
-  options.opt_trials = 3;
+  const TriangulateOptions options = hull_circumcenter_options(Method::kOpt, 0.0, 7.0, 27, 3);
   Mesh mesh;
   triangulate(pslg, options, &mesh);
   expect_checked(pslg, mesh);
@@ -230,10 +244,7 @@ TEST(FuzzRegressions, RoundedCrossingsThatBreedCrossingsAreRefused) {
 // the segment running into the sliver beyond, which the segment misses (the CDT was right).
 TEST(FuzzRegressions, CheckerReportsASegmentOnlyWhereItMeetsATriangle) {
   const Pslg pslg = read_regression("check_vertex_near_segment_with_sliver_beyond.poly");
-  TriangulateOptions options;
-  options.method = Method::kDt;
-  Mesh mesh;
-  triangulate(pslg, options, &mesh);
+  const Mesh mesh = dt_mesh(pslg, false);
   ASSERT_EQ(mesh.domain_triangle_count(), 1u);  // the sliver 5-3-2 closed by crossings resolved at ends
   expect_checked(pslg, mesh);
   // Still strict: with segment 1's far end moved into the sliver's side of vertex 2 (between the
@@ -256,11 +267,7 @@ TEST(FuzzRegressions, CheckerReportsASegmentOnlyWhereItMeetsATriangle) {
 TEST(FuzzRegressions, CheckerStopsWhereTheSegmentLeavesTheMesh) {
   const Pslg pslg = read_regression("check_segment_leaves_from_a_vertex_not_furthest.poly");
   for (const bool hull : {false, true}) {
-    TriangulateOptions options;
-    options.method = Method::kDt;
-    options.convex_hull = hull;
-    Mesh mesh;
-    triangulate(pslg, options, &mesh);
+    const Mesh mesh = dt_mesh(pslg, hull);
     EXPECT_EQ(mesh.domain_triangle_count(), hull ? 8u : 3u);
     expect_checked(pslg, mesh);
   }
@@ -289,14 +296,8 @@ TEST(FuzzRegressions, CrossingSnapsOnlyWithinTheRoundingWhereItIs) {
 TEST(FuzzRegressions, DrSplitPointsKeepTheChainInOrderAtCoarseDoubles) {
   const Pslg pslg = read_regression("dr_split_chain_doubles_back_at_coarse_doubles.poly");
   for (const bool flip : {false, true}) {
-    TriangulateOptions options;
-    options.method = Method::kDr;
+    TriangulateOptions options = hull_circumcenter_options(Method::kDr, 0.0, 7.0, 31, kDefaultOptTrials);
     options.flip = flip;
-    options.convex_hull = true;
-    options.steiner = SteinerRule::kCircumcenter;
-    options.min_angle_deg = 0.0;
-    options.max_area = 7.0;
-    options.max_steiner = 31;
     Mesh mesh;
     triangulate(pslg, options, &mesh);
     EXPECT_GT(mesh.points.size(), 14u);  // past the split that went wrong (the 7th Steiner point)
@@ -307,26 +308,14 @@ TEST(FuzzRegressions, DrSplitPointsKeepTheChainInOrderAtCoarseDoubles) {
 // BRH's splits on a needle 3.7e19 long turned its convex hull reflex.
 TEST(FuzzRegressions, BrhKeepsTheHullOfAHugeNeedleConvex) {
   const Pslg pslg = read_regression("brh_hull_reflex_after_split_of_huge_needle.node");
-  TriangulateOptions options;
-  options.method = Method::kBrh;
-  options.flip = true;
-  options.convex_hull = true;
-  options.steiner = SteinerRule::kCircumcenter;
-  options.min_angle_deg = 33.0;
-  options.max_area = 7.0;
-  options.max_steiner = 32;
-  options.opt_trials = 0;
-  expect_valid_or_input_error(pslg, options);
+  expect_valid_or_input_error(pslg, hull_circumcenter_options(Method::kBrh, 33.0, 7.0, 32, 0));
 }
 
 // The checker ordered a segment's chain by the coordinate that changes most; the CDT's chain,
 // through vertices within its rounding tolerance on either side of the line, stepped back in it.
 TEST(FuzzRegressions, CheckerOrdersAChainAlongTheSegmentItself) {
   const Pslg pslg = read_regression("check_chain_steps_back_in_its_larger_coordinate.poly");
-  TriangulateOptions options;
-  options.method = Method::kDt;
-  Mesh mesh;
-  triangulate(pslg, options, &mesh);
+  const Mesh mesh = dt_mesh(pslg, false);
   EXPECT_EQ(mesh.domain_triangle_count(), 3u);
   expect_checked(pslg, mesh);
 }
