@@ -199,10 +199,8 @@ bool Refiner::split_point_valid(Handle h, const Point& p) const {
   const auto between = [](double q, double from, double to) {
     return from == to ? q == from : (from < to ? from < q && q < to : to < q && q < from);
   };
+  // (This also puts p strictly between a and b along the segment.)
   if (!between(p.x, pa.x, pb.x) || !between(p.y, pa.y, pb.y)) return false;
-  const double ux = pb.x - pa.x, uy = pb.y - pa.y;
-  if ((p.x - pa.x) * ux + (p.y - pa.y) * uy <= 0.0) return false;
-  if ((pb.x - p.x) * ux + (pb.y - p.y) * uy <= 0.0) return false;
   if (orient2d(pa, p, m_.points[c]) <= 0 || orient2d(p, pb, m_.points[c]) <= 0) return false;
   const VertexId d = m_.apex(m_.sym(h));
   if (d == kInfinite) return true;
