@@ -4,7 +4,6 @@
 #include "mwst/algorithms/arrays.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <cstring>
 #include <sstream>
 #include <utility>
@@ -13,6 +12,7 @@
 #include "support/huge_pages.hpp"
 #include "support/page_faulter.hpp"
 #include "support/parallel.hpp"
+#include "support/set_bits.hpp"
 
 namespace mwst {
 
@@ -110,7 +110,7 @@ class DomainNumbering {
         }
         bits_[w] = bits;
         before_[w] = static_cast<std::uint32_t>(in_range);
-        in_range += static_cast<std::size_t>(std::popcount(bits));
+        in_range += support::set_bits(bits);
       }
       first_of_range[k + 1] = in_range;
     });
@@ -126,7 +126,7 @@ class DomainNumbering {
   // The domain triangles in slots [0, t), for t up to the number of slots.
   std::size_t before(TriangleId t) const {
     const std::size_t w = t >> 6;
-    return before_[w] + static_cast<std::size_t>(std::popcount(bits_[w] & ((std::uint64_t{1} << (t & 63)) - 1)));
+    return before_[w] + support::set_bits(bits_[w] & ((std::uint64_t{1} << (t & 63)) - 1));
   }
   // Slot t's array index; kNoTriangle outside the domain.
   std::int32_t index(TriangleId t) const {

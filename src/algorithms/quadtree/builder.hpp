@@ -22,6 +22,7 @@
 #include "algorithms/quadtree/tree.hpp"
 #include "mwst/error.hpp"
 #include "support/page_faulter.hpp"
+#include "support/set_bits.hpp"
 #include "support/spare_room.hpp"
 
 namespace mwst::qtr {
@@ -30,13 +31,6 @@ using support::make_spare_array;
 using support::SpareAllocator;
 using support::SpareArray;
 using support::SpareVector;
-
-// Set bits of a byte (std::popcount compiles to a library call without -mpopcnt).
-constexpr std::uint32_t bits_in_byte(unsigned x) {
-  x = x - ((x >> 1) & 0x55u);
-  x = (x & 0x33u) + ((x >> 2) & 0x33u);
-  return (x + (x >> 4)) & 0x0Fu;
-}
 
 // Loop slots of a leaf, counter-clockwise from the lower-left corner; odd slots are side midpoints.
 enum Slot : unsigned { kBL = 0, kBottom = 1, kBR = 2, kRight = 3, kTR = 4, kTop = 5, kTL = 6, kLeft = 7 };
@@ -64,7 +58,7 @@ class Builder {
   // The id of the vertex leaf k owns as Own bit `bit`.
   std::uint32_t own(std::uint32_t k, unsigned bit) const {
     if (((own_mask_[k] >> bit) & 1u) == 0) throw RouteFailure{"a leaf lacks an expected vertex"};
-    return own_base_[k] + bits_in_byte(static_cast<unsigned>(own_mask_[k] & ((1u << bit) - 1u)));
+    return own_base_[k] + support::set_bits(static_cast<unsigned>(own_mask_[k] & ((1u << bit) - 1u)));
   }
   std::uint32_t leaf_of(std::uint32_t node) const { return tree_.leaf_ordinal(node); }
   // The leaf containing the point just north-east of the lower-left corner of node a's cell.

@@ -52,7 +52,7 @@ void Builder::number_vertices() {
   std::uint32_t next = 0;
   for (std::size_t k = 0; k < leaves_.size(); ++k) {
     own_base_[k] = next;
-    next += bits_in_byte(own_mask_[k]);
+    next += support::set_bits(own_mask_[k]);
   }
   grid_count_ = next;
   check_deadline(options_.deadline);
