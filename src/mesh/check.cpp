@@ -499,7 +499,7 @@ class Checker {
 
   // Every input segment, checked against the input itself (not against the reference domain,
   // whose crossing points come from the same code as the mesh's): from the mesh vertex at one end
-  // to the one at the other, a chain of mesh edges whose vertices advance strictly along the
+  // to the one at the other, a chain of mesh edges whose vertices never step back along the
   // segment and lie within kSegmentUlps ulps of its largest coordinate magnitude of its line (the
   // distance from the exactly computed orient2d). A crossing vertex or a Steiner point moved
   // further than rounding is refused. Where the segment leaves the mesh (a segment in a hole, or
@@ -576,8 +576,13 @@ class Checker {
   };
 
   // Depth-first search from mesh vertex `from` to `to` (kNone: none) along mesh edges whose far
-  // vertices are near the line and strictly further along it (so no cycles; a vertex that led
-  // nowhere once leads nowhere again, dead_end_). Returns kNone when the chain reaches `to`,
+  // vertices are near the line and not behind the near vertex along it (each vertex is expanded
+  // once: a vertex that led nowhere once leads nowhere again, dead_end_). A step across the line,
+  // to a vertex level with the last along it, is part of a chain: where doubles are as coarse as
+  // the input's features, the CDT resolves a crossing at an end of the crossed subsegment within
+  // its rounding, and the chain then runs sideways (dt of 8 fuzzed points near -8.6e15, doubles 1
+  // apart: a vertical segment's chain stepped from its end at x = -67 to a vertex at x = -66 at
+  // the same height, then down). Returns kNone when the chain reaches `to`,
   // otherwise where it stopped: the vertex furthest along of those reached from which the segment
   // runs out of the mesh, or, if it runs into the interior of a mesh triangle from every one of
   // them, the furthest one reached, with *enters set.
@@ -598,7 +603,7 @@ class Checker {
           break;
         }
         if (dead_end_[w]) continue;
-        if (!line.ahead(p_[w], p_[cur]) || !line.ahead(line.b, p_[w]) || !line.near(p_[w])) continue;
+        if (line.ahead(p_[cur], p_[w]) || !line.ahead(line.b, p_[w]) || !line.near(p_[w])) continue;
         dead_end_[w] = 1;  // visited: reached once, never expanded again
         touched.push_back(w);
         stack.push_back(w);

@@ -320,4 +320,13 @@ TEST(FuzzRegressions, CheckerOrdersAChainAlongTheSegmentItself) {
   expect_checked(pslg, mesh);
 }
 
+// The CDT resolved a segment's crossings at ends of the crossed subsegments within its rounding,
+// where doubles are as coarse as the input's features; the segment's chain then steps sideways.
+TEST(FuzzRegressions, CheckerFollowsAChainThatStepsSideways) {
+  const Pslg pslg = read_regression("check_chain_steps_sideways_at_coarse_doubles.poly");
+  const Mesh mesh = dt_mesh(pslg, false);
+  EXPECT_EQ(mesh.domain_triangle_count(), 4u);
+  expect_checked(pslg, mesh);
+}
+
 }  // namespace
