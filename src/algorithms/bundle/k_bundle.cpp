@@ -95,6 +95,7 @@ class KBundleAttempt {
     for (auto& w : workers_) {
       w->escaped = false;  // (stage 1's floods that left a region were cut short)
       w->exact_edges = false;  // the candidate lists: permissive floods, as `mwst bundle` builds them
+      w->release_disk_scratch();  // (the floods use none; a sweep allocates it again)
     }
     std::vector<std::array<double, 4>> boxes;
     bundle::build_lists(sh_, workers_, &needed, cache_ ? &boxes : nullptr);
@@ -423,7 +424,10 @@ class KBundleAttempt {
       }
       if (pass > 0) break;
       for (TriangleId d = 0; d < dt_slots_; ++d) st_.flooded += needed[d] != 0 ? 1 : 0;
-      for (auto& w : workers_) w->exact_edges = false;  // the lists: permissive floods, as `mwst bundle`'s
+      for (auto& w : workers_) {
+        w->exact_edges = false;  // the lists: permissive floods, as `mwst bundle`'s
+        w->release_disk_scratch();  // (the floods use none; a sweep allocates it again)
+      }
       bundle::build_lists(sh_, workers_, &needed, cache_ ? &boxes_ : nullptr);
       release(needed);
     }

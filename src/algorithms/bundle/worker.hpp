@@ -144,12 +144,21 @@ class Worker {
   std::size_t pencils_reused = 0;
   std::vector<SweepKey> reused_keys;
   std::vector<std::pair<SweepKey, CachedSweep>> made;
-  std::vector<std::uint32_t>& per_triangle() { return per_triangle_; }
+  // Per mesh slot, the largest count of a disk the sweeps found meeting it (with per-triangle
+  // values): allocated at the first sweep or the first read, so that it is not held through the
+  // floods that come before the sweeps (in_k_bundle's peak is its candidate lists).
+  std::vector<std::uint32_t>& per_triangle() {
+    ensure_per_triangle();
+    return per_triangle_;
+  }
   // Frees the scratch of the floods (flood_each) / of the sweeps (sweep); it is allocated again
   // if used again.
   void release_flood_scratch();
   void release_sweep_scratch();
   void release_disk_scratch();  // circumdisk_count's
+  void ensure_per_triangle() {
+    if (per_triangle_enabled_ && per_triangle_.empty()) per_triangle_.assign(sh_.slots.size(), 0);
+  }
 
   // ---- floods ----
 
@@ -410,9 +419,7 @@ class Worker {
 // floods, disk counts and sweeps each have their own, and bundle_number frees the floods' before
 // the sweeps start, so that peak memory holds one phase's scratch, not all.
 inline Worker::Worker(const Shared& shared, bool per_triangle, bool prune)
-    : sh_(shared), per_triangle_enabled_(per_triangle), prune_(prune) {
-  if (per_triangle) per_triangle_.assign(sh_.slots.size(), 0);
-}
+    : sh_(shared), per_triangle_enabled_(per_triangle), prune_(prune) {}
 
 inline void Worker::release_flood_scratch() {
   release(flood_vertex_);

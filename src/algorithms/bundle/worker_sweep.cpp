@@ -12,6 +12,7 @@ namespace mwst::bundle {
 // ---- the sweep begins here ------------------------------------------------------------------------
 
 void Worker::sweep(std::size_t index) {
+  ensure_per_triangle();
   if (given_[0] == nullptr && one_sided != nullptr && (*one_sided->mode)[index] != 0) {
     if ((*one_sided->mode)[index] != 3) sweep_one_sided(index);  // (3: both ends large, not swept)
     return;
