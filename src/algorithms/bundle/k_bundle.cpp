@@ -261,6 +261,13 @@ class KBundleAttempt {
   // The workers' S(t) lists in query order (s_begin_, s_list_, fan_); false if one gave up.
   bool merge_parts(std::vector<Part>& parts) {
     s_begin_.assign(queries_.size() + 1, 0);
+    std::size_t s_total = 0, fan_total = 0;  // (reserved exactly: the lists are held through stage 2)
+    for (const Part& part : parts) {
+      s_total += part.s_list.size();
+      fan_total += part.fan.size();
+    }
+    s_list_.reserve(s_total);
+    fan_.reserve(fan_total);
     for (Part& part : parts) {
       if (part.gave_up) return false;
       st_.decided_by_circumdisks += part.decided;
@@ -348,8 +355,9 @@ class KBundleAttempt {
       const Point& a = sh_.pts[dv[0]];
       const Point& b = sh_.pts[dv[1]];
       const Point& c = sh_.pts[dv[2]];
-      for (std::uint32_t i = sh_.list_begin[d]; i < sh_.list_begin[d + 1]; ++i) {
-        for (const VertexId v : sh_.slots[sh_.list[i]].v) {
+      const TriangleId* list = sh_.list_data(d);
+      for (std::uint32_t i = 0; i < sh_.list_size(d); ++i) {
+        for (const VertexId v : sh_.slots[list[i]].v) {
           if (v < sh_.used || tested_for[v] == d) continue;
           tested_for[v] = d;
           if (incircle(a, b, c, sh_.pts[v]) > 0) return false;
@@ -587,6 +595,7 @@ class KBundleAttempt {
   void sweep_pencils(std::vector<Handle> pencils) {
     sh_.pencils = std::move(pencils);
     for (auto& w : workers_) {
+      w->release_flood_scratch();  // (the sweeps' own scratch takes its place)
       w->min_candidates = k_;
       if (cache_ && cache_->keep_sweeps) w->reuse = cache_->impl.get();
     }

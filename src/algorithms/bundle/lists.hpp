@@ -39,16 +39,15 @@ void for_ranges(std::vector<std::unique_ptr<Worker>>& workers, std::size_t n, Bo
   });
 }
 
-// Fills sh.list / sh.list_begin: the candidates of every Delaunay triangle (or of those flagged in
-// `needed`; the others get empty lists), by floods. A slot sharing another's disk (Shared::disk)
-// gets an empty list: it reads that slot's.
+// Fills sh.list_chunks / sh.list_begin (Shared::list_data reads them): the candidates of every
+// Delaunay triangle (or of those flagged in `needed`; the others get empty lists), by floods. A
+// slot sharing another's disk (Shared::disk) gets an empty list: it reads that slot's.
 // With `cap`, a list stops at cap triangles and its flag in sh.truncated is set if the flood had
-// more to give. sh.list gets room for `capacity` triangles, at most twice what it holds (pages not
-// written to are not resident: build_lists_within_budget grows the lists in place).
+// more to give.
 void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers,
                  const std::vector<std::uint8_t>* needed = nullptr,
                  std::vector<std::array<double, 4>>* boxes = nullptr,
-                 std::uint32_t cap = std::numeric_limits<std::uint32_t>::max(), std::size_t capacity = 0);
+                 std::uint32_t cap = std::numeric_limits<std::uint32_t>::max());
 
 // bundle_number's lists within options.candidate_budget: every list capped at an equal share of
 // the budget, then the lists cut short again with an equal share of what is left. False if some
