@@ -186,12 +186,11 @@ class Worker {
     circle_orient_ = orient_approx(circle_[0], circle_[1], circle_[2]);
     corner_circle_ = corner_circle(circle_[0], circle_[1], circle_[2]);
     if (triangle_stamp_.empty()) {
-      flood_vertex_.assign(sh_.pts.size(), FloodVertex{});
+      flood_vertex_.assign(sh_.pts.size(), kUnset);
       triangle_stamp_.assign(sh_.slots.size(), 0);
     }
-    bump(flood_stamp_, [this] {
-      for (auto& f : flood_vertex_) f.stamp = 0;
-    });
+    for (const VertexId u : flood_touched_) flood_vertex_[u] = kUnset;  // (the last flood's values)
+    flood_touched_.clear();
     bump(triangle_mark_, [this] { std::fill(triangle_stamp_.begin(), triangle_stamp_.end(), 0); });
     // The chord from v[0] to v[1] lies in the open disk, and so does the corner of the mesh
     // triangle it leaves v[0] by (or v[1]: see flood_start).
@@ -264,10 +263,9 @@ class Worker {
   }
 
  private:
-  struct FloodVertex {
-    std::uint32_t stamp = 0;
-    Approx value;  // incircle determinant of the current circle at the vertex
-  };
+  // flood_vertex_'s entry of a vertex whose value the current flood has not computed (an error
+  // bound is never negative).
+  static constexpr Approx kUnset{0.0, -1.0};
   struct PencilVertex {
     std::uint32_t stamp = 0;
     std::int8_t side = 0;  // +1 left of p→q ("above"), −1 right, 0 on the line, kSideP, kSideQ
@@ -308,14 +306,14 @@ class Worker {
   TriangleId flood_start(VertexId a, VertexId b) const;
 
   const Approx& circle_value(VertexId v) {
-    FloodVertex& f = flood_vertex_[v];
-    if (f.stamp != flood_stamp_) {
-      f.stamp = flood_stamp_;
+    Approx& f = flood_vertex_[v];
+    if (f.error < 0.0) {
+      flood_touched_.push_back(v);
       // (With the corner form when incircle's filter cannot vouch: a small disk's values at far
       // vertices, which would let the flood cross every edge with such an end.)
-      f.value = incircle_from_either(circle_[0], circle_[1], circle_[2], sh_.pts[v], corner_circle_);
+      f = incircle_from_either(circle_[0], circle_[1], circle_[2], sh_.pts[v], corner_circle_);
     }
-    return f.value;
+    return f;
   }
 
   // Permissive: true whenever the closed segment uw might meet the open circumdisk (never false
@@ -380,8 +378,12 @@ class Worker {
   Point circle_[3];
   Approx circle_orient_;
   CornerCircle corner_circle_;
-  std::uint32_t flood_stamp_ = 0, triangle_mark_ = 0;
-  std::vector<FloodVertex> flood_vertex_;
+  std::uint32_t triangle_mark_ = 0;
+  // Per vertex, the incircle determinant of the current circle at it (kUnset: not computed yet),
+  // and the vertices the current flood computed (reset by the next flood: a stamp per vertex on
+  // every thread would add half as much again).
+  std::vector<Approx> flood_vertex_;
+  std::vector<VertexId> flood_touched_;
   std::vector<std::uint32_t> triangle_stamp_;
   std::vector<TriangleId> stack_;
 
@@ -423,6 +425,7 @@ inline Worker::Worker(const Shared& shared, bool per_triangle, bool prune)
 
 inline void Worker::release_flood_scratch() {
   release(flood_vertex_);
+  release(flood_touched_);
   release(triangle_stamp_);
   release(stack_);
 }
