@@ -771,9 +771,14 @@ std::vector<std::uint8_t> in_k_bundle(const Mesh& mesh, std::uint32_t k, const s
     if (cache) cache->reach.assign(queries.size(), {kInf, kInf, -kInf, -kInf});  // nothing known
     return answer;
   }
+  // DT(V)'s coordinates are sh.pts[0, used): the attempt reads only its topology, and the cache
+  // gets them back.
+  const bool points_dropped = sh.dt.points.size() == sh.used;
+  if (points_dropped) bundle::release(sh.dt.points);
   in_k_bundle_attempt(sh, k, queries, st, threads, false, answer, cache);
   st.kept_dt = sh.kept_dt;
   if (keep) {
+    if (points_dropped) sh.dt.points.assign(sh.pts.begin(), sh.pts.begin() + sh.used);
     keep->dt = std::move(sh.dt);
     keep->dt_mesh_id.assign(sh.mesh_id.begin(), sh.mesh_id.begin() + sh.used);
   }

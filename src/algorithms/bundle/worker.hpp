@@ -290,8 +290,8 @@ class Worker {
   static std::size_t edge_entry(Handle h) { return 3 * std::size_t{h >> 2} + (h & 3); }
 
   // Advances a stamp; on wrap-around clears the marks it guards.
-  template <class Clear>
-  static void bump(std::uint32_t& stamp, Clear clear) {
+  template <class Stamp, class Clear>
+  static void bump(Stamp& stamp, Clear clear) {
     if (++stamp == 0) {
       clear();
       stamp = 1;
@@ -378,13 +378,15 @@ class Worker {
   Point circle_[3];
   Approx circle_orient_;
   CornerCircle corner_circle_;
-  std::uint32_t triangle_mark_ = 0;
+  // 16-bit marks per slot on every thread (cleared every 65,535 floods: a sweep of 2 bytes a slot
+  // per that many floods, for half the memory of 32-bit ones).
+  std::uint16_t triangle_mark_ = 0;
   // Per vertex, the incircle determinant of the current circle at it (kUnset: not computed yet),
   // and the vertices the current flood computed (reset by the next flood: a stamp per vertex on
   // every thread would add half as much again).
   std::vector<Approx> flood_vertex_;
   std::vector<VertexId> flood_touched_;
-  std::vector<std::uint32_t> triangle_stamp_;
+  std::vector<std::uint16_t> triangle_stamp_;
   std::vector<TriangleId> stack_;
 
   // Pencil scratch.
