@@ -97,7 +97,7 @@ class KBundleAttempt {
       w->exact_edges = false;  // the candidate lists: permissive floods, as `mwst bundle` builds them
       w->release_disk_scratch();  // (the floods use none; a sweep allocates it again)
     }
-    std::vector<std::array<double, 4>> boxes;
+    bundle::FloodBoxes boxes;
     bundle::build_lists(sh_, workers_, &needed, cache_ ? &boxes : nullptr);
     if (cache_) reach_boxes(boxes);
     if (subset_ && !lists_show_empty_disks(needed)) return Attempt::kGaveUp;
@@ -322,10 +322,10 @@ class KBundleAttempt {
   // S(t): every vertex-empty disk meeting t lies in two such circumdisks (or, on the hull side of
   // a pencil, meets the mesh only inside one), so every triangle it meets is in the box. A query
   // answered 1 gets its own box (bundle removal keeps the boxes of queries answered 0 only).
-  void reach_boxes(const std::vector<std::array<double, 4>>& boxes) {
+  void reach_boxes(const bundle::FloodBoxes& boxes) {
     own_boxes();
     auto widen = [&](std::array<double, 4>& r, TriangleId d) {
-      const auto& b = boxes[d];
+      const auto& b = boxes.box(d);
       r = {std::min(r[0], b[0]), std::min(r[1], b[1]), std::max(r[2], b[2]), std::max(r[3], b[3])};
     };
     for (std::size_t qi = 0; qi < queries_.size(); ++qi) {
@@ -559,7 +559,7 @@ class KBundleAttempt {
   // The reach boxes (see reach_boxes) over one-sided pencils: a disk of a pencil meeting t meets
   // only triangles meeting the listed end or the lens flooded for the lowest bound of the queries
   // it meets (a pencil with both ends listed: either end; with neither, no disk of it meets t).
-  void reach_boxes_one_sided(const std::vector<std::uint32_t>& box_index, const std::vector<std::array<double, 4>>& boxes,
+  void reach_boxes_one_sided(const std::vector<std::uint32_t>& box_index, const bundle::FloodBoxes& boxes,
                              const std::vector<std::array<double, 4>>& lens_boxes) {
     own_boxes();
     auto widen = [](std::array<double, 4>& r, const std::array<double, 4>& b) {
@@ -571,8 +571,8 @@ class KBundleAttempt {
       const std::uint8_t m = mode_of(h);
       const TriangleId left = triangle_of(h), right = triangle_of(dt_.sym(h));
       if (m == 3) return;
-      if (m != 2) widen(r, boxes[left]);
-      if (m != 1 && !dt_.is_ghost(right)) widen(r, boxes[right]);
+      if (m != 2) widen(r, boxes.box(left));
+      if (m != 1 && !dt_.is_ghost(right)) widen(r, boxes.box(right));
       if (m != 0) widen(r, lens_boxes[box_index[index_of(sh_.pencils, h)]]);
     });
   }
@@ -646,7 +646,7 @@ class KBundleAttempt {
   std::vector<std::uint32_t> s_count_ = std::vector<std::uint32_t>(queries_.size(), 0);  // |S(t)| per query
   std::vector<std::uint32_t> s_begin_;
   std::vector<TriangleId> s_list_, fan_;
-  std::vector<std::array<double, 4>> boxes_;  // per Delaunay triangle listed: its flood's box
+  bundle::FloodBoxes boxes_;  // per Delaunay triangle listed: its flood's box
 };
 
 Attempt in_k_bundle_attempt(Shared& sh, std::uint32_t k, const std::vector<TriangleId>& queries, KBundleStats& st,

@@ -68,11 +68,15 @@ class ListChunks {
 }  // namespace
 
 void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers, const std::vector<std::uint8_t>* needed,
-                 std::vector<std::array<double, 4>>* boxes, std::uint32_t cap) {
+                 FloodBoxes* boxes, std::uint32_t cap) {
   sh.release_lists();
-  if (boxes) boxes->assign(sh.dt.triangle_slots(), {kInf, kInf, -kInf, -kInf});
-  for (auto& w : workers) w->want_flood_box = boxes != nullptr;
   const std::size_t slots = sh.dt.triangle_slots();
+  // The slots flooded: live, finite, needed, and their own disk's.
+  auto flooded = [&](TriangleId d) {
+    return !sh.dt.is_dead(d) && !sh.dt.is_ghost(d) && (needed == nullptr || (*needed)[d] != 0) && sh.disk(d) == d;
+  };
+  if (boxes) boxes->reset(slots, flooded);
+  for (auto& w : workers) w->want_flood_box = boxes != nullptr;
   std::vector<ListChunks> parts(workers.size());
   std::vector<std::uint32_t> local_begin(slots + 1, 0);
   for_ranges(workers, slots, [&](Worker& w, std::size_t begin, std::size_t end, std::size_t k) {
@@ -82,7 +86,7 @@ void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers, cons
       sh.check_deadline();
       local_begin[t] = static_cast<std::uint32_t>(part.size());
       const auto dtt = static_cast<TriangleId>(t);
-      if (sh.dt.is_dead(dtt) || sh.dt.is_ghost(dtt) || (needed && (*needed)[t] == 0) || sh.disk(dtt) != dtt) continue;
+      if (!flooded(dtt)) continue;
       if (cap == std::numeric_limits<std::uint32_t>::max()) {
         w.flood(dtt, one);
       } else {
@@ -98,7 +102,7 @@ void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers, cons
         });
         sh.truncated[t] = over ? 1 : 0;
       }
-      if (boxes) (*boxes)[t] = w.flood_box;
+      if (boxes) boxes->set(dtt, w.flood_box);
       part.append(one);
     }
   });

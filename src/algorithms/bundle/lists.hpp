@@ -10,6 +10,7 @@
 #pragma once
 
 #include <array>
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -39,6 +40,49 @@ void for_ranges(std::vector<std::unique_ptr<Worker>>& workers, std::size_t n, Bo
   });
 }
 
+// The boxes of the floods build_lists runs (Worker::flood_box), one per flooded DT slot: a bit per
+// slot with a count per 64 slots (the rank of a flooded slot among them: 12 bytes per 64 slots)
+// and the boxes of the flooded slots in slot order. A box per slot of DT(V) was 32 bytes a slot,
+// most of them empty, held through in_k_bundle's peak; a slot not flooded reads the empty box.
+class FloodBoxes {
+ public:
+  using Box = std::array<double, 4>;  // x0, y0, x1, y1
+  static constexpr Box kEmpty{kInf, kInf, -kInf, -kInf};
+
+  // No boxes yet; slot d will have one if flooded(d).
+  template <class Flooded>
+  void reset(std::size_t slots, Flooded flooded) {
+    bits_.assign(slots / 64 + 1, 0);
+    before_.assign(bits_.size(), 0);
+    std::uint32_t count = 0;
+    for (std::size_t d = 0; d < slots; ++d) {
+      if (d % 64 == 0) before_[d / 64] = count;
+      if (!flooded(static_cast<TriangleId>(d))) continue;
+      bits_[d / 64] |= std::uint64_t{1} << (d % 64);
+      ++count;
+    }
+    boxes_.assign(count, kEmpty);
+  }
+
+  // (Slot d must be flooded.) Threads may set the boxes of different slots at once.
+  void set(TriangleId d, const Box& box) { boxes_[rank(d)] = box; }
+
+  const Box& box(TriangleId d) const {
+    if (std::size_t{d} / 64 >= bits_.size() || (bits_[d / 64] >> (d % 64) & 1u) == 0) return kEmpty;
+    return boxes_[rank(d)];
+  }
+
+ private:
+  std::uint32_t rank(TriangleId d) const {
+    const std::uint64_t below = bits_[d / 64] & ((std::uint64_t{1} << (d % 64)) - 1);
+    return before_[d / 64] + static_cast<std::uint32_t>(std::popcount(below));
+  }
+
+  std::vector<std::uint64_t> bits_;
+  std::vector<std::uint32_t> before_;  // per 64 slots: the flooded slots before them
+  std::vector<Box> boxes_;
+};
+
 // Fills sh.list_chunks / sh.list_begin (Shared::list_data reads them): the candidates of every
 // Delaunay triangle (or of those flagged in `needed`; the others get empty lists), by floods. A
 // slot sharing another's disk (Shared::disk) gets an empty list: it reads that slot's.
@@ -46,7 +90,7 @@ void for_ranges(std::vector<std::unique_ptr<Worker>>& workers, std::size_t n, Bo
 // more to give.
 void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers,
                  const std::vector<std::uint8_t>* needed = nullptr,
-                 std::vector<std::array<double, 4>>* boxes = nullptr,
+                 FloodBoxes* boxes = nullptr,
                  std::uint32_t cap = std::numeric_limits<std::uint32_t>::max());
 
 // bundle_number's lists within options.candidate_budget: every list capped at an equal share of

@@ -77,5 +77,53 @@ TEST(BundleLists, OnlyTheNeededSlotsAreListed) {
   EXPECT_EQ(read_lists(sh), own_floods(sh, &needed));
 }
 
+// FloodBoxes keeps a box per flooded slot behind a rank directory: it reads as a box per slot,
+// empty where no flood ran, whatever the pattern (runs across 64-slot words, none, all).
+TEST(BundleLists, FloodBoxesReadAsABoxPerSlot) {
+  std::mt19937_64 rng(5);
+  for (const double density : {0.0, 0.03, 0.5, 0.97, 1.0}) {
+    const std::size_t slots = 1000;
+    std::bernoulli_distribution pick(density);
+    std::vector<std::uint8_t> flooded(slots);
+    for (auto& f : flooded) f = pick(rng) ? 1 : 0;
+    bundle::FloodBoxes boxes;
+    boxes.reset(slots, [&](TriangleId d) { return flooded[d] != 0; });
+    std::vector<bundle::FloodBoxes::Box> plain(slots, bundle::FloodBoxes::kEmpty);
+    for (TriangleId d = 0; d < slots; ++d) {
+      if (!flooded[d]) continue;
+      plain[d] = {double(d), -double(d), double(d) + 1, 2.0 * d};
+      boxes.set(d, plain[d]);
+    }
+    for (TriangleId d = 0; d < slots; ++d) EXPECT_EQ(boxes.box(d), plain[d]) << "slot " << d << " density " << density;
+    EXPECT_EQ(boxes.box(static_cast<TriangleId>(slots + 100)), bundle::FloodBoxes::kEmpty);
+  }
+}
+
+// build_lists' boxes are each flooded slot's own flood box (Worker::flood_box), on several threads.
+TEST(BundleLists, BoxesAreTheFloodsOwn) {
+  const Mesh m = delaunay(uniform_points(3000, 13));
+  bundle::Shared sh(m);
+  ASSERT_TRUE(sh.build());
+  std::vector<std::uint8_t> needed(sh.dt.triangle_slots(), 0);
+  for (std::size_t d = 0; d < needed.size(); d += 2) needed[d] = 1;
+  auto workers = bundle::make_workers(sh, 3, false, false);
+  bundle::FloodBoxes boxes;
+  bundle::build_lists(sh, workers, &needed, &boxes);
+  bundle::Worker w(sh, false, false);
+  w.want_flood_box = true;
+  std::vector<TriangleId> list;
+  std::size_t flooded = 0;
+  for (TriangleId d = 0; d < sh.dt.triangle_slots(); ++d) {
+    if (sh.dt.is_dead(d) || sh.dt.is_ghost(d) || needed[d] == 0) {
+      EXPECT_EQ(boxes.box(d), bundle::FloodBoxes::kEmpty);
+      continue;
+    }
+    w.flood(d, list);
+    EXPECT_EQ(boxes.box(d), w.flood_box);
+    ++flooded;
+  }
+  EXPECT_GT(flooded, 1000u);
+}
+
 }  // namespace
 }  // namespace mwst
