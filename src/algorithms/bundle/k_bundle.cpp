@@ -325,7 +325,7 @@ class KBundleAttempt {
   void reach_boxes(const bundle::FloodBoxes& boxes) {
     own_boxes();
     auto widen = [&](std::array<double, 4>& r, TriangleId d) {
-      const auto& b = boxes.box(d);
+      const auto b = boxes.box(d);
       r = {std::min(r[0], b[0]), std::min(r[1], b[1]), std::max(r[2], b[2]), std::max(r[3], b[3])};
     };
     for (std::size_t qi = 0; qi < queries_.size(); ++qi) {

@@ -11,6 +11,7 @@
 
 #include <array>
 #include <bit>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -42,8 +43,9 @@ void for_ranges(std::vector<std::unique_ptr<Worker>>& workers, std::size_t n, Bo
 
 // The boxes of the floods build_lists runs (Worker::flood_box), one per flooded DT slot: a bit per
 // slot with a count per 64 slots (the rank of a flooded slot among them: 12 bytes per 64 slots)
-// and the boxes of the flooded slots in slot order. A box per slot of DT(V) was 32 bytes a slot,
-// most of them empty, held through in_k_bundle's peak; a slot not flooded reads the empty box.
+// and the boxes of the flooded slots in slot order, in floats rounded outwards (a box only has to
+// hold every triangle its disk meets: in_k_bundle's reach boxes). A box of doubles per slot of
+// DT(V) was 32 bytes a slot, held through in_k_bundle's peak; a slot not flooded reads kEmpty.
 class FloodBoxes {
  public:
   using Box = std::array<double, 4>;  // x0, y0, x1, y1
@@ -61,18 +63,32 @@ class FloodBoxes {
       bits_[d / 64] |= std::uint64_t{1} << (d % 64);
       ++count;
     }
-    boxes_.assign(count, kEmpty);
+    boxes_.assign(count, {kInfFloat, kInfFloat, -kInfFloat, -kInfFloat});
   }
 
   // (Slot d must be flooded.) Threads may set the boxes of different slots at once.
-  void set(TriangleId d, const Box& box) { boxes_[rank(d)] = box; }
+  void set(TriangleId d, const Box& box) {
+    boxes_[rank(d)] = {down(box[0]), down(box[1]), up(box[2]), up(box[3])};
+  }
 
-  const Box& box(TriangleId d) const {
+  // A box holding the one set (the same where floats hold it exactly).
+  Box box(TriangleId d) const {
     if (std::size_t{d} / 64 >= bits_.size() || (bits_[d / 64] >> (d % 64) & 1u) == 0) return kEmpty;
-    return boxes_[rank(d)];
+    const auto& b = boxes_[rank(d)];
+    return {b[0], b[1], b[2], b[3]};
   }
 
  private:
+  static constexpr float kInfFloat = std::numeric_limits<float>::infinity();
+  // The nearest float at most / at least x.
+  static float down(double x) {
+    const auto f = static_cast<float>(x);
+    return static_cast<double>(f) > x ? std::nextafter(f, -kInfFloat) : f;
+  }
+  static float up(double x) {
+    const auto f = static_cast<float>(x);
+    return static_cast<double>(f) < x ? std::nextafter(f, kInfFloat) : f;
+  }
   std::uint32_t rank(TriangleId d) const {
     const std::uint64_t below = bits_[d / 64] & ((std::uint64_t{1} << (d % 64)) - 1);
     return before_[d / 64] + static_cast<std::uint32_t>(std::popcount(below));
@@ -80,7 +96,7 @@ class FloodBoxes {
 
   std::vector<std::uint64_t> bits_;
   std::vector<std::uint32_t> before_;  // per 64 slots: the flooded slots before them
-  std::vector<Box> boxes_;
+  std::vector<std::array<float, 4>> boxes_;
 };
 
 // Fills sh.list_chunks / sh.list_begin (Shared::list_data reads them): the candidates of every

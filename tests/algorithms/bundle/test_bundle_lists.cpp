@@ -3,7 +3,9 @@
 // (several parts, each of several chunks), and again once flattened into one array.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -78,7 +80,8 @@ TEST(BundleLists, OnlyTheNeededSlotsAreListed) {
 }
 
 // FloodBoxes keeps a box per flooded slot behind a rank directory: it reads as a box per slot,
-// empty where no flood ran, whatever the pattern (runs across 64-slot words, none, all).
+// empty where no flood ran, whatever the pattern (runs across 64-slot words, none, all). (Boxes
+// of small integers: floats hold them exactly.)
 TEST(BundleLists, FloodBoxesReadAsABoxPerSlot) {
   std::mt19937_64 rng(5);
   for (const double density : {0.0, 0.03, 0.5, 0.97, 1.0}) {
@@ -99,7 +102,31 @@ TEST(BundleLists, FloodBoxesReadAsABoxPerSlot) {
   }
 }
 
-// build_lists' boxes are each flooded slot's own flood box (Worker::flood_box), on several threads.
+// Boxes floats cannot hold come back rounded outwards: they hold the box set, and floats next to
+// it (the nearest float outside each side).
+TEST(BundleLists, FloodBoxesRoundOutwards) {
+  bundle::FloodBoxes boxes;
+  boxes.reset(3, [](TriangleId d) { return d != 1; });
+  const bundle::FloodBoxes::Box set = {0.1, -0.3, 1.0 / 3.0, 1e300};
+  boxes.set(0, set);
+  boxes.set(2, {-1e300, 5e-324, 2.0, 2.0});
+  const auto b = boxes.box(0);
+  EXPECT_LT(b[0], set[0]);
+  EXPECT_LT(b[1], set[1]);
+  EXPECT_GT(b[2], set[2]);
+  EXPECT_GE(b[3], set[3]);
+  // The nearest floats: the next float inwards is on the wrong side.
+  EXPECT_GT(static_cast<double>(std::nextafter(static_cast<float>(b[0]), 1.0f)), set[0]);
+  EXPECT_LT(static_cast<double>(std::nextafter(static_cast<float>(b[2]), 0.0f)), set[2]);
+  const auto c = boxes.box(2);
+  EXPECT_EQ(c[0], -std::numeric_limits<double>::infinity());  // beyond the floats
+  EXPECT_EQ(c[1], 0.0);
+  EXPECT_EQ(c[2], 2.0);
+  EXPECT_EQ(boxes.box(1), bundle::FloodBoxes::kEmpty);
+}
+
+// build_lists' boxes hold each flooded slot's own flood box (Worker::flood_box), rounded outwards
+// to floats, on several threads.
 TEST(BundleLists, BoxesAreTheFloodsOwn) {
   const Mesh m = delaunay(uniform_points(3000, 13));
   bundle::Shared sh(m);
@@ -119,7 +146,12 @@ TEST(BundleLists, BoxesAreTheFloodsOwn) {
       continue;
     }
     w.flood(d, list);
-    EXPECT_EQ(boxes.box(d), w.flood_box);
+    const auto b = boxes.box(d);
+    const auto& f = w.flood_box;
+    EXPECT_TRUE(b[0] <= f[0] && b[1] <= f[1] && b[2] >= f[2] && b[3] >= f[3]) << "slot " << d;
+    EXPECT_EQ(b[0], static_cast<double>(static_cast<float>(b[0])));
+    EXPECT_LE(f[0] - b[0], 1e-6);  // (the coordinates lie in [0, 1])
+    EXPECT_LE(b[2] - f[2], 1e-6);
     ++flooded;
   }
   EXPECT_GT(flooded, 1000u);
