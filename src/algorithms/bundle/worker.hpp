@@ -267,10 +267,10 @@ class Worker {
   // bound is never negative).
   static constexpr Approx kUnset{0.0, -1.0};
   struct PencilVertex {
-    std::uint32_t stamp = 0;
     std::int8_t side = 0;  // +1 left of p→q ("above"), −1 right, 0 on the line, kSideP, kSideQ
     Point local;           // local coordinates: p = (−1, 0), q = (1, 0)
   };
+  static constexpr std::int8_t kUnsetSide = 127;  // pencil_side_: not computed for this pencil
 
   // A new disk for meets_circumdisk's caches. (Stamps below 2^30: edge_meets_ keeps the stamp
   // shifted by one bit, disk_side_ by two.)
@@ -356,7 +356,7 @@ class Worker {
   }
   // Side of vertex v relative to the directed line p→q, cached per pencil with its local
   // coordinates.
-  inline const PencilVertex& vertex(VertexId v);
+  inline PencilVertex vertex(VertexId v);
   // Keeps the smaller (sigma = +1) or larger (sigma = −1) threshold in `best`.
   inline void keep_extreme(int sigma, bool& has, Threshold& best, const Threshold& t);
   // The contribution of edge uw (see EdgeInfo); `info` starts empty.
@@ -391,8 +391,12 @@ class Worker {
 
   // Pencil scratch.
   Pencil pc_;
-  std::uint32_t pencil_stamp_ = 0;
-  std::vector<PencilVertex> pencil_vertex_;
+  // Per vertex (vertex()): its side (kUnsetSide: not computed for the current pencil) and local
+  // coordinates, in two arrays (17 bytes a vertex on every thread, not 24), and the vertices the
+  // current pencil computed (reset by the next).
+  std::vector<std::int8_t> pencil_side_;
+  std::vector<Point> pencil_local_;
+  std::vector<VertexId> pencil_touched_;
   // circumdisk_count(): per vertex the exact incircle sign the filter left undecided (stamp << 2 |
   // sign + 1), and per edge handle (edge_entry) whether the edge meets the disk (stamp << 1 |
   // answer), per disk.
@@ -438,7 +442,9 @@ inline void Worker::release_disk_scratch() {
 }
 
 inline void Worker::release_sweep_scratch() {
-  release(pencil_vertex_);
+  release(pencil_side_);
+  release(pencil_local_);
+  release(pencil_touched_);
   release(candidate_index_);
   release(candidates_);
   release(edge_info_);
