@@ -68,17 +68,6 @@ TEST(BundleLists, ChunkedListsReadAsTheFloodsAndAsFlattened) {
   EXPECT_TRUE(sh.list.empty() && sh.list_chunks.empty() && sh.list_chunk_first.empty());
 }
 
-TEST(BundleLists, OnlyTheNeededSlotsAreListed) {
-  const Mesh m = delaunay(uniform_points(3000, 12));
-  bundle::Shared sh(m);
-  ASSERT_TRUE(sh.build());
-  std::vector<std::uint8_t> needed(sh.dt.triangle_slots(), 0);
-  for (std::size_t d = 0; d < needed.size(); d += 3) needed[d] = 1;
-  auto workers = bundle::make_workers(sh, 2, false, false);
-  bundle::build_lists(sh, workers, &needed);
-  EXPECT_EQ(read_lists(sh), own_floods(sh, &needed));
-}
-
 // FloodBoxes keeps a box per flooded slot behind a rank directory: it reads as a box per slot,
 // empty where no flood ran, whatever the pattern (runs across 64-slot words, none, all). (Boxes
 // of small integers: floats hold them exactly.)
@@ -125,9 +114,10 @@ TEST(BundleLists, FloodBoxesRoundOutwards) {
   EXPECT_EQ(boxes.box(1), bundle::FloodBoxes::kEmpty);
 }
 
-// build_lists' boxes hold each flooded slot's own flood box (Worker::flood_box), rounded outwards
-// to floats, on several threads.
-TEST(BundleLists, BoxesAreTheFloodsOwn) {
+// With `needed`, only those slots are listed (the others' lists are empty), and build_lists'
+// boxes hold each flooded slot's own flood box (Worker::flood_box), rounded outwards to floats,
+// on several threads.
+TEST(BundleLists, NeededSlotsGetTheirFloodsAndBoxes) {
   const Mesh m = delaunay(uniform_points(3000, 13));
   bundle::Shared sh(m);
   ASSERT_TRUE(sh.build());
@@ -136,6 +126,7 @@ TEST(BundleLists, BoxesAreTheFloodsOwn) {
   auto workers = bundle::make_workers(sh, 3, false, false);
   bundle::FloodBoxes boxes;
   bundle::build_lists(sh, workers, &needed, &boxes);
+  EXPECT_EQ(read_lists(sh), own_floods(sh, &needed));
   bundle::Worker w(sh, false, false);
   w.want_flood_box = true;
   std::vector<TriangleId> list;
