@@ -101,7 +101,7 @@ void bound_cut_lists(Shared& sh, Workers& workers, std::size_t work_budget, Bund
     result.triangles = met;
   }
   result.bundle_number = result.lower_bound;
-  bundle::release(sh.list);  // the cut lists are read no more
+  sh.release_lists();  // the cut lists are read no more
   bundle::release(sh.list_begin);
   bundle::bound_cut_pencils(sh, worker, work_budget, static_cast<unsigned>(workers.size()), result);
   result.bundle_number = result.lower_bound;

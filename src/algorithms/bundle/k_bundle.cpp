@@ -95,8 +95,9 @@ class KBundleAttempt {
     for (auto& w : workers_) {
       w->escaped = false;  // (stage 1's floods that left a region were cut short)
       w->exact_edges = false;  // the candidate lists: permissive floods, as `mwst bundle` builds them
+      w->release_disk_scratch();  // (the floods use none; a sweep allocates it again)
     }
-    std::vector<std::array<double, 4>> boxes;
+    bundle::FloodBoxes boxes;
     bundle::build_lists(sh_, workers_, &needed, cache_ ? &boxes : nullptr);
     if (cache_) reach_boxes(boxes);
     if (subset_ && !lists_show_empty_disks(needed)) return Attempt::kGaveUp;
@@ -260,6 +261,13 @@ class KBundleAttempt {
   // The workers' S(t) lists in query order (s_begin_, s_list_, fan_); false if one gave up.
   bool merge_parts(std::vector<Part>& parts) {
     s_begin_.assign(queries_.size() + 1, 0);
+    std::size_t s_total = 0, fan_total = 0;  // (reserved exactly: the lists are held through stage 2)
+    for (const Part& part : parts) {
+      s_total += part.s_list.size();
+      fan_total += part.fan.size();
+    }
+    s_list_.reserve(s_total);
+    fan_.reserve(fan_total);
     for (Part& part : parts) {
       if (part.gave_up) return false;
       st_.decided_by_circumdisks += part.decided;
@@ -314,10 +322,10 @@ class KBundleAttempt {
   // S(t): every vertex-empty disk meeting t lies in two such circumdisks (or, on the hull side of
   // a pencil, meets the mesh only inside one), so every triangle it meets is in the box. A query
   // answered 1 gets its own box (bundle removal keeps the boxes of queries answered 0 only).
-  void reach_boxes(const std::vector<std::array<double, 4>>& boxes) {
+  void reach_boxes(const bundle::FloodBoxes& boxes) {
     own_boxes();
     auto widen = [&](std::array<double, 4>& r, TriangleId d) {
-      const auto& b = boxes[d];
+      const auto b = boxes.box(d);
       r = {std::min(r[0], b[0]), std::min(r[1], b[1]), std::max(r[2], b[2]), std::max(r[3], b[3])};
     };
     for (std::size_t qi = 0; qi < queries_.size(); ++qi) {
@@ -347,8 +355,9 @@ class KBundleAttempt {
       const Point& a = sh_.pts[dv[0]];
       const Point& b = sh_.pts[dv[1]];
       const Point& c = sh_.pts[dv[2]];
-      for (std::uint32_t i = sh_.list_begin[d]; i < sh_.list_begin[d + 1]; ++i) {
-        for (const VertexId v : sh_.slots[sh_.list[i]].v) {
+      const TriangleId* list = sh_.list_data(d);
+      for (std::uint32_t i = 0; i < sh_.list_size(d); ++i) {
+        for (const VertexId v : sh_.slots[list[i]].v) {
           if (v < sh_.used || tested_for[v] == d) continue;
           tested_for[v] = d;
           if (incircle(a, b, c, sh_.pts[v]) > 0) return false;
@@ -423,7 +432,10 @@ class KBundleAttempt {
       }
       if (pass > 0) break;
       for (TriangleId d = 0; d < dt_slots_; ++d) st_.flooded += needed[d] != 0 ? 1 : 0;
-      for (auto& w : workers_) w->exact_edges = false;  // the lists: permissive floods, as `mwst bundle`'s
+      for (auto& w : workers_) {
+        w->exact_edges = false;  // the lists: permissive floods, as `mwst bundle`'s
+        w->release_disk_scratch();  // (the floods use none; a sweep allocates it again)
+      }
       bundle::build_lists(sh_, workers_, &needed, cache_ ? &boxes_ : nullptr);
       release(needed);
     }
@@ -547,7 +559,7 @@ class KBundleAttempt {
   // The reach boxes (see reach_boxes) over one-sided pencils: a disk of a pencil meeting t meets
   // only triangles meeting the listed end or the lens flooded for the lowest bound of the queries
   // it meets (a pencil with both ends listed: either end; with neither, no disk of it meets t).
-  void reach_boxes_one_sided(const std::vector<std::uint32_t>& box_index, const std::vector<std::array<double, 4>>& boxes,
+  void reach_boxes_one_sided(const std::vector<std::uint32_t>& box_index, const bundle::FloodBoxes& boxes,
                              const std::vector<std::array<double, 4>>& lens_boxes) {
     own_boxes();
     auto widen = [](std::array<double, 4>& r, const std::array<double, 4>& b) {
@@ -559,8 +571,8 @@ class KBundleAttempt {
       const std::uint8_t m = mode_of(h);
       const TriangleId left = triangle_of(h), right = triangle_of(dt_.sym(h));
       if (m == 3) return;
-      if (m != 2) widen(r, boxes[left]);
-      if (m != 1 && !dt_.is_ghost(right)) widen(r, boxes[right]);
+      if (m != 2) widen(r, boxes.box(left));
+      if (m != 1 && !dt_.is_ghost(right)) widen(r, boxes.box(right));
       if (m != 0) widen(r, lens_boxes[box_index[index_of(sh_.pencils, h)]]);
     });
   }
@@ -583,6 +595,7 @@ class KBundleAttempt {
   void sweep_pencils(std::vector<Handle> pencils) {
     sh_.pencils = std::move(pencils);
     for (auto& w : workers_) {
+      w->release_flood_scratch();  // (the sweeps' own scratch takes its place)
       w->min_candidates = k_;
       if (cache_ && cache_->keep_sweeps) w->reuse = cache_->impl.get();
     }
@@ -633,7 +646,7 @@ class KBundleAttempt {
   std::vector<std::uint32_t> s_count_ = std::vector<std::uint32_t>(queries_.size(), 0);  // |S(t)| per query
   std::vector<std::uint32_t> s_begin_;
   std::vector<TriangleId> s_list_, fan_;
-  std::vector<std::array<double, 4>> boxes_;  // per Delaunay triangle listed: its flood's box
+  bundle::FloodBoxes boxes_;  // per Delaunay triangle listed: its flood's box
 };
 
 Attempt in_k_bundle_attempt(Shared& sh, std::uint32_t k, const std::vector<TriangleId>& queries, KBundleStats& st,
@@ -758,9 +771,14 @@ std::vector<std::uint8_t> in_k_bundle(const Mesh& mesh, std::uint32_t k, const s
     if (cache) cache->reach.assign(queries.size(), {kInf, kInf, -kInf, -kInf});  // nothing known
     return answer;
   }
+  // DT(V)'s coordinates are sh.pts[0, used): the attempt reads only its topology, and the cache
+  // gets them back.
+  const bool points_dropped = sh.dt.points.size() == sh.used;
+  if (points_dropped) bundle::release(sh.dt.points);
   in_k_bundle_attempt(sh, k, queries, st, threads, false, answer, cache);
   st.kept_dt = sh.kept_dt;
   if (keep) {
+    if (points_dropped) sh.dt.points.assign(sh.pts.begin(), sh.pts.begin() + sh.used);
     keep->dt = std::move(sh.dt);
     keep->dt_mesh_id.assign(sh.mesh_id.begin(), sh.mesh_id.begin() + sh.used);
   }

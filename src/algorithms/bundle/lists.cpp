@@ -25,12 +25,11 @@ std::vector<std::unique_ptr<Worker>> make_workers(const Shared& sh, unsigned thr
 
 namespace {
 
-// One thread's candidate lists, in chunks (a list never straddles two): the lists are copied into
-// Shared::list chunk by chunk, each freed once copied, so that memory holds the lists about once,
-// not twice, and no growing array is ever copied. The chunks grow from kFirstChunk to kChunk
-// triangles, each twice the one before: a small mesh does not pay for a 4 MB chunk per thread
-// (BRH builds lists for many small regions), and the last chunk's unused part is at most what
-// the others hold.
+// One thread's candidate lists, in chunks (a list never straddles two), which become the lists'
+// storage in Shared (list_chunks): no list is copied, and no growing array is ever copied. The
+// chunks grow from kFirstChunk to kChunk triangles, each twice the one before: a small mesh does
+// not pay for a 4 MB chunk per thread (BRH builds lists for many small regions); the last chunk
+// is cut to what it holds.
 class ListChunks {
  public:
   static constexpr std::size_t kFirstChunk = std::size_t{1} << 12;
@@ -49,11 +48,13 @@ class ListChunks {
     size_ += one.size();
   }
 
-  // Appends every list to `out` in order, freeing each chunk once copied.
-  void move_into(std::vector<TriangleId>& out) {
+  // Hands the chunks to sh.list_chunks, the first starting at offset `offset` of the lists.
+  void move_into(Shared& sh, std::size_t offset) {
+    if (!chunks_.empty()) chunks_.back().shrink_to_fit();
     for (auto& chunk : chunks_) {
-      out.insert(out.end(), chunk.begin(), chunk.end());
-      release(chunk);
+      sh.list_chunk_first.push_back(static_cast<std::uint32_t>(offset));
+      offset += chunk.size();
+      sh.list_chunks.push_back(std::move(chunk));
     }
     chunks_.clear();
     size_ = 0;
@@ -67,10 +68,15 @@ class ListChunks {
 }  // namespace
 
 void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers, const std::vector<std::uint8_t>* needed,
-                 std::vector<std::array<double, 4>>* boxes, std::uint32_t cap, std::size_t capacity) {
-  if (boxes) boxes->assign(sh.dt.triangle_slots(), {kInf, kInf, -kInf, -kInf});
-  for (auto& w : workers) w->want_flood_box = boxes != nullptr;
+                 FloodBoxes* boxes, std::uint32_t cap) {
+  sh.release_lists();
   const std::size_t slots = sh.dt.triangle_slots();
+  // The slots flooded: live, finite, needed, and their own disk's.
+  auto flooded = [&](TriangleId d) {
+    return !sh.dt.is_dead(d) && !sh.dt.is_ghost(d) && (needed == nullptr || (*needed)[d] != 0) && sh.disk(d) == d;
+  };
+  if (boxes) boxes->reset(slots, flooded);
+  for (auto& w : workers) w->want_flood_box = boxes != nullptr;
   std::vector<ListChunks> parts(workers.size());
   std::vector<std::uint32_t> local_begin(slots + 1, 0);
   for_ranges(workers, slots, [&](Worker& w, std::size_t begin, std::size_t end, std::size_t k) {
@@ -80,7 +86,7 @@ void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers, cons
       sh.check_deadline();
       local_begin[t] = static_cast<std::uint32_t>(part.size());
       const auto dtt = static_cast<TriangleId>(t);
-      if (sh.dt.is_dead(dtt) || sh.dt.is_ghost(dtt) || (needed && (*needed)[t] == 0) || sh.disk(dtt) != dtt) continue;
+      if (!flooded(dtt)) continue;
       if (cap == std::numeric_limits<std::uint32_t>::max()) {
         w.flood(dtt, one);
       } else {
@@ -96,24 +102,23 @@ void build_lists(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers, cons
         });
         sh.truncated[t] = over ? 1 : 0;
       }
-      if (boxes) (*boxes)[t] = w.flood_box;
+      if (boxes) boxes->set(dtt, w.flood_box);
       part.append(one);
     }
   });
   std::size_t total = 0;
   for (const auto& part : parts) total += part.size();
   if (total > 0xFFFFFFF0u) throw InternalError("bundle: candidate lists too long");
-  release(sh.list);
-  // (At most twice the lists: the room is address space, which --max-memory limits.)
-  sh.list.reserve(std::max(total, std::min(capacity, 2 * total)));
   sh.list_begin.assign(slots + 1, 0);
+  std::size_t offset = 0;
   for (std::size_t k = 0; k < workers.size(); ++k) {
     const std::size_t begin = slots * k / workers.size(), end = slots * (k + 1) / workers.size();
-    const auto offset = static_cast<std::uint32_t>(sh.list.size());
-    for (std::size_t t = begin; t < end; ++t) sh.list_begin[t] = local_begin[t] + offset;
-    parts[k].move_into(sh.list);
+    for (std::size_t t = begin; t < end; ++t) sh.list_begin[t] = local_begin[t] + static_cast<std::uint32_t>(offset);
+    const std::size_t size = parts[k].size();
+    parts[k].move_into(sh, offset);
+    offset += size;
   }
-  sh.list_begin[slots] = static_cast<std::uint32_t>(sh.list.size());
+  sh.list_begin[slots] = static_cast<std::uint32_t>(offset);
 }
 
 bool build_lists_within_budget(Shared& sh, std::vector<std::unique_ptr<Worker>>& workers, std::size_t budget) {
@@ -126,7 +131,9 @@ bool build_lists_within_budget(Shared& sh, std::vector<std::unique_ptr<Worker>>&
   const std::uint32_t first_cap = std::max<std::uint32_t>(1, share(budget, disks));
   sh.truncated.assign(slots, 0);
   // Room for the budget: the second pass's lists then replace the cut ones in place.
-  build_lists(sh, workers, nullptr, nullptr, first_cap, std::min<std::size_t>(budget, 0xFFFFFFF0u));
+  build_lists(sh, workers, nullptr, nullptr, first_cap);
+  // (At most twice the lists: the room is address space, which --max-memory limits.)
+  sh.flatten_lists(std::min<std::size_t>(budget, 0xFFFFFFF0u));
   std::vector<std::uint8_t> again(slots, 0);
   std::size_t cut = 0;
   for (TriangleId d = 0; d < slots; ++d) {
@@ -143,6 +150,7 @@ bool build_lists_within_budget(Shared& sh, std::vector<std::unique_ptr<Worker>>&
     std::vector<TriangleId> list = std::move(sh.list);  // the first lists, with room for the budget
     std::vector<std::uint32_t> first_begin = std::move(sh.list_begin);
     build_lists(sh, workers, &again, nullptr, second_cap);
+    sh.flatten_lists();
     // The second lists replace the cut ones in place: each list only grows (a cut list held
     // first_cap triangles and its flood had more), so every list moves towards the end, and
     // moving them from the last one down overwrites none not yet moved. The room reserved for

@@ -240,6 +240,28 @@ bool Shared::build_region(const std::vector<TriangleId>& region, const DenseIds&
   return finish(false);
 }
 
+// ---- the candidate lists' storage begins here -----------------------------------------------------
+
+void Shared::release_lists() {
+  std::vector<TriangleId>().swap(list);
+  std::vector<std::vector<TriangleId>>().swap(list_chunks);
+  std::vector<std::uint32_t>().swap(list_chunk_first);
+}
+
+void Shared::flatten_lists(std::size_t capacity) {
+  if (list_chunks.empty()) return;
+  std::size_t total = 0;
+  for (const auto& chunk : list_chunks) total += chunk.size();
+  std::vector<TriangleId>().swap(list);
+  list.reserve(std::max(total, std::min(capacity, 2 * total)));
+  for (auto& chunk : list_chunks) {
+    list.insert(list.end(), chunk.begin(), chunk.end());
+    std::vector<TriangleId>().swap(chunk);
+  }
+  std::vector<std::vector<TriangleId>>().swap(list_chunks);
+  std::vector<std::uint32_t>().swap(list_chunk_first);
+}
+
 // ---- cocircular Delaunay triangles begin here --------------------------------------------------
 
 std::size_t Shared::share_cocircular_disks(unsigned threads) {

@@ -7,6 +7,7 @@
 //   Shared::finish        — DT of the renumbered vertices (kept from an earlier call if it can be)
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <chrono>
@@ -111,8 +112,15 @@ struct Shared {
   std::vector<Handle> vertex_edge;          // renumbered id → a mesh edge leaving the vertex
   std::uint32_t used = 0;                   // ids [0, used) are the vertices of T, and DT ids
   Mesh dt;
-  std::vector<std::uint32_t> list_begin;    // per DT slot: its candidates in `list`
+  // The candidate lists in DT slot order, list_begin[d] the offset of DT slot d's among them
+  // (list_begin[d + 1] the end), held in one of two ways: in `list` (flat), or, as build_lists
+  // leaves them, in `list_chunks` (each worker's chunks, in slot order; no list straddles two),
+  // chunk c starting at offset list_chunk_first[c]. The chunks are the floods' own output: copying
+  // them into one array would hold the lists twice at the peak of in_k_bundle.
+  std::vector<std::uint32_t> list_begin;
   std::vector<TriangleId> list;
+  std::vector<std::vector<TriangleId>> list_chunks;
+  std::vector<std::uint32_t> list_chunk_first;
   std::vector<Handle> pencils;              // per Delaunay edge: a DT handle with a finite left side
   // Per DT slot (empty: none): its list was cut at the budget's cap (bundle_number with a budget).
   std::vector<std::uint8_t> truncated;
@@ -141,7 +149,19 @@ struct Shared {
   TriangleId disk(TriangleId d) const { return disk_rep.empty() ? d : disk_rep[d]; }
   // The candidate list of DT slot d (its disk's): size and first entry.
   std::uint32_t list_size(TriangleId d) const { return list_begin[disk(d) + 1] - list_begin[disk(d)]; }
-  const TriangleId* list_data(TriangleId d) const { return list.data() + list_begin[disk(d)]; }
+  const TriangleId* list_data(TriangleId d) const { return list_at(list_begin[disk(d)]); }
+  // The list entry at `offset` (see list_begin); an offset at the end of the lists is never read.
+  const TriangleId* list_at(std::uint32_t offset) const {
+    if (list_chunks.empty()) return list.data() + offset;
+    const auto after = std::upper_bound(list_chunk_first.begin(), list_chunk_first.end(), offset);
+    const auto c = static_cast<std::size_t>(after - list_chunk_first.begin()) - 1;  // (chunk 0 starts at 0)
+    return list_chunks[c].data() + (offset - list_chunk_first[c]);
+  }
+  // Frees the lists, in either form.
+  void release_lists();
+  // Moves chunked lists into `list` (room for `capacity` triangles, at most twice what they hold:
+  // pages not written to are not resident), freeing each chunk once copied.
+  void flatten_lists(std::size_t capacity = 0);
   bool list_cut(TriangleId d) const { return !truncated.empty() && truncated[disk(d)] != 0; }
 
   // Are the four vertices of the two finite Delaunay triangles on DT edge h cocircular (the pencil

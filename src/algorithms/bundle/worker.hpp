@@ -144,12 +144,21 @@ class Worker {
   std::size_t pencils_reused = 0;
   std::vector<SweepKey> reused_keys;
   std::vector<std::pair<SweepKey, CachedSweep>> made;
-  std::vector<std::uint32_t>& per_triangle() { return per_triangle_; }
+  // Per mesh slot, the largest count of a disk the sweeps found meeting it (with per-triangle
+  // values): allocated at the first sweep or the first read, so that it is not held through the
+  // floods that come before the sweeps (in_k_bundle's peak is its candidate lists).
+  std::vector<std::uint32_t>& per_triangle() {
+    ensure_per_triangle();
+    return per_triangle_;
+  }
   // Frees the scratch of the floods (flood_each) / of the sweeps (sweep); it is allocated again
   // if used again.
   void release_flood_scratch();
   void release_sweep_scratch();
   void release_disk_scratch();  // circumdisk_count's
+  void ensure_per_triangle() {
+    if (per_triangle_enabled_ && per_triangle_.empty()) per_triangle_.assign(sh_.slots.size(), 0);
+  }
 
   // ---- floods ----
 
@@ -177,12 +186,11 @@ class Worker {
     circle_orient_ = orient_approx(circle_[0], circle_[1], circle_[2]);
     corner_circle_ = corner_circle(circle_[0], circle_[1], circle_[2]);
     if (triangle_stamp_.empty()) {
-      flood_vertex_.assign(sh_.pts.size(), FloodVertex{});
+      flood_vertex_.assign(sh_.pts.size(), kUnset);
       triangle_stamp_.assign(sh_.slots.size(), 0);
     }
-    bump(flood_stamp_, [this] {
-      for (auto& f : flood_vertex_) f.stamp = 0;
-    });
+    for (const VertexId u : flood_touched_) flood_vertex_[u] = kUnset;  // (the last flood's values)
+    flood_touched_.clear();
     bump(triangle_mark_, [this] { std::fill(triangle_stamp_.begin(), triangle_stamp_.end(), 0); });
     // The chord from v[0] to v[1] lies in the open disk, and so does the corner of the mesh
     // triangle it leaves v[0] by (or v[1]: see flood_start).
@@ -255,15 +263,14 @@ class Worker {
   }
 
  private:
-  struct FloodVertex {
-    std::uint32_t stamp = 0;
-    Approx value;  // incircle determinant of the current circle at the vertex
-  };
+  // flood_vertex_'s entry of a vertex whose value the current flood has not computed (an error
+  // bound is never negative).
+  static constexpr Approx kUnset{0.0, -1.0};
   struct PencilVertex {
-    std::uint32_t stamp = 0;
     std::int8_t side = 0;  // +1 left of p→q ("above"), −1 right, 0 on the line, kSideP, kSideQ
     Point local;           // local coordinates: p = (−1, 0), q = (1, 0)
   };
+  static constexpr std::int8_t kUnsetSide = 127;  // pencil_side_: not computed for this pencil
 
   // A new disk for meets_circumdisk's caches. (Stamps below 2^30: edge_meets_ keeps the stamp
   // shifted by one bit, disk_side_ by two.)
@@ -283,8 +290,8 @@ class Worker {
   static std::size_t edge_entry(Handle h) { return 3 * std::size_t{h >> 2} + (h & 3); }
 
   // Advances a stamp; on wrap-around clears the marks it guards.
-  template <class Clear>
-  static void bump(std::uint32_t& stamp, Clear clear) {
+  template <class Stamp, class Clear>
+  static void bump(Stamp& stamp, Clear clear) {
     if (++stamp == 0) {
       clear();
       stamp = 1;
@@ -299,14 +306,14 @@ class Worker {
   TriangleId flood_start(VertexId a, VertexId b) const;
 
   const Approx& circle_value(VertexId v) {
-    FloodVertex& f = flood_vertex_[v];
-    if (f.stamp != flood_stamp_) {
-      f.stamp = flood_stamp_;
+    Approx& f = flood_vertex_[v];
+    if (f.error < 0.0) {
+      flood_touched_.push_back(v);
       // (With the corner form when incircle's filter cannot vouch: a small disk's values at far
       // vertices, which would let the flood cross every edge with such an end.)
-      f.value = incircle_from_either(circle_[0], circle_[1], circle_[2], sh_.pts[v], corner_circle_);
+      f = incircle_from_either(circle_[0], circle_[1], circle_[2], sh_.pts[v], corner_circle_);
     }
-    return f.value;
+    return f;
   }
 
   // Permissive: true whenever the closed segment uw might meet the open circumdisk (never false
@@ -349,7 +356,7 @@ class Worker {
   }
   // Side of vertex v relative to the directed line p→q, cached per pencil with its local
   // coordinates.
-  inline const PencilVertex& vertex(VertexId v);
+  inline PencilVertex vertex(VertexId v);
   // Keeps the smaller (sigma = +1) or larger (sigma = −1) threshold in `best`.
   inline void keep_extreme(int sigma, bool& has, Threshold& best, const Threshold& t);
   // The contribution of edge uw (see EdgeInfo); `info` starts empty.
@@ -371,15 +378,25 @@ class Worker {
   Point circle_[3];
   Approx circle_orient_;
   CornerCircle corner_circle_;
-  std::uint32_t flood_stamp_ = 0, triangle_mark_ = 0;
-  std::vector<FloodVertex> flood_vertex_;
-  std::vector<std::uint32_t> triangle_stamp_;
+  // 16-bit marks per slot on every thread (cleared every 65,535 floods: a sweep of 2 bytes a slot
+  // per that many floods, for half the memory of 32-bit ones).
+  std::uint16_t triangle_mark_ = 0;
+  // Per vertex, the incircle determinant of the current circle at it (kUnset: not computed yet),
+  // and the vertices the current flood computed (reset by the next flood: a stamp per vertex on
+  // every thread would add half as much again).
+  std::vector<Approx> flood_vertex_;
+  std::vector<VertexId> flood_touched_;
+  std::vector<std::uint16_t> triangle_stamp_;
   std::vector<TriangleId> stack_;
 
   // Pencil scratch.
   Pencil pc_;
-  std::uint32_t pencil_stamp_ = 0;
-  std::vector<PencilVertex> pencil_vertex_;
+  // Per vertex (vertex()): its side (kUnsetSide: not computed for the current pencil) and local
+  // coordinates, in two arrays (17 bytes a vertex on every thread, not 24), and the vertices the
+  // current pencil computed (reset by the next).
+  std::vector<std::int8_t> pencil_side_;
+  std::vector<Point> pencil_local_;
+  std::vector<VertexId> pencil_touched_;
   // circumdisk_count(): per vertex the exact incircle sign the filter left undecided (stamp << 2 |
   // sign + 1), and per edge handle (edge_entry) whether the edge meets the disk (stamp << 1 |
   // answer), per disk.
@@ -410,12 +427,11 @@ class Worker {
 // floods, disk counts and sweeps each have their own, and bundle_number frees the floods' before
 // the sweeps start, so that peak memory holds one phase's scratch, not all.
 inline Worker::Worker(const Shared& shared, bool per_triangle, bool prune)
-    : sh_(shared), per_triangle_enabled_(per_triangle), prune_(prune) {
-  if (per_triangle) per_triangle_.assign(sh_.slots.size(), 0);
-}
+    : sh_(shared), per_triangle_enabled_(per_triangle), prune_(prune) {}
 
 inline void Worker::release_flood_scratch() {
   release(flood_vertex_);
+  release(flood_touched_);
   release(triangle_stamp_);
   release(stack_);
 }
@@ -426,7 +442,9 @@ inline void Worker::release_disk_scratch() {
 }
 
 inline void Worker::release_sweep_scratch() {
-  release(pencil_vertex_);
+  release(pencil_side_);
+  release(pencil_local_);
+  release(pencil_touched_);
   release(candidate_index_);
   release(candidates_);
   release(edge_info_);

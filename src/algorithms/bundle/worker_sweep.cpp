@@ -12,6 +12,7 @@ namespace mwst::bundle {
 // ---- the sweep begins here ------------------------------------------------------------------------
 
 void Worker::sweep(std::size_t index) {
+  ensure_per_triangle();
   if (given_[0] == nullptr && one_sided != nullptr && (*one_sided->mode)[index] != 0) {
     if ((*one_sided->mode)[index] != 3) sweep_one_sided(index);  // (3: both ends large, not swept)
     return;
@@ -100,7 +101,8 @@ void Worker::gather_candidates(Handle h, Handle hs, VertexId rv) {
 void Worker::gather_list(const TriangleId* list, std::size_t size) {
   if (candidate_index_.empty()) {
     candidate_index_.assign(sh_.slots.size(), kNone);
-    pencil_vertex_.assign(sh_.pts.size(), PencilVertex{});
+    pencil_side_.assign(sh_.pts.size(), kUnsetSide);
+    pencil_local_.assign(sh_.pts.size(), Point{});
   }
   for (std::size_t i = 0; i < size; ++i) {
     const TriangleId t = list[i];
@@ -177,9 +179,8 @@ void Worker::begin_events() {
   pc_.bx = pc_.q.x - pc_.p.x;
   pc_.by = pc_.q.y - pc_.p.y;
   pc_.local_scale = 2.0 / (pc_.bx * pc_.bx + pc_.by * pc_.by);
-  bump(pencil_stamp_, [this] {
-    for (auto& x : pencil_vertex_) x.stamp = 0;
-  });
+  for (const VertexId v : pencil_touched_) pencil_side_[v] = kUnsetSide;  // (the last pencil's)
+  pencil_touched_.clear();
   edge_info_.clear();
   events_.clear();
 }
@@ -553,23 +554,23 @@ void Worker::one_sided_fallback(std::size_t index, bool left_listed) {
 
 // Side of vertex v relative to the directed line p→q, cached per pencil with its local
 // coordinates.
-const Worker::PencilVertex& Worker::vertex(VertexId v) {
-  PencilVertex& x = pencil_vertex_[v];
-  if (x.stamp != pencil_stamp_) {
-    x.stamp = pencil_stamp_;
+Worker::PencilVertex Worker::vertex(VertexId v) {
+  std::int8_t& side = pencil_side_[v];
+  if (side == kUnsetSide) {
+    pencil_touched_.push_back(v);
     if (v == pc_.pv) {
-      x.side = kSideP;
+      side = kSideP;
     } else if (v == pc_.qv) {
-      x.side = kSideQ;
+      side = kSideQ;
     } else {
       const Point& pt = sh_.pts[v];
-      x.side = static_cast<std::int8_t>(orient2d(pc_.p, pc_.q, pt));
+      side = static_cast<std::int8_t>(orient2d(pc_.p, pc_.q, pt));
       const double dx = pt.x - pc_.p.x, dy = pt.y - pc_.p.y;
-      x.local = {(dx * pc_.bx + dy * pc_.by) * pc_.local_scale - 1.0,
-                 (pc_.bx * dy - pc_.by * dx) * pc_.local_scale};
+      pencil_local_[v] = {(dx * pc_.bx + dy * pc_.by) * pc_.local_scale - 1.0,
+                          (pc_.bx * dy - pc_.by * dx) * pc_.local_scale};
     }
   }
-  return x;
+  return {side, pencil_local_[v]};
 }
 
 // Keeps the smaller (sigma = +1) or larger (sigma = −1) threshold in `best`.
