@@ -10,7 +10,6 @@
 #pragma once
 
 #include <array>
-#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -22,6 +21,7 @@
 #include "algorithms/bundle/shared.hpp"
 #include "algorithms/bundle/worker.hpp"
 #include "support/parallel.hpp"
+#include "support/set_bits.hpp"
 
 namespace mwst::bundle {
 
@@ -91,7 +91,7 @@ class FloodBoxes {
   }
   std::uint32_t rank(TriangleId d) const {
     const std::uint64_t below = bits_[d / 64] & ((std::uint64_t{1} << (d % 64)) - 1);
-    return before_[d / 64] + static_cast<std::uint32_t>(std::popcount(below));
+    return before_[d / 64] + support::set_bits(below);
   }
 
   std::vector<std::uint64_t> bits_;
