@@ -62,6 +62,10 @@ struct RefineOptions {
   double max_area = -1.0;        // ≤ 0: no area bound
   std::size_t max_steiner = static_cast<std::size_t>(-1);
   double time_budget_seconds = -1.0;  // ≤ 0: none
+  // Under a time budget, the seconds set aside within it for each vertex the refinement adds: the
+  // caller's work after the refinement (measuring the mesh, writing it out) grows with the mesh, so
+  // the refinement stops once its time plus this much per added vertex reaches the budget. 0: none.
+  double time_reserve_per_vertex = 0.0;
   SteinerRule rule = SteinerRule::kOffCenter;
   double offcenter_factor = kOffCenterFactor;
   Encroachment encroachment = Encroachment::kDiametralLens;
