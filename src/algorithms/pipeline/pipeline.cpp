@@ -383,6 +383,7 @@ Mesh quadtree_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
   // QuadtreeOptions::threads: 1 is one thread, 0 two on large inputs (its most).
   quadtree_options.threads = options.threads == 1 ? 1u : 0u;
   quadtree_options.deadline = detail::deadline_after(start, options.time_budget_seconds);
+  quadtree_options.time_reserve_per_vertex = options.time_reserve_per_vertex;
   QuadtreeStats qs;
   Mesh mesh = quadtree_refinement(pslg, quadtree_options, &qs);
   report.seconds.emplace_back("input", qs.seconds_input);
