@@ -215,11 +215,13 @@ void register_triangulate(CLI::App& app, Action& action) {
   sub->add_flag("--strict", args->strict, "Refuse crossing segments instead of splitting them");
   sub->add_flag("--bundle", args->bundle, "Add the exact bundle number to the report");
   sub->add_option("--time-limit", args->time_limit,
-                  "Stop dr, brh, qtr and opt after about this many seconds in all, counted from the start of the "
-                  "run, reading the input and writing the output included (the library stops early enough to leave four times "
-                  "the reading's time, at most a quarter of the limit, for the writing; opt: its starts, refinements and searches; qtr: its quadtree and mesh, then the mesh is the "
-                  "constrained Delaunay triangulation of the input; --bundle: the bundle number too); the mesh is "
-                  "still valid and the report's stop_reason says \"time budget\"")
+                  "Stop dr, brh, qtr and opt so that the whole process, from its start (reading the input, opt's "
+                  "starts, refinements and searches, --flip, --bundle, writing the output) ends within "
+                  "SECONDS + max(5%, 1 s), unless reading, the Delaunay triangulation and writing it alone take longer; "
+                  "time is set aside for the writing (five times the reading's, at most a quarter of the limit, and "
+                  "3 us or more per vertex added); qtr: its quadtree and mesh, then the mesh is the constrained "
+                  "Delaunay triangulation of the input; the mesh is still valid and the report's stop_reason says "
+                  "\"time budget\"")
       ->type_name("SECONDS")
       ->check(number_above(0.0));
   sub->add_flag("--exact-polish", args->exact_polish,

@@ -117,7 +117,7 @@ MWST_API double feature_guard_length(const Mesh& mesh, double max_area);
 struct RefineStats {
   std::size_t steiner_inserted = 0;   // free Steiner points
   std::size_t segment_splits = 0;     // Steiner points on segments
-  std::size_t left_small_angle = 0;   // bad triangles left because they cannot be improved
+  std::size_t left_small_angle = 0;   // bad triangles left because they cannot be improved (0 when out of time: not counted)
                                       // (near small input angles, Miller–Pav–Walkington;
                                       // with seeds: among the triangles tested)
   std::size_t hull_edges_marked = 0;  // hull edges of a convex-hull domain made subsegments
