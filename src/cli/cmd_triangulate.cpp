@@ -29,8 +29,17 @@ namespace mwst::cli {
 
 namespace {
 
-// The time set aside under --time-limit for writing the output, per second the input took to read.
-constexpr double kWritingPerReading = 4.0;
+// The time set aside under --time-limit for writing the output (with the mesh's measures before
+// it), per second the input took to read: the output holds at least the input's mesh, and turning it
+// into Triangle's files took 2-6 times as long as reading the input did (1M points or vertices of
+// uniform, ellipse, holes and coastline inputs, on a loaded machine: the reading measures the
+// machine's speed at the time). At most a quarter of the limit.
+constexpr double kWritingPerReading = 5.0;
+// And for each vertex a method adds (TriangulateOptions::time_reserve_per_vertex): the same
+// proportion per input vertex, but at least this much. Writing a mesh out (to_arrays, the files),
+// measuring it and the refinement's count of what is left took 2.2 µs per added vertex (dr with an
+// area bound on 160k uniform points, 1.4M vertices added, 3M triangles, load 7 on 2 cores).
+constexpr double kLeastWritingPerVertex = 3e-6;
 
 struct TriangulateArgs {
   std::string input;
@@ -126,16 +135,17 @@ int run_triangulate(const TriangulateArgs& a) {
   const auto reading_started = std::chrono::steady_clock::now();
   const Pslg pslg = io::read_input(a.input);
   if (options.time_budget_seconds > 0.0) {
-    // --time-limit counts the whole run: reading the input, and writing the output after the library
-    // has stopped. The library's budget is what is left once the reading is done and a reserve for
-    // the writing is set aside (at least a moment, so that the limit stays set). The output holds at
-    // least the input's mesh, and turning it into Triangle's files took 2-6 times as long as reading
-    // the input did (1M points or vertices of uniform, ellipse, holes and coastline inputs, on a
-    // loaded machine: the reading measures the machine's speed at the time), so the reserve is
-    // kWritingPerReading times the reading, at most a quarter of the limit.
+    // --time-limit counts the whole run, from the process's start: reading the input, and writing
+    // the output after the library has stopped. The library's budget is what is left once the
+    // input is read and a reserve for writing the input-sized part of the output is set aside (at
+    // least a moment, so that the limit stays set); the methods set aside more for every vertex
+    // they add (time_reserve_per_vertex).
     const double reading = std::chrono::duration<double>(std::chrono::steady_clock::now() - reading_started).count();
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - process_start()).count();
     const double writing_reserve = std::min(kWritingPerReading * reading, 0.25 * a.time_limit);
-    options.time_budget_seconds = std::max(a.time_limit - reading - writing_reserve, 1e-6);
+    options.time_budget_seconds = std::max(a.time_limit - elapsed - writing_reserve, 1e-6);
+    const double vertices = static_cast<double>(std::max<std::size_t>(pslg.points.size(), 1));
+    options.time_reserve_per_vertex = std::max(kLeastWritingPerVertex, kWritingPerReading * reading / vertices);
   }
   Mesh mesh;
   Report report;
@@ -215,11 +225,13 @@ void register_triangulate(CLI::App& app, Action& action) {
   sub->add_flag("--strict", args->strict, "Refuse crossing segments instead of splitting them");
   sub->add_flag("--bundle", args->bundle, "Add the exact bundle number to the report");
   sub->add_option("--time-limit", args->time_limit,
-                  "Stop dr, brh, qtr and opt after about this many seconds in all, counted from the start of the "
-                  "run, reading the input and writing the output included (the library stops early enough to leave four times "
-                  "the reading's time, at most a quarter of the limit, for the writing; opt: its starts, refinements and searches; qtr: its quadtree and mesh, then the mesh is the "
-                  "constrained Delaunay triangulation of the input; --bundle: the bundle number too); the mesh is "
-                  "still valid and the report's stop_reason says \"time budget\"")
+                  "Stop dr, brh, qtr and opt so that the whole process, from its start (reading the input, opt's "
+                  "starts, refinements and searches, --flip, --bundle, writing the output) ends within "
+                  "SECONDS + max(5%, 1 s), unless reading, the Delaunay triangulation and writing it alone take longer; "
+                  "time is set aside for the writing (five times the reading's, at most a quarter of the limit, and "
+                  "3 us or more per vertex added); qtr: its quadtree and mesh, then the mesh is the constrained "
+                  "Delaunay triangulation of the input; the mesh is still valid and the report's stop_reason says "
+                  "\"time budget\"")
       ->type_name("SECONDS")
       ->check(number_above(0.0));
   sub->add_flag("--exact-polish", args->exact_polish,

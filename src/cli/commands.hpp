@@ -16,6 +16,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <chrono>
 
 #include <functional>
 #include <memory>
@@ -159,6 +160,9 @@ double default_memory_budget();
 // allocating past it throws std::bad_alloc, and remembers it for memory_budget() and the message.
 void set_memory_budget(double bytes);
 double memory_budget();
+
+// When the process started (its static initialisation, before main): --time-limit counts from here.
+std::chrono::steady_clock::time_point process_start();
 
 // The progress line (format_progress of mwst/algorithms/pipeline.hpp) of a run longer than
 // kProgressAfterSeconds, on stderr, redrawn in place every 0.2 s by a thread of its own, and only

@@ -1,7 +1,8 @@
 // The command line's limits (src/cli/commands.hpp): the memory budget — --max-memory, by default
 // 75% of the machine's memory (or less if the process or its control group is allowed less) —
 // enforced as the process's address-space limit, so that a runaway gets std::bad_alloc (exit code
-// 4) instead of the kernel's out-of-memory killer; and the progress line of long runs on a terminal.
+// 4) instead of the kernel's out-of-memory killer; the process's start, from which --time-limit
+// counts; and the progress line of long runs on a terminal.
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -145,6 +146,12 @@ struct ProgressLine::State {
   std::string method, phase;
   Progress last;
 };
+
+namespace {
+const std::chrono::steady_clock::time_point kProcessStart = std::chrono::steady_clock::now();
+}  // namespace
+
+std::chrono::steady_clock::time_point process_start() { return kProcessStart; }
 
 ProgressLine::ProgressLine(bool enabled) {
   if (!enabled || ::isatty(STDERR_FILENO) == 0) return;

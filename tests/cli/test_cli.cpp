@@ -479,6 +479,25 @@ TEST(Cli, TimeLimitStopsRefinementWithAValidMesh) {
   }
 }
 
+// Issue 32: --time-limit bounds every method that reads it, the flips after it included, on a
+// runaway input (points on a circle: every Steiner point inside has all triangles in its star):
+// each stops with "time budget", exit code 0, and a mesh the checker accepts. (No timing asserted:
+// a microsecond is spent before any method begins.)
+TEST(Cli, TimeLimitStopsEveryMethodOnPointsOnACircle) {
+  Sandbox box;
+  ASSERT_EQ(box.run({"generate", "circle", "3000", "-o", "c.node"}).exit_code, 0);
+  for (const std::string method : {"dr", "brh", "qtr", "opt"}) {
+    SCOPED_TRACE(method);
+    const Outcome r = box.run({"triangulate", "c.node", "-o", "c-" + method, "-q", "--method", method, "--flip",
+                               "--time-limit", "1e-6", "--json", "c.json"});
+    ASSERT_EQ(r.exit_code, 0) << describe(r);
+    const auto report = nlohmann::json::parse(box.get("c.json"));
+    EXPECT_EQ(report.at("stop_reason").get<std::string>(), "time budget");
+    const Outcome check = box.run({"check", "c.node", "c-" + method});
+    EXPECT_EQ(check.exit_code, 0) << describe(check);
+  }
+}
+
 // --time-limit counts the reading of the input: the library gets what is left of it, but the
 // report gives the limit as the user wrote it (a distant limit, so nothing stops).
 TEST(Cli, TimeLimitIsReportedAsGiven) {

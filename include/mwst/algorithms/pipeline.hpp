@@ -90,6 +90,9 @@ struct TriangulateOptions {
   bool strict = false;                         // refuse crossing segments instead of splitting
   bool bundle = false;                         // compute the exact bundle number of the result
   double time_budget_seconds = -1.0;           // ≤ 0: none
+  // Under time_budget_seconds, the seconds the methods set aside within it for each vertex they add
+  // (RefineOptions::time_reserve_per_vertex): time for the caller to write the larger mesh out. 0: none.
+  double time_reserve_per_vertex = 0.0;
   bool exact_polish = false;                   // opt: exact MWT polish (OptimizeOptions::exact_polish)
   // opt: iterated-local-search trials per start (OptimizeOptions::perturbation_trials). The default
   // (kDefaultOptTrials) is min(600, 300000 / triangles of the start); fewer trials are faster and

@@ -62,6 +62,10 @@ struct RefineOptions {
   double max_area = -1.0;        // ≤ 0: no area bound
   std::size_t max_steiner = static_cast<std::size_t>(-1);
   double time_budget_seconds = -1.0;  // ≤ 0: none
+  // Under a time budget, the seconds set aside within it for each vertex the refinement adds: the
+  // caller's work after the refinement (measuring the mesh, writing it out) grows with the mesh, so
+  // the refinement stops once its time plus this much per added vertex reaches the budget. 0: none.
+  double time_reserve_per_vertex = 0.0;
   SteinerRule rule = SteinerRule::kOffCenter;
   double offcenter_factor = kOffCenterFactor;
   Encroachment encroachment = Encroachment::kDiametralLens;
@@ -113,7 +117,7 @@ MWST_API double feature_guard_length(const Mesh& mesh, double max_area);
 struct RefineStats {
   std::size_t steiner_inserted = 0;   // free Steiner points
   std::size_t segment_splits = 0;     // Steiner points on segments
-  std::size_t left_small_angle = 0;   // bad triangles left because they cannot be improved
+  std::size_t left_small_angle = 0;   // bad triangles left because they cannot be improved (0 when out of time: not counted)
                                       // (near small input angles, Miller–Pav–Walkington;
                                       // with seeds: among the triangles tested)
   std::size_t hull_edges_marked = 0;  // hull edges of a convex-hull domain made subsegments

@@ -75,6 +75,7 @@ class Multistart {
 
   Mesh run(Report& report) {
     make_starts();
+    set_aside_for_growth();
     cdt_ = Mesh{};  // (only its size and separation scale are needed from here on)
     add_exact_polish_starts();
     local_search();
@@ -315,6 +316,17 @@ class Multistart {
 
   // ---- budgets --------------------------------------------------------------------------------------
 
+  // The result is one of the starts (or a crossover of them, of about their size): the time the
+  // caller needs to write the vertices the starts added (TriangulateOptions::time_reserve_per_vertex
+  // for each vertex beyond the CDT's, in the largest start) comes off what is left for the search.
+  void set_aside_for_growth() {
+    if (!(options_.time_budget_seconds > 0.0)) return;
+    std::size_t most = cdt_vertices_;
+    for (const Start& s : starts_) most = std::max(most, s.mesh.points.size());
+    const double reserve = options_.time_reserve_per_vertex * static_cast<double>(most - cdt_vertices_);
+    options_.time_budget_seconds = std::max(options_.time_budget_seconds - reserve, 1e-9);
+  }
+
   bool time_is_up() {
     out_of_time_ = out_of_time_ || budget_spent(options_, start_);
     return out_of_time_;
@@ -344,7 +356,7 @@ class Multistart {
   }
 
   const Pslg& pslg_;
-  const TriangulateOptions& options_;
+  TriangulateOptions options_;  // (a copy: set_aside_for_growth shortens its time budget)
   const Clock::time_point start_;
   Mesh cdt_;  // freed once the starts are made
   const std::size_t cdt_steiner_;

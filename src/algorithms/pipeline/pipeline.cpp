@@ -124,6 +124,7 @@ RefineOptions phases::refine_options_for(const TriangulateOptions& options, Cloc
   if (method_reads_option(options.method, "steiner")) r.rule = options.steiner;
   r.max_steiner = options.max_steiner;
   r.time_budget_seconds = budget_left(options, start);
+  r.time_reserve_per_vertex = options.time_reserve_per_vertex;
   r.segment_splitting = options.segment_splitting;
   r.conforming_delaunay = options.conforming_delaunay;
   return r;
@@ -204,6 +205,11 @@ void phases::brh_phase(Mesh& mesh, const TriangulateOptions& options, Clock::tim
       brh.refine.max_steiner -= std::min(brh.refine.max_steiner, rs.steiner_inserted + rs.segment_splits);
     }
     brh.refine.time_budget_seconds = budget_left(options, start);
+    if (brh.refine.time_budget_seconds > 0.0) {  // (the time set aside for this pass's vertices)
+      brh.refine.time_budget_seconds = std::max(
+          brh.refine.time_budget_seconds - options.time_reserve_per_vertex * static_cast<double>(rs.steiner_inserted + rs.segment_splits),
+          1e-9);
+    }
   }
   const BrhStats stats = bundle_removal(mesh, brh);
   phase.finish();
@@ -216,10 +222,16 @@ namespace {
 
 // Weight-reducing flips (EFH) after any method: phase "flip". The area bound of a method that
 // reads it (dr, brh, opt) holds after the flips too: no flip makes a triangle larger than it.
-void flip_phase(Mesh& mesh, const TriangulateOptions& options, Report& report) {
+// Under the time budget of a method that reads it the flips stop at it (flip.hpp: the mesh valid, the flips of largest gain
+// done), and the stop reason is then "time budget".
+void flip_phase(Mesh& mesh, const TriangulateOptions& options, Clock::time_point start, Report& report) {
   Phase phase(report, "flip");
   const double max_area = method_reads_option(options.method, "max_area") ? options.max_area : -1.0;
-  const FlipStats stats = flip_to_local_minimum(mesh, max_area);
+  const bool timed = options.time_budget_seconds > 0.0 && method_reads_option(options.method, "time_budget_seconds");
+  const FlipStats stats = timed
+                              ? flip_to_local_minimum(mesh, max_area, detail::deadline_after(start, options.time_budget_seconds))
+                              : flip_to_local_minimum(mesh, max_area);
+  if (stats.out_of_time) report.stop = StopReason{StopKind::kTimeBudget, 0, {}};
   phase.finish();
   report.flip = FlipSummary{stats.flips, stats.weight_before, stats.weight_after};
 }
@@ -371,6 +383,7 @@ Mesh quadtree_phase(const Pslg& pslg, const TriangulateOptions& options, Clock::
   // QuadtreeOptions::threads: 1 is one thread, 0 two on large inputs (its most).
   quadtree_options.threads = options.threads == 1 ? 1u : 0u;
   quadtree_options.deadline = detail::deadline_after(start, options.time_budget_seconds);
+  quadtree_options.time_reserve_per_vertex = options.time_reserve_per_vertex;
   QuadtreeStats qs;
   Mesh mesh = quadtree_refinement(pslg, quadtree_options, &qs);
   report.seconds.emplace_back("input", qs.seconds_input);
@@ -484,7 +497,7 @@ Report triangulate(const Pslg& pslg, const TriangulateOptions& options, Mesh* ou
   }
   if (options.flip) {
     announce(options, start, "flip", phase_number++, phases);
-    flip_phase(mesh, options, report);
+    flip_phase(mesh, options, start, report);
   }
   // The stop reason the final mesh bears out (the flips, opt's moves and the budgets included).
   if (options.method == Method::kDr || options.method == Method::kBrh || options.method == Method::kOpt) {

@@ -77,6 +77,9 @@ StopReason parse_stop_reason(std::string_view text) {
 
 StopReason settle_stop_reason(const Mesh& mesh, const TriangulateOptions& options, const StopReason& engine,
                               bool flipped, std::chrono::steady_clock::time_point deadline) {
+  // Out of time the engine's reason stands whatever the mesh meets (every branch below returns it),
+  // so the mesh is not swept again: 0.8 s on 3M triangles, past the budget.
+  if (engine.kind == StopKind::kTimeBudget) return engine;
   // Reasons that say the run was cut short, or that the engine explains in its own words.
   const bool cut_short = engine.kind == StopKind::kSteinerBudget || engine.kind == StopKind::kTimeBudget ||
                          engine.kind == StopKind::kRoundLimit || engine.kind == StopKind::kBeyondFeatureSize ||

@@ -110,7 +110,14 @@ Mesh quadtree_route(const CleanInput& in, const QuadtreeOptions& options, const 
     stats.depth = tree.deepest();
     if (switches.keep_leaves && leaves != nullptr) collect_leaves(tree, *leaves);
     const auto t_mesh = Clock::now();
-    Builder builder(in, options, stats, tree);
+    // The mesh is built against the deadline less the writing of its vertices (about one per leaf);
+    // a deadline that has passed by then sends the route to its fallback at the builder's first check.
+    QuadtreeOptions mesh_options = options;
+    if (options.deadline != Clock::time_point::max()) {
+      const double reserve = options.time_reserve_per_vertex * static_cast<double>(stats.leaves);
+      mesh_options.deadline -= std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(reserve));
+    }
+    Builder builder(in, mesh_options, stats, tree);
     // The free corners for the fallback read the tree's nodes; once those went with the mesh
     // (NodeArray), from the same tree built again (the build is deterministic).
     const auto corners = [&] {

@@ -51,7 +51,9 @@ class BundleRemoval {
   enum class Step { kProceed, kNextRound, kStop };
 
   bool area_pass();
+  double seconds_used() const;
   bool time_up() const;
+  std::chrono::steady_clock::time_point exact_test_deadline() const;
   void update_skinny();
   void sweep_skinny();
   bool confirm_skinny();
@@ -193,10 +195,23 @@ bool BundleRemoval::area_pass() {
   return false;
 }
 
+// The budget counts the time since BRH started plus RefineOptions::time_reserve_per_vertex for
+// each vertex inserted so far (the time its caller needs to write them out).
+double BundleRemoval::seconds_used() const {
+  const double added = static_cast<double>(stats_.steiner_inserted + stats_.segment_splits);
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count() +
+         options_.refine.time_reserve_per_vertex * added;
+}
+
 bool BundleRemoval::time_up() const {
-  return options_.refine.time_budget_seconds > 0.0 &&
-         std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count() >
-             options_.refine.time_budget_seconds;
+  return options_.refine.time_budget_seconds > 0.0 && seconds_used() > options_.refine.time_budget_seconds;
+}
+
+std::chrono::steady_clock::time_point BundleRemoval::exact_test_deadline() const {
+  if (deadline_ == std::chrono::steady_clock::time_point::max()) return deadline_;
+  const double reserved = options_.refine.time_reserve_per_vertex *
+                          static_cast<double>(stats_.steiner_inserted + stats_.segment_splits);
+  return deadline_ - std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(reserved));
 }
 
 // ---- the skinny triangles begin here --------------------------------------------------------------
@@ -314,7 +329,7 @@ BundleRemoval::Step BundleRemoval::exact_test(bool ask_all) {
     sweep_cache_.keep_sweeps = use_cache;
     std::vector<std::uint8_t> answers;
     try {
-      answers = in_k_bundle(mesh_, K_, asked, nullptr, options_.threads, &sweep_cache_, deadline_);
+      answers = in_k_bundle(mesh_, K_, asked, nullptr, options_.threads, &sweep_cache_, exact_test_deadline());
     } catch (const KBundleTimeout&) {  // (the mesh is as the last pass left it)
       stats_.stop = StopReason{StopKind::kTimeBudget, 0, {}};
       return Step::kStop;
@@ -350,8 +365,7 @@ BundleRemoval::Step BundleRemoval::refine_pass(bool any_local) {
   if (!clean_.empty()) clean_.snapshot(mesh_);
   // Each pass gets what is left of the budget, not all of it again.
   if (options_.refine.time_budget_seconds > 0.0) {
-    ro_.time_budget_seconds = std::max(1e-9, options_.refine.time_budget_seconds -
-                                                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count());
+    ro_.time_budget_seconds = std::max(1e-9, options_.refine.time_budget_seconds - seconds_used());
   }
   std::vector<std::array<VertexId, 3>> seeds_before;
   for (const TriangleId t : ro_.seed_triangles) seeds_before.push_back(sorted_triple(mesh_, t));

@@ -77,12 +77,7 @@ bool Refiner::split_all_pending() {
       break;
     }
     // Segment splits can cascade for long (points on a circle: every hull edge encroached).
-    if (opt_.time_budget_seconds > 0.0 && (++segment_splits_timed_ & 15) == 0 &&
-        seconds_since(started_) > opt_.time_budget_seconds) {
-      stop_ = true;
-      stop_reason_ = StopReason{StopKind::kTimeBudget, 0, {}};
-      break;
-    }
+    if ((++segment_splits_timed_ & 15) == 0 && out_of_time()) break;
     if (split_subsegment(h)) any = true;
   }
   return any;

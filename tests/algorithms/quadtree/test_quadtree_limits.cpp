@@ -89,6 +89,22 @@ TEST(QuadtreeLimits, DistantDeadlineChangesNothing) {
   }
 }
 
+// Issue 32: the writing of the mesh is set aside before the deadline (time_reserve_per_vertex, one
+// vertex per leaf). An hour ahead, but with an hour per vertex set aside, the tree is built and the
+// mesh is not: the output is the carved CDT, and the reason the time budget.
+TEST(QuadtreeLimits, ReservePerVertexGivesTheCdtOnceTheTreeIsDone) {
+  const Pslg g = generate_input(Distribution::kUniform, 20000, 1);
+  QuadtreeOptions options;
+  options.deadline = Clock::now() + std::chrono::hours(1);
+  options.time_reserve_per_vertex = 3600.0;
+  QuadtreeStats stats;
+  const Mesh mesh = quadtree_refinement(g, options, &stats);
+  EXPECT_GT(stats.leaves, 10000u);
+  EXPECT_TRUE(stats.fallback);
+  EXPECT_TRUE(stats.out_of_time);
+  EXPECT_TRUE(same_mesh(mesh, constrained_delaunay(g, ConstrainOptions{})));
+}
+
 // triangulate() passes its time budget to qtr: stopped by it, the report's stop reason is "time
 // budget", the mesh is the CDT's and valid; without a budget qtr has no stop reason.
 TEST(QuadtreeLimits, PipelineStopReasonIsTimeBudget) {

@@ -316,5 +316,27 @@ TEST(Brh, FanPassesDoNotGrowWithTheNumberOfWedges) {
   EXPECT_LE(rounds[1], 30u);
 }
 
+// Issue 32: under a time budget BRH sets time aside for every vertex its passes add
+// (RefineOptions::time_reserve_per_vertex, for its caller's writing), across passes: with 100 s per
+// vertex of a 1000 s budget it stops with "time budget" after about ten vertices, where the run
+// without the budget adds hundreds, and the mesh is valid. (No timing asserted.)
+TEST(Brh, TimeReservePerVertexStopsEarly) {
+  const Pslg g = uniform_square(2000, 3);
+  BrhOptions o;
+  o.min_angle_deg = 30.0;
+  o.bundle_k = 4;  // (small: many skinny triangles are in 4-bundles)
+  Mesh free = constrained_delaunay(g);
+  const BrhStats unbounded = bundle_removal(free, o);
+  EXPECT_GT(unbounded.steiner_inserted + unbounded.segment_splits, 200u);
+  o.refine.time_budget_seconds = 1000.0;
+  o.refine.time_reserve_per_vertex = 100.0;
+  Mesh m = constrained_delaunay(g);
+  const BrhStats stats = bundle_removal(m, o);
+  EXPECT_EQ(to_string(stats.stop), "time budget");
+  EXPECT_GE(stats.steiner_inserted + stats.segment_splits, 10u);
+  EXPECT_LE(stats.steiner_inserted + stats.segment_splits, 64u);
+  EXPECT_TRUE(validate(m).empty());
+}
+
 }  // namespace
 }  // namespace mwst

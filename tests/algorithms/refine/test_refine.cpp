@@ -315,6 +315,43 @@ TEST(Refine, TimeBudgetStops) {
   EXPECT_EQ(to_string(r.stats.stop), "time budget");
 }
 
+// Issue 32: under a time budget the refinement sets time aside for each vertex it adds (the caller
+// writes the larger mesh afterwards). With 100 s per vertex of a 1000 s budget it stops once about
+// ten vertices are in, by the clock read every 16 turns of its loop: far below the thousands the
+// angle bound asks for, with the reason "time budget" and a valid mesh. (No timing asserted: the
+// 1000 s are never near.)
+TEST(Refine, TimeReservePerVertexStopsEarly) {
+  const Pslg g = io::read_input(std::string(MWST_DATA_DIR) + "/Random.poly");
+  RefineOptions o;
+  o.min_angle_deg = 33.0;
+  const Refined free = refine_and_check(g, o);
+  o.time_budget_seconds = 1000.0;
+  o.time_reserve_per_vertex = 100.0;
+  const Refined r = refine_and_check(g, o);
+  EXPECT_EQ(to_string(r.stats.stop), "time budget");
+  const std::size_t added = r.stats.steiner_inserted + r.stats.segment_splits;
+  EXPECT_GE(added, 10u);
+  EXPECT_LE(added, 64u);
+  EXPECT_GT(free.stats.steiner_inserted + free.stats.segment_splits, 200u);
+}
+
+// Issue 32: a Steiner point inside points on a circle has every triangle in its star (all their
+// circumcircles are the circle), and testing the star's triangles (BRH: a flood each) took 1 s at
+// 160k points, past the budget. The star's queueing reads the clock too: with a reserve per vertex
+// as large as the budget, the budget is spent once the first vertex is in, and the refinement
+// stops inside that vertex's star, before a second vertex (the loop's own clock read comes only
+// every 16 turns).
+TEST(Refine, TimeBudgetStopsInsideALargeStar) {
+  const Pslg circle = generate_input(Distribution::kCircle, 4000, 1);
+  RefineOptions o;
+  o.min_angle_deg = 20.0;
+  o.time_budget_seconds = 1000.0;
+  o.time_reserve_per_vertex = 1000.0;
+  const Refined r = refine_and_check(circle, o);
+  EXPECT_EQ(to_string(r.stats.stop), "time budget");
+  EXPECT_EQ(r.stats.steiner_inserted + r.stats.segment_splits, 1u);
+}
+
 // A costly pluggable test (BRH's bundle test) is asked about every triangle before the first
 // split: out of time, that pass stops too, and the test is not asked again to count what is left.
 // (It is still asked about the triangles that the splits of encroached subsegments make, before
