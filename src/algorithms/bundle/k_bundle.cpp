@@ -127,13 +127,16 @@ class KBundleAttempt {
   bool in_domain(TriangleId t) const { return t < sh_.slots.size() && sh_.in_domain(t); }
 
   // A Delaunay edge leaving every vertex of V (DT ids are the renumbered ids below `used`).
+  // Also the degree of every vertex in DT(V) (its finite triangles), for seed_corner.
   void index_dt_vertices() {
     dt_vertex_edge_.assign(sh_.used, kNone);
+    dt_degree_.assign(sh_.used, 0);
     for (TriangleId t = 0; t < dt_slots_; ++t) {
       if (dt_.is_dead(t) || dt_.is_ghost(t)) continue;
       for (unsigned e = 0; e < 3; ++e) {
         const VertexId o = dt_.org(make_handle(t, e));
         if (dt_vertex_edge_[o] == kNone) dt_vertex_edge_[o] = make_handle(t, e);
+        ++dt_degree_[o];
       }
     }
   }
@@ -184,24 +187,33 @@ class KBundleAttempt {
     });
   }
 
-  // The seed corner of a query's flood: with a subset, one whose fan in DT(W) has no ghost (a
-  // corner on the hull of V has ghosts around it in any Delaunay triangulation; another corner
-  // serves as well); 3 if there is none.
+  // The seed corner of a query's flood: the corner of fewest Delaunay triangles (S(t) holds a
+  // triangle around each corner, so any corner serves, and the walk goes once around the seed's
+  // whole fan when no disk decides: a corner at the apex of a narrow fan has tens of thousands,
+  // and the 80,000 triangles left at the spikes' bases of `mwst generate fan` (160k) each walked
+  // them in BRH's last exact test, ~40 s). With a subset, only a corner whose fan in DT(W) has no
+  // ghost (a corner on the hull of V has ghosts around it in any Delaunay triangulation; another
+  // corner serves as well); 3 if there is none.
   unsigned seed_corner(const std::array<VertexId, 3>& tv) const {
-    if (!subset_) return 0;
     unsigned corner = 3;
-    for (unsigned c = 0; c < 3 && corner == 3; ++c) {
-      if (tv[c] >= sh_.used) break;  // a corner outside W
-      const Handle first_edge = dt_vertex_edge_[tv[c]];
-      Handle g = first_edge;
-      bool ghost = false;
-      do {
-        ghost = ghost || dt_.is_ghost(triangle_of(g));
-        g = dt_.onext(g);
-      } while (g != first_edge);
-      if (!ghost) corner = c;
+    for (unsigned c = 0; c < 3; ++c) {
+      if (subset_ && tv[c] >= sh_.used) break;  // a corner outside W
+      if (dt_vertex_edge_[tv[c]] == kNone) continue;
+      if (corner != 3 && dt_degree_[tv[c]] >= dt_degree_[tv[corner]]) continue;
+      if (subset_ && ghost_around(tv[c])) continue;
+      corner = c;
     }
-    return corner;
+    return corner == 3 && !subset_ ? 0 : corner;
+  }
+
+  bool ghost_around(VertexId v) const {
+    const Handle first_edge = dt_vertex_edge_[v];
+    Handle g = first_edge;
+    do {
+      if (dt_.is_ghost(triangle_of(g))) return true;
+      g = dt_.onext(g);
+    } while (g != first_edge);
+    return false;
   }
 
   // Stage 1 for query qi: walks S(t) from the fan around the seed corner, one fan triangle at a
@@ -628,6 +640,7 @@ class KBundleAttempt {
   const Mesh& dt_;
   const std::size_t dt_slots_;
   std::vector<Handle> dt_vertex_edge_;
+  std::vector<std::uint32_t> dt_degree_;  // finite Delaunay triangles around each vertex
   std::vector<std::unique_ptr<Worker>> workers_;
   std::unique_ptr<std::atomic<std::uint8_t>[]> disk_state_;  // per Delaunay triangle (large_disk)
   std::vector<std::uint32_t> s_count_ = std::vector<std::uint32_t>(queries_.size(), 0);  // |S(t)| per query
