@@ -120,7 +120,7 @@ class KBundleAttempt {
   struct Part {
     std::vector<TriangleId> s_list, fan;
     std::vector<std::uint32_t> dt_stamp;
-    std::size_t decided = 0, disks_counted = 0;
+    std::size_t decided = 0, disks_counted = 0, fan_steps = 0;
     bool gave_up = false;
   };
 
@@ -244,6 +244,7 @@ class KBundleAttempt {
     bool decided = false;
     std::size_t popped = 0;
     do {
+      ++part.fan_steps;
       if (subset_) part.fan.push_back(triangle_of(h));
       consider(triangle_of(h));
       while (!stack.empty()) {
@@ -276,6 +277,7 @@ class KBundleAttempt {
       if (part.gave_up) return false;
       st_.decided_by_circumdisks += part.decided;
       st_.disks_counted += part.disks_counted;
+      st_.seed_fan_steps += part.fan_steps;
       s_list_.insert(s_list_.end(), part.s_list.begin(), part.s_list.end());
       fan_.insert(fan_.end(), part.fan.begin(), part.fan.end());
       part = Part{};
