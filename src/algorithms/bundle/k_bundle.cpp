@@ -187,16 +187,15 @@ class KBundleAttempt {
     });
   }
 
-  // The seed corner of a query's flood: the corner of fewest Delaunay triangles (S(t) holds a
-  // triangle around each corner, so any corner serves, and the walk goes once around the seed's
-  // whole fan when no disk decides: a corner at the apex of a narrow fan has tens of thousands,
-  // and the 80,000 triangles left at the spikes' bases of `mwst generate fan` (160k) each walked
-  // them in BRH's last exact test, ~40 s). With a subset, only a corner whose fan in DT(W) has no
-  // ghost (a corner on the hull of V has ghosts around it in any Delaunay triangulation; another
-  // corner serves as well); 3 if there is none.
-  // A corner of at most kSmallFan Delaunay triangles is taken as it comes (the first one, as before:
-  // the walk's order decides how many disks it counts before one decides, and the first corner
-  // did better on the fan 40k than the one of fewest).
+  // The seed corner of a query's flood. S(t) holds a triangle around each corner, so any corner
+  // serves, but the walk goes once around the seed's whole fan when no disk decides: on
+  // `mwst generate fan` (160k) a corner had tens of thousands of Delaunay triangles, and each of
+  // the 80,000 triangles left at small input angles walked them in BRH's last exact test (~40 s).
+  // So the first corner of at most kSmallFan Delaunay triangles, else the one of fewest (the first
+  // corner unless it has more than kSmallFan, as before: the walk's order decides how many disks
+  // it counts before one decides, and always taking the fewest cost ~2 s more on the fan 40k).
+  // With a subset, only a corner whose fan in DT(W) has no ghost (a corner on the hull of V has
+  // ghosts around it in any Delaunay triangulation; another corner serves as well); 3 if none.
   static constexpr std::uint32_t kSmallFan = 64;
   unsigned seed_corner(const std::array<VertexId, 3>& tv) const {
     unsigned corner = 3;

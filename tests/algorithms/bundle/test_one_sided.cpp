@@ -4,7 +4,8 @@
 // On the Delaunay-refined narrow fan (`mwst generate fan`) the spike bases' pencils have one end
 // a sliver's disk meeting ~10 triangles and the other reaching across thousands: the answers
 // must stay those of the exact per-triangle bundle values, and the work must stay near k per
-// query, not the large disks' sizes.
+// query, not the large disks' sizes. And the first stage's walk starts at a corner of few Delaunay
+// triangles (a wheel's rim, not its centre).
 #include <gtest/gtest.h>
 
 #include <cstddef>
@@ -64,8 +65,8 @@ TEST(OneSidedPencils, FanAnswersAreExactAndCostAboutKPerPencil) {
 // Stage 1 walks S(t) from the Delaunay triangles around one corner of the query, one at a time,
 // going once around that corner's whole fan when no disk decides. At 160,000 vertices of
 // `mwst generate fan` BRH's last exact test, over the 80,000 triangles left at small input angles,
-// walked a fan of tens of thousands per query (~40 s): the walk now starts at the corner of fewest
-// Delaunay triangles. A wheel (a centre and 2,000 points on a circle) has the centre as a corner
+// walked a fan of tens of thousands per query (~40 s): the walk now starts at a corner of at most
+// 64 Delaunay triangles (or of fewest). A wheel (a centre and 2,000 points on a circle) has the centre as a corner
 // of every triangle and 2,000 triangles around it; with k above what any disk meets, no query is
 // decided in stage 1, so starting at the centre would walk 2,000 steps per query where a rim
 // corner has 4. The answers are the exact per-triangle bundle values whichever corner it starts at.
