@@ -119,6 +119,7 @@ MWST_API std::vector<std::uint32_t> circumdisk_bundle_per_triangle(const Mesh& m
 struct KBundleStats {
   std::size_t flooded = 0;                 // Delaunay triangles whose candidate lists were built
   std::size_t disks_counted = 0;           // circumdisks counted up to k (the first stage)
+  std::size_t seed_fan_steps = 0;          // first stage: Delaunay triangles around the seed corners walked
   std::size_t flood_visits = 0;            // mesh triangles the floods of both stages popped
   std::size_t decided_by_circumdisks = 0;  // queries met by a circumdisk meeting ≥ k triangles
   std::size_t decided_by_bound = 0;        // queries no pencil of which could reach k candidates

@@ -121,20 +121,23 @@ class KBundleAttempt {
   struct Part {
     std::vector<TriangleId> s_list, fan;
     std::vector<std::uint32_t> dt_stamp;
-    std::size_t decided = 0, disks_counted = 0;
+    std::size_t decided = 0, disks_counted = 0, fan_steps = 0;
     bool gave_up = false;
   };
 
   bool in_domain(TriangleId t) const { return t < sh_.slots.size() && sh_.in_domain(t); }
 
   // A Delaunay edge leaving every vertex of V (DT ids are the renumbered ids below `used`).
+  // Also the degree of every vertex in DT(V) (its finite triangles), for seed_corner.
   void index_dt_vertices() {
     dt_vertex_edge_.assign(sh_.used, kNone);
+    dt_degree_.assign(sh_.used, 0);
     for (TriangleId t = 0; t < dt_slots_; ++t) {
       if (dt_.is_dead(t) || dt_.is_ghost(t)) continue;
       for (unsigned e = 0; e < 3; ++e) {
         const VertexId o = dt_.org(make_handle(t, e));
         if (dt_vertex_edge_[o] == kNone) dt_vertex_edge_[o] = make_handle(t, e);
+        ++dt_degree_[o];
       }
     }
   }
@@ -185,24 +188,37 @@ class KBundleAttempt {
     });
   }
 
-  // The seed corner of a query's flood: with a subset, one whose fan in DT(W) has no ghost (a
-  // corner on the hull of V has ghosts around it in any Delaunay triangulation; another corner
-  // serves as well); 3 if there is none.
+  // The seed corner of a query's flood. S(t) holds a triangle around each corner, so any corner
+  // serves, but the walk goes once around the seed's whole fan when no disk decides: on
+  // `mwst generate fan` (160k) a corner had tens of thousands of Delaunay triangles, and each of
+  // the 80,000 triangles left at small input angles walked them in BRH's last exact test (~40 s).
+  // So the first corner of at most kSmallFan Delaunay triangles, else the one of fewest (the first
+  // corner unless it has more than kSmallFan, as before: the walk's order decides how many disks
+  // it counts before one decides, and always taking the fewest cost ~2 s more on the fan 40k).
+  // With a subset, only a corner whose fan in DT(W) has no ghost (a corner on the hull of V has
+  // ghosts around it in any Delaunay triangulation; another corner serves as well); 3 if none.
+  static constexpr std::uint32_t kSmallFan = 64;
   unsigned seed_corner(const std::array<VertexId, 3>& tv) const {
-    if (!subset_) return 0;
     unsigned corner = 3;
-    for (unsigned c = 0; c < 3 && corner == 3; ++c) {
-      if (tv[c] >= sh_.used) break;  // a corner outside W
-      const Handle first_edge = dt_vertex_edge_[tv[c]];
-      Handle g = first_edge;
-      bool ghost = false;
-      do {
-        ghost = ghost || dt_.is_ghost(triangle_of(g));
-        g = dt_.onext(g);
-      } while (g != first_edge);
-      if (!ghost) corner = c;
+    for (unsigned c = 0; c < 3; ++c) {
+      if (subset_ && tv[c] >= sh_.used) break;  // a corner outside W
+      if (dt_vertex_edge_[tv[c]] == kNone) continue;
+      if (corner != 3 && dt_degree_[tv[c]] >= dt_degree_[tv[corner]]) continue;
+      if (subset_ && ghost_around(tv[c])) continue;
+      corner = c;
+      if (dt_degree_[tv[c]] <= kSmallFan) break;
     }
-    return corner;
+    return corner == 3 && !subset_ ? 0 : corner;
+  }
+
+  bool ghost_around(VertexId v) const {
+    const Handle first_edge = dt_vertex_edge_[v];
+    Handle g = first_edge;
+    do {
+      if (dt_.is_ghost(triangle_of(g))) return true;
+      g = dt_.onext(g);
+    } while (g != first_edge);
+    return false;
   }
 
   // Stage 1 for query qi: walks S(t) from the fan around the seed corner, one fan triangle at a
@@ -233,6 +249,7 @@ class KBundleAttempt {
     bool decided = false;
     std::size_t popped = 0;
     do {
+      ++part.fan_steps;
       if (subset_) part.fan.push_back(triangle_of(h));
       consider(triangle_of(h));
       while (!stack.empty()) {
@@ -272,6 +289,7 @@ class KBundleAttempt {
       if (part.gave_up) return false;
       st_.decided_by_circumdisks += part.decided;
       st_.disks_counted += part.disks_counted;
+      st_.seed_fan_steps += part.fan_steps;
       s_list_.insert(s_list_.end(), part.s_list.begin(), part.s_list.end());
       fan_.insert(fan_.end(), part.fan.begin(), part.fan.end());
       part = Part{};
@@ -641,6 +659,7 @@ class KBundleAttempt {
   const Mesh& dt_;
   const std::size_t dt_slots_;
   std::vector<Handle> dt_vertex_edge_;
+  std::vector<std::uint32_t> dt_degree_;  // finite Delaunay triangles around each vertex
   std::vector<std::unique_ptr<Worker>> workers_;
   std::unique_ptr<std::atomic<std::uint8_t>[]> disk_state_;  // per Delaunay triangle (large_disk)
   std::vector<std::uint32_t> s_count_ = std::vector<std::uint32_t>(queries_.size(), 0);  // |S(t)| per query
