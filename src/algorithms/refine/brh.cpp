@@ -328,6 +328,7 @@ BundleRemoval::Step BundleRemoval::exact_test(bool ask_all) {
     sweep_cache_.reuse_sweeps = use_cache || use_clean;
     sweep_cache_.keep_sweeps = use_cache;
     std::vector<std::uint8_t> answers;
+    local_.release_spare(mesh_);  // (the peak memory is reached in the exact test)
     try {
       answers = in_k_bundle(mesh_, K_, asked, nullptr, options_.threads, &sweep_cache_, exact_test_deadline());
     } catch (const KBundleTimeout&) {  // (the mesh is as the last pass left it)

@@ -157,6 +157,14 @@ class LocalBundleTest {
     delaunay_known_ = false;
   }
 
+  // Frees the cache's spare room (a quarter of the slots, kept for the refinement's growth) while
+  // the mesh does not grow: BRH calls it before the exact test, whose peak memory it lowers. Every
+  // entry is kept (the slots past triangle_slots() hold none), so no answer changes.
+  void release_spare(const Mesh& m) {
+    if (cache_.size() > m.triangle_slots()) cache_.resize(m.triangle_slots());
+    cache_.shrink_to_fit();
+  }
+
   const Stats& stats() const { return stats_; }
   std::size_t cap() const { return cap_; }
 
@@ -198,19 +206,21 @@ class LocalBundleTest {
   }
 
  private:
-  // Per slot, for the triangle its corners `v` make (28 bytes): in_bundle's answer in this epoch,
-  // and the count of its circumdisk at a mesh version (disk_count).
+  // Per slot, for the triangle its corners `v` make (24 bytes): in_bundle's answer in this epoch,
+  // and whether the count of its circumdisk reaches K at a mesh version (disk_count).
+  // The count is asked only whether it reaches K, so only that is kept (24 bytes, not 28).
   struct SlotCache {
     std::array<VertexId, 3> v{kNone, kNone, kNone};
     std::uint32_t version = 0;  // the count's mesh version (0: none; a mesh has 3 vertices or more)
-    std::uint32_t count = 0;
-    std::uint16_t epoch = 0;    // in_bundle's answer is valid if equal to epoch_
-    std::uint8_t value = 0;     // in_bundle's answer: 1 no, 2 yes
-    bool holds_vertex = false;  // a vertex lies strictly inside the disk: count 0 whatever the version
     // The index showed that none of the vertices below this id lies strictly inside the disk (0:
     // not known): a later flood asks it about the newer ones only.
     std::uint32_t empty_below = 0;
+    std::uint16_t epoch = 0;            // in_bundle's answer is valid if equal to epoch_
+    std::uint8_t value : 2 = 0;         // in_bundle's answer: 1 no, 2 yes
+    std::uint8_t holds_vertex : 1 = 0;  // a vertex lies strictly inside the disk: count 0 whatever the version
+    std::uint8_t reaches_k : 1 = 0;     // the count at `version` is K or more
   };
+  static_assert(sizeof(SlotCache) == 24);
 
   // circumdisk_count(m, c), remembered while the mesh is unchanged: the refinement only inserts
   // vertices, so the mesh is the same while its vertex and slot counts are (the triangles made by
@@ -241,11 +251,11 @@ class LocalBundleTest {
     return c;
   }
 
-  // disk_count's remembered value, or 0 if it has none.
+  // disk_count's remembered value (K if it reached K), or 0 if it has none.
   std::uint32_t cached_count(const Mesh& m, TriangleId c) const {
     if (c >= cache_.size()) return 0;
     const SlotCache& d = cache_[c];
-    return d.version == mesh_version(m) && d.v == m.triangles[c].v ? d.count : 0;
+    return d.version == mesh_version(m) && d.v == m.triangles[c].v && d.reaches_k ? k_ : 0;
   }
 
   // A disk found to hold a vertex strictly inside holds it for good: the refinement only adds
@@ -261,14 +271,14 @@ class LocalBundleTest {
         ++stats_.known_not_empty;
         return 0;
       }
-      if (d.version == version) return d.count;
+      if (d.version == version) return d.reaches_k ? k_ : 0;
     }
     holds_vertex_ = false;
     shown_empty_ = false;
     const std::uint32_t count = circumdisk_count(m, c);
     SlotCache& d = slot_cache(m, c);  // (a reference taken before the flood would do as well)
     d.version = version;
-    d.count = count;
+    d.reaches_k = count >= k_;
     d.holds_vertex = holds_vertex_;
     if (shown_empty_) d.empty_below = version;
     return count;
