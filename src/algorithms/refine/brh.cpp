@@ -51,6 +51,7 @@ class BundleRemoval {
   enum class Step { kProceed, kNextRound, kStop };
 
   bool area_pass();
+  double reserved_seconds() const;
   double seconds_used() const;
   bool time_up() const;
   std::chrono::steady_clock::time_point exact_test_deadline() const;
@@ -195,12 +196,15 @@ bool BundleRemoval::area_pass() {
   return false;
 }
 
-// The budget counts the time since BRH started plus RefineOptions::time_reserve_per_vertex for
-// each vertex inserted so far (the time its caller needs to write them out).
+// RefineOptions::time_reserve_per_vertex for each vertex inserted so far: the time BRH's caller
+// needs to write them out.
+double BundleRemoval::reserved_seconds() const {
+  return options_.refine.time_reserve_per_vertex * static_cast<double>(stats_.steiner_inserted + stats_.segment_splits);
+}
+
+// The budget counts the time since BRH started plus the reserve for the vertices inserted so far.
 double BundleRemoval::seconds_used() const {
-  const double added = static_cast<double>(stats_.steiner_inserted + stats_.segment_splits);
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count() +
-         options_.refine.time_reserve_per_vertex * added;
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count() + reserved_seconds();
 }
 
 bool BundleRemoval::time_up() const {
@@ -209,9 +213,8 @@ bool BundleRemoval::time_up() const {
 
 std::chrono::steady_clock::time_point BundleRemoval::exact_test_deadline() const {
   if (deadline_ == std::chrono::steady_clock::time_point::max()) return deadline_;
-  const double reserved = options_.refine.time_reserve_per_vertex *
-                          static_cast<double>(stats_.steiner_inserted + stats_.segment_splits);
-  return deadline_ - std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(reserved));
+  return deadline_ -
+         std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(reserved_seconds()));
 }
 
 // ---- the skinny triangles begin here --------------------------------------------------------------

@@ -206,9 +206,9 @@ class LocalBundleTest {
   }
 
  private:
-  // Per slot, for the triangle its corners `v` make (24 bytes): in_bundle's answer in this epoch,
-  // and whether the count of its circumdisk reaches K at a mesh version (disk_count).
-  // The count is asked only whether it reaches K, so only that is kept (24 bytes, not 28).
+  // Per slot, for the triangle its corners `v` make: in_bundle's answer in this epoch, and whether
+  // the count of its circumdisk reaches K at a mesh version (disk_count; the count is only ever
+  // compared with K, so that is all that is kept).
   struct SlotCache {
     std::array<VertexId, 3> v{kNone, kNone, kNone};
     std::uint32_t version = 0;  // the count's mesh version (0: none; a mesh has 3 vertices or more)
