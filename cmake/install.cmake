@@ -1,6 +1,7 @@
 # cmake/install.cmake — what `cmake --install` writes besides the library, the CLI and the headers:
-#   lib/cmake/mwst/mwstConfig.cmake, mwstConfigVersion.cmake (SameMajorVersion), mwstTargets.cmake
-#     so that another project's find_package(mwst 0.2 CONFIG REQUIRED) gives the target mwst::mwst;
+#   lib/cmake/mwst/mwstConfig.cmake, mwstConfigVersion.cmake (SameMinorVersion before 1.0, then
+#     SameMajorVersion, as the soname), mwstTargets.cmake
+#     so that another project's find_package(mwst 0.3 CONFIG REQUIRED) gives the target mwst::mwst;
 #   lib/pkgconfig/mwst.pc and mwst-draw.pc (the pictures) for builds without CMake.
 include(CMakePackageConfigHelpers)
 
@@ -21,8 +22,13 @@ if(BUILD_SHARED_LIBS)
 endif()
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/mwstConfig.cmake.in
   ${PROJECT_BINARY_DIR}/mwstConfig.cmake INSTALL_DESTINATION ${MWST_CMAKE_DIR})
+if(PROJECT_VERSION_MAJOR EQUAL 0)
+  set(MWST_VERSION_COMPATIBILITY SameMinorVersion)
+else()
+  set(MWST_VERSION_COMPATIBILITY SameMajorVersion)
+endif()
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/mwstConfigVersion.cmake
-  VERSION ${PROJECT_VERSION} COMPATIBILITY SameMajorVersion)
+  VERSION ${PROJECT_VERSION} COMPATIBILITY ${MWST_VERSION_COMPATIBILITY})
 install(FILES ${PROJECT_BINARY_DIR}/mwstConfig.cmake ${PROJECT_BINARY_DIR}/mwstConfigVersion.cmake
   DESTINATION ${MWST_CMAKE_DIR})
 
