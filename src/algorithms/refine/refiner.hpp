@@ -249,6 +249,7 @@ class Refiner {
   void set_feature_guard();
   void prepare_conforming();
   void reserve_for_area_bound();
+  void reserve_for_angle_bound();
   bool budget_reached() const {
     return stats_.steiner_inserted + stats_.segment_splits >= opt_.max_steiner;
   }
