@@ -8,6 +8,7 @@
 #include <sstream>
 #include <utility>
 
+#include "mesh/insertion_order.hpp"
 #include "mwst/error.hpp"
 #include "support/huge_pages.hpp"
 #include "support/page_faulter.hpp"
@@ -368,10 +369,12 @@ struct LinearAttributes {
 
   const double* of(VertexId v) const { return values.data() + static_cast<std::size_t>(v) * count; }
 
-  // The attributes at p, into out[0, count).
-  void at(const Point& p, double* out) const {
-    const Location where = mesh.locate(p);
+  // The attributes at p, into out[0, count). The walk to p starts at `hint` (kNone: anywhere) and
+  // leaves there the triangle p was found in, the start for a point near p.
+  void at(const Point& p, double* out, Handle& hint) const {
+    const Location where = mesh.locate(p, hint);
     const Handle h = where.handle;
+    hint = h;
     if (where.kind == Location::Kind::kOnVertex) {
       std::copy(of(mesh.org(h)), of(mesh.org(h)) + count, out);
       return;
@@ -446,8 +449,18 @@ void interpolate_vertex_attributes(const Pslg& input, bool convex_hull, MeshArra
   (void)triangulate(input, plain, &cdt);
   const std::vector<double> at_cdt_vertices = attributes_of_cdt_vertices(input, cdt);
   const LinearAttributes linear{cdt, at_cdt_vertices, count};
-  for (std::size_t v = inputs; v < arrays.vertex_count(); ++v) {
-    linear.at(Point{arrays.vertices[2 * v], arrays.vertices[2 * v + 1]}, arrays.vertex_attributes.data() + v * count);
+  // The Steiner points in the Delaunay insertion order (Hilbert curve order in BRIO rounds), each
+  // walk starting where the last ended: a few steps each. From anywhere, every walk crossed
+  // O(sqrt n) triangles: DR on 160k uniform points with one attribute took 3.7 s of CPU instead of
+  // 0.7 s, growing like n^1.8.
+  std::vector<Point> steiner(arrays.vertex_count() - inputs);
+  for (std::size_t i = 0; i < steiner.size(); ++i) {
+    steiner[i] = Point{arrays.vertices[2 * (inputs + i)], arrays.vertices[2 * (inputs + i) + 1]};
+  }
+  Handle hint = kNone;
+  std::size_t left_half = 0;  // (where the order splits in two halves: not needed here)
+  for (const std::uint32_t i : insertion_order::hilbert_order(steiner, &left_half, false)) {
+    linear.at(steiner[i], arrays.vertex_attributes.data() + (inputs + i) * count, hint);
   }
 }
 

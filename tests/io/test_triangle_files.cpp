@@ -529,6 +529,41 @@ TEST(TriangleFiles, VertexAttributesAreCarriedAndInterpolated) {
   EXPECT_EQ(back.point_attributes, mesh.vertex_attributes);
 }
 
+// Many Steiner points (thousands, spread over a point set): each is located in the input's
+// triangulation by a walk from where the last one was found, in Hilbert curve order; every one
+// still gets the linear attributes of its own place (a = x + 2y, b = 3 - y).
+TEST(TriangleFiles, VertexAttributesOfManySteinerPointsAreTheirOwnPlaces) {
+  Pslg input;
+  input.attributes_per_point = 2;
+  std::uint64_t state = 12345;
+  const auto next = [&state] {  // a fixed linear congruential sequence in [0, 10)
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<double>(state >> 11) * 0x1.0p-53 * 10.0;
+  };
+  for (int i = 0; i < 3000; ++i) {
+    const Point p{next(), next()};
+    input.points.push_back(p);
+    input.point_attributes.push_back(p.x + 2 * p.y);
+    input.point_attributes.push_back(3 - p.y);
+  }
+  TriangulateOptions options;
+  options.method = Method::kDr;
+  options.min_angle_deg = 30.0;
+  options.max_area = 0.005;
+  const MeshArrays mesh = triangulate_arrays(input, options);
+  ASSERT_GT(mesh.vertex_count(), 3000u + 10000u) << "too few Steiner points to test";
+  ASSERT_EQ(mesh.vertex_attributes.size(), 2 * mesh.vertex_count());
+  std::size_t wrong = 0;
+  for (std::size_t v = 3000; v < mesh.vertex_count(); ++v) {
+    const double x = mesh.vertices[2 * v], y = mesh.vertices[2 * v + 1];
+    if (std::abs(mesh.vertex_attributes[2 * v] - (x + 2 * y)) > 1e-9 ||
+        std::abs(mesh.vertex_attributes[2 * v + 1] - (3 - y)) > 1e-9) {
+      ++wrong;
+    }
+  }
+  EXPECT_EQ(wrong, 0u);
+}
+
 // Without attributes nothing is added, and a .node's "N 2 0 B" is unchanged.
 TEST(TriangleFiles, NoVertexAttributesWithoutThem) {
   const Pslg input = io::parse_node("3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n", "t.node");
