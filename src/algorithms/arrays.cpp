@@ -21,54 +21,79 @@ namespace {
 
 inline constexpr std::int32_t kNoTriangle = -1;
 
-// An in-domain triangle holding the point of `where` (found by Mesh::locate), or kNone: a point
-// on an edge or a vertex belongs to any domain triangle beside it.
+// The in-domain triangle of least id holding the point of `where` (found by Mesh::locate), or
+// kNone: a point on an edge or a vertex belongs to the domain triangles beside it, and the least
+// id makes the choice independent of the walk that found it.
 TriangleId domain_triangle_at(const Mesh& mesh, const Location& where) {
+  TriangleId best = kNone;
+  const auto consider = [&](TriangleId t) {
+    if (mesh.in_domain(t) && (best == kNone || t < best)) best = t;
+  };
   switch (where.kind) {
-    case Location::Kind::kInTriangle: {
-      const TriangleId t = triangle_of(where.handle);
-      return mesh.in_domain(t) ? t : kNone;
-    }
-    case Location::Kind::kOnEdge: {
-      for (const Handle h : {where.handle, mesh.sym(where.handle)}) {
-        if (mesh.in_domain(triangle_of(h))) return triangle_of(h);
-      }
-      return kNone;
-    }
+    case Location::Kind::kInTriangle:
+      consider(triangle_of(where.handle));
+      break;
+    case Location::Kind::kOnEdge:
+      consider(triangle_of(where.handle));
+      consider(triangle_of(mesh.sym(where.handle)));
+      break;
     case Location::Kind::kOnVertex: {
       // The triangles around org(handle), counter-clockwise (onext), until back at the start.
       Handle h = where.handle;
       do {
-        if (mesh.in_domain(triangle_of(h))) return triangle_of(h);
+        consider(triangle_of(h));
         h = mesh.onext(h);
       } while (h != where.handle);
-      return kNone;
+      break;
     }
   }
-  return kNone;
+  return best;
 }
 
 }  // namespace
 
 std::vector<std::int32_t> region_of_triangles(const Mesh& mesh, const std::vector<Region>& regions,
                                               const std::string& source) {
+  // The seeds located in Hilbert curve order, each walk starting where the last one ended: from
+  // anywhere, each walk crossed O(sqrt n) triangles (40,000 regional seeds in a grid of cells took
+  // most of `mwst triangle -pqAa`'s 28 s).
+  std::vector<TriangleId> start(regions.size(), kNone);
+  std::vector<std::uint32_t> supported;
+  std::vector<Point> seeds;
+  for (std::size_t r = 0; r < regions.size(); ++r) {
+    if (!in_supported_range(regions[r].seed)) continue;
+    supported.push_back(static_cast<std::uint32_t>(r));
+    seeds.push_back(regions[r].seed);
+  }
+  std::size_t left_half = 0;  // (where the order splits in two halves: not needed here)
+  Handle hint = kNone;
+  for (const std::uint32_t i : insertion_order::hilbert_order(seeds, &left_half, false)) {
+    const Location where = mesh.locate(seeds[i], hint);
+    hint = where.handle;
+    start[supported[i]] = domain_triangle_at(mesh, where);
+  }
+  for (std::size_t r = 0; r < regions.size(); ++r) {
+    if (start[r] != kNone) continue;
+    const Point& seed = regions[r].seed;
+    std::ostringstream message;
+    message.precision(17);
+    message << "region " << r + 1 << ": its seed (" << seed.x << ", " << seed.y
+            << ") lies outside the domain (outside the segments, or in a hole)";
+    throw InputError(source, regions[r].line, message.str());
+  }
+  // Each region spreads from the triangle holding its seed to every domain triangle reachable
+  // without crossing a subsegment, and a later region wins where two reach the same triangles.
+  // Two seeds reach either the same triangles (the same piece of the domain between subsegments)
+  // or disjoint ones, so the regions are spread last first, and one whose seed's triangle a later
+  // region already holds is skipped: every triangle is visited once (in the given order, 40,000
+  // seeds in one piece flooded it 40,000 times).
   std::vector<std::int32_t> region(mesh.triangle_slots(), -1);
   std::vector<TriangleId> stack;
-  for (std::size_t r = 0; r < regions.size(); ++r) {
-    const Point& seed = regions[r].seed;
-    const TriangleId start = in_supported_range(seed) ? domain_triangle_at(mesh, mesh.locate(seed)) : kNone;
-    if (start == kNone) {
-      std::ostringstream message;
-      message.precision(17);
-      message << "region " << r + 1 << ": its seed (" << seed.x << ", " << seed.y
-              << ") lies outside the domain (outside the segments, or in a hole)";
-      throw InputError(source, regions[r].line, message.str());
-    }
-    // Each region spreads from the triangle holding its seed to every domain triangle reachable
-    // without crossing a subsegment, overwriting an earlier region there.
+  for (std::size_t r = regions.size(); r-- > 0;) {
+    if (region[start[r]] >= 0) continue;
     const auto mark = static_cast<std::int32_t>(r);
-    region[start] = mark;
-    stack.assign(1, start);
+    region[start[r]] = mark;
+    stack.assign(1, start[r]);
     while (!stack.empty()) {
       const TriangleId t = stack.back();
       stack.pop_back();
@@ -76,7 +101,7 @@ std::vector<std::int32_t> region_of_triangles(const Mesh& mesh, const std::vecto
         const Handle h = make_handle(t, e);
         if (mesh.is_segment(h)) continue;
         const TriangleId u = triangle_of(mesh.sym(h));
-        if (region[u] != mark && mesh.in_domain(u)) {
+        if (region[u] < 0 && mesh.in_domain(u)) {
           region[u] = mark;
           stack.push_back(u);
         }

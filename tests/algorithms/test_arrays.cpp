@@ -286,6 +286,45 @@ TEST(Arrays, RegionalAttributesSpreadUpToSegments) {
   }
 }
 
+// A grid of 12 x 12 unit cells walled by segments, three seeds in every cell listed in a scrambled
+// order: every triangle takes the attribute of the last region listed whose seed is in its cell
+// (later regions win; seeds are located and regions spread in another order, for speed).
+TEST(Arrays, LaterRegionsWinInEveryCellOfAGrid) {
+  constexpr int k = 12;
+  mwst::Pslg input;
+  const auto id = [](int i, int j) { return static_cast<std::uint32_t>(i * (k + 1) + j); };
+  for (int i = 0; i <= k; ++i) {
+    for (int j = 0; j <= k; ++j) input.points.push_back(Point{static_cast<double>(i), static_cast<double>(j)});
+  }
+  for (int i = 0; i <= k; ++i) {
+    for (int j = 0; j < k; ++j) {
+      input.segments.push_back({id(i, j), id(i, j + 1), 0});
+      input.segments.push_back({id(j, i), id(j + 1, i), 0});
+    }
+  }
+  std::map<std::pair<int, int>, double> last;  // cell -> the attribute of its last region
+  for (int round = 0; round < 3; ++round) {
+    for (int c = 0; c < k * k; ++c) {
+      const int scrambled = (c * 37 + round * 11) % (k * k);  // 37 is prime to 144
+      const int i = scrambled / k, j = scrambled % k;
+      mwst::Region region;
+      region.seed = Point{i + 0.25 + 0.25 * round, j + 0.5};
+      region.attribute = 1000.0 * round + scrambled;
+      input.regions.push_back(region);
+      last[{i, j}] = region.attribute;
+    }
+  }
+  const MeshArrays a = mwst::triangulate_arrays(input, options_for(mwst::Method::kDt, 0.0));
+  ASSERT_EQ(a.triangle_attributes.size(), a.triangle_count());
+  ASSERT_EQ(a.triangle_count(), 2u * k * k);
+  for (std::size_t t = 0; t < a.triangle_count(); ++t) {
+    const Point p = vertex(a, a.triangles[3 * t]), q = vertex(a, a.triangles[3 * t + 1]),
+                r = vertex(a, a.triangles[3 * t + 2]);
+    const int i = static_cast<int>((p.x + q.x + r.x) / 3.0), j = static_cast<int>((p.y + q.y + r.y) / 3.0);
+    EXPECT_EQ(a.triangle_attributes[t], (last[{i, j}])) << "triangle " << t << " in cell " << i << ", " << j;
+  }
+}
+
 // A region whose seed lies outside the domain is bad input: an InputError naming the file, the
 // region's line and the seed, whatever the method (the attributes are spread for every one).
 TEST(Arrays, RegionSeedOutsideTheDomainIsAnInputError) {

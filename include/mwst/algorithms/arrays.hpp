@@ -57,8 +57,9 @@ struct MeshArrays {
 
 // Triangle's regions: for each triangle slot of `mesh`, the index of the region whose seed reaches
 // it without crossing a subsegment (regions applied in order, a later one winning), or -1 (outside
-// the domain, or reached by no seed). A seed outside the domain (outside the segments, or in a
-// hole) is bad input: an InputError naming `source` and the region's line.
+// the domain, or reached by no seed). A seed on an edge or a vertex is in the domain triangle of
+// least slot beside it. A seed outside the domain (outside the segments, or in a hole) is bad
+// input: an InputError naming `source` and the region's line.
 MWST_API std::vector<std::int32_t> region_of_triangles(const Mesh& mesh, const std::vector<Region>& regions,
                                                        const std::string& source);
 

@@ -272,6 +272,7 @@ class Refiner {
       m_.triangles.reserve(n);
       m_.flags.reserve(n);
       if (!m_.segment_marker.empty()) m_.segment_marker.reserve(3 * n);
+      if (own_bounds_) m_.area_bound.reserve(n);
     }
     if (m_.points.size() + 1 > m_.points.capacity()) {
       const std::size_t n = m_.points.capacity() + m_.points.capacity() / 4 + 64;
