@@ -502,10 +502,10 @@ class Checker {
   // to the one at the other, a chain of mesh edges whose vertices never step back along the
   // segment by more than kSegmentUlps ulps of its largest coordinate magnitude M (the CDT's
   // snapping of crossings, SegmentLine::behind_beyond_tolerance) and lie within kSegmentUlps ulps
-  // of M of its line (the distance from the exactly computed orient2d). A crossing vertex or a Steiner point moved
-  // further than rounding is refused. Where the segment leaves the mesh (a segment in a hole, or
-  // bounding a hole) the part beyond is walked from the other end; a segment is reported only
-  // where it runs into a triangle's interior, or when its chain ends short of it.
+  // of M of its line (the distance from the exactly computed orient2d). A crossing vertex or a
+  // Steiner point moved further than rounding is refused. Where the segment leaves the mesh (a
+  // segment in a hole, or bounding a hole) the part beyond is walked from the other end; a segment
+  // is reported only where it runs into a triangle's interior, or when its chain ends short of it.
   void check_input_segments() {
     dead_end_.assign(p_.size(), 0);
     std::vector<std::uint32_t> at_input(input_.points.size(), kNone);
@@ -552,7 +552,7 @@ class Checker {
   struct SegmentLine {
     Point a, b;
     double length;
-    double tolerance;  // on the cross and dot products: kSegmentUlps ulps of the magnitude, times length
+    double tolerance;  // on the cross and dot products: kSegmentUlps ulps of M, times length
     // Is q strictly further along the segment than r: (q − r)·(b − a) > 0, exactly (expansion
     // arithmetic)? Along the segment, not along its larger coordinate: the CDT resolves crossings
     // at vertices within its rounding tolerance of a segment, on either side of it, so near a long
@@ -568,10 +568,10 @@ class Checker {
     // on a piece of the segment's chain, from a vertex v to a vertex w further along (the piece
     // still to insert, or a subsegment another segment crosses): a convex combination of v and w,
     // not behind v along the segment. The vertex it snaps to is behind v by at most the snap
-    // distance. Where doubles are as coarse as the input's
-    // features, two crossings a few units apart snap to vertices in the reverse order (dt of 7
-    // fuzzed points near -7.7e15, doubles 1 apart: crossings 5.5 apart along a segment resolved at
-    // two vertices 8.5 to 16.6 units from them, the second of which is 0.31 behind the first).
+    // distance. Where doubles are as coarse as the input's features, two crossings a few units
+    // apart snap to vertices in the reverse order (dt of 7 fuzzed points near -7.7e15, doubles 1
+    // apart: crossings 5.5 apart along a segment resolved at two vertices 8.5 to 16.6 units from
+    // them, the second of which is 0.31 behind the first).
     bool behind_beyond_tolerance(const Point& q, const Point& r) const {
       exact::Expansion<1> slack;
       slack.push(tolerance);
@@ -623,7 +623,9 @@ class Checker {
           break;
         }
         if (dead_end_[w]) continue;
-        if (line.behind_beyond_tolerance(p_[w], p_[cur]) || !line.ahead(line.b, p_[w]) || !line.near(p_[w])) continue;
+        if (line.behind_beyond_tolerance(p_[w], p_[cur]) || !line.ahead(line.b, p_[w]) || !line.near(p_[w])) {
+          continue;
+        }
         dead_end_[w] = 1;  // visited: reached once, never expanded again
         touched.push_back(w);
         stack.push_back(w);
