@@ -500,11 +500,12 @@ class Checker {
   // Every input segment, checked against the input itself (not against the reference domain,
   // whose crossing points come from the same code as the mesh's): from the mesh vertex at one end
   // to the one at the other, a chain of mesh edges whose vertices never step back along the
-  // segment and lie within kSegmentUlps ulps of its largest coordinate magnitude of its line (the
-  // distance from the exactly computed orient2d). A crossing vertex or a Steiner point moved
-  // further than rounding is refused. Where the segment leaves the mesh (a segment in a hole, or
-  // bounding a hole) the part beyond is walked from the other end; a segment is reported only
-  // where it runs into a triangle's interior, or when its chain ends short of it.
+  // segment by more than kSegmentUlps ulps of its largest coordinate magnitude M (the CDT's
+  // snapping of crossings, SegmentLine::behind_beyond_tolerance) and lie within kSegmentUlps ulps
+  // of M of its line (the distance from the exactly computed orient2d). A crossing vertex or a
+  // Steiner point moved further than rounding is refused. Where the segment leaves the mesh (a
+  // segment in a hole, or bounding a hole) the part beyond is walked from the other end; a segment
+  // is reported only where it runs into a triangle's interior, or when its chain ends short of it.
   void check_input_segments() {
     dead_end_.assign(p_.size(), 0);
     std::vector<std::uint32_t> at_input(input_.points.size(), kNone);
@@ -551,7 +552,7 @@ class Checker {
   struct SegmentLine {
     Point a, b;
     double length;
-    double tolerance;  // on the cross product: kSegmentUlps ulps of the magnitude, times length
+    double tolerance;  // on the cross and dot products: kSegmentUlps ulps of M, times length
     // Is q strictly further along the segment than r: (q − r)·(b − a) > 0, exactly (expansion
     // arithmetic)? Along the segment, not along its larger coordinate: the CDT resolves crossings
     // at vertices within its rounding tolerance of a segment, on either side of it, so near a long
@@ -559,10 +560,28 @@ class Checker {
     // a vertex 2 units below the line to one 5 units above it and 7 further along, but 1.75 back
     // in y. Exactly, so that vertices an ulp apart (refinement puts clusters of Steiner points
     // within 1e-20 of each other 16 units along a hull edge) are ordered as they lie.
-    bool ahead(const Point& q, const Point& r) const {
+    bool ahead(const Point& q, const Point& r) const { return exact::sign(along(q, r)) > 0; }
+    // Is q behind r along the segment by more than the tolerance: (q − r)·(b − a) < −tolerance,
+    // i.e. further back than kSegmentUlps ulps of M? The CDT snaps a crossing to an end of the
+    // crossed subsegment (or of the piece) up to 256·2^-52 of the larger of the crossing's
+    // magnitude and the segments' lengths away, within kSegmentUlps ulps of M. Each crossing lies
+    // on a piece of the segment's chain, from a vertex v to a vertex w further along (the piece
+    // still to insert, or a subsegment another segment crosses): a convex combination of v and w,
+    // not behind v along the segment. The vertex it snaps to is behind v by at most the snap
+    // distance. Where doubles are as coarse as the input's features, two crossings a few units
+    // apart snap to vertices in the reverse order (dt of 7 fuzzed points near -7.7e15, doubles 1
+    // apart: crossings 5.5 apart along a segment resolved at two vertices 8.5 to 16.6 units from
+    // them, the second of which is 0.31 behind the first).
+    bool behind_beyond_tolerance(const Point& q, const Point& r) const {
+      exact::Expansion<1> slack;
+      slack.push(tolerance);
+      return exact::sign(along(q, r) + slack) < 0;
+    }
+    // (q − r)·(b − a), exactly (expansion arithmetic).
+    exact::Expansion<16> along(const Point& q, const Point& r) const {
       const exact::Expansion<8> along_x = exact::difference(q.x, r.x) * exact::difference(b.x, a.x);
       const exact::Expansion<8> along_y = exact::difference(q.y, r.y) * exact::difference(b.y, a.y);
-      return exact::sign(along_x + along_y) > 0;
+      return along_x + along_y;
     }
     SegmentLine(const Point& from, const Point& to) : a(from), b(to), length(distance(from, to)) {
       const double magnitude = std::max({std::fabs(a.x), std::fabs(a.y), std::fabs(b.x), std::fabs(b.y)});
@@ -576,13 +595,14 @@ class Checker {
   };
 
   // Depth-first search from mesh vertex `from` to `to` (kNone: none) along mesh edges whose far
-  // vertices are near the line and not behind the near vertex along it (each vertex is expanded
-  // once: a vertex that led nowhere once leads nowhere again, dead_end_). A step across the line,
-  // to a vertex level with the last along it, is part of a chain: where doubles are as coarse as
-  // the input's features, the CDT resolves a crossing at an end of the crossed subsegment within
-  // its rounding, and the chain then runs sideways (dt of 8 fuzzed points near -8.6e15, doubles 1
-  // apart: a vertical segment's chain stepped from its end at x = -67 to a vertex at x = -66 at
-  // the same height, then down). Returns kNone when the chain reaches `to`,
+  // vertices are near the line and not behind the near vertex along it by more than the tolerance
+  // (each vertex is expanded once: a vertex that led nowhere once leads nowhere again, dead_end_).
+  // A step across the line, to a vertex level with the last along it or a little behind it, is
+  // part of a chain: where doubles are as coarse as the input's features, the CDT resolves a
+  // crossing at an end of the crossed subsegment within its rounding, and the chain then runs
+  // sideways (dt of 8 fuzzed points near -8.6e15, doubles 1 apart: a vertical segment's chain
+  // stepped from its end at x = -67 to a vertex at x = -66 at the same height, then down) or
+  // back (behind_beyond_tolerance). Returns kNone when the chain reaches `to`,
   // otherwise where it stopped: the vertex furthest along of those reached from which the segment
   // runs out of the mesh, or, if it runs into the interior of a mesh triangle from every one of
   // them, the furthest one reached, with *enters set.
@@ -603,7 +623,9 @@ class Checker {
           break;
         }
         if (dead_end_[w]) continue;
-        if (line.ahead(p_[cur], p_[w]) || !line.ahead(line.b, p_[w]) || !line.near(p_[w])) continue;
+        if (line.behind_beyond_tolerance(p_[w], p_[cur]) || !line.ahead(line.b, p_[w]) || !line.near(p_[w])) {
+          continue;
+        }
         dead_end_[w] = 1;  // visited: reached once, never expanded again
         touched.push_back(w);
         stack.push_back(w);

@@ -329,4 +329,28 @@ TEST(FuzzRegressions, CheckerFollowsAChainThatStepsSideways) {
   expect_checked(pslg, mesh);
 }
 
+// The CDT snapped two crossings a few units apart on a segment, where doubles are 1 apart, to
+// vertices in the reverse order along it; the segment's chain steps back by less than rounding.
+TEST(FuzzRegressions, CheckerFollowsAChainThatStepsBackWithinRounding) {
+  const Pslg pslg = read_regression("check_chain_steps_back_within_snapping_at_coarse_doubles.poly");
+  const Mesh mesh = dt_mesh(pslg, true);
+  EXPECT_EQ(mesh.domain_triangle_count(), 6u);
+  // Segment 2's chain runs through input vertices 3 and 4 (0-based 2 and 3), the second of which
+  // lies behind the first along the segment: the case the test is about.
+  const Point& a = pslg.points[0];
+  const Point& b = pslg.points[6];
+  const Point& third = pslg.points[2];
+  const Point& fourth = pslg.points[3];
+  EXPECT_LT((fourth.x - third.x) * (b.x - a.x) + (fourth.y - third.y) * (b.y - a.y), 0.0);
+  expect_checked(pslg, mesh);
+  TriangulateOptions dr;
+  dr.method = Method::kDr;
+  dr.flip = true;
+  dr.convex_hull = true;
+  dr.min_angle_deg = 0.0;
+  dr.max_area = 5.0;
+  dr.max_steiner = 12;
+  expect_valid_or_input_error(pslg, dr);
+}
+
 }  // namespace
