@@ -163,8 +163,8 @@ double memory_budget();
 
 // ---- large allocations (large_allocations.cpp) ---------------------------------------------------
 
-// From now on every operator new of 2 MiB or more starts on a 2 MiB boundary and is advised
-// transparent huge pages (one fault per 2 MiB of a fresh mapping instead of one per 4 KiB; values
+// From now on every operator new of 4 MiB or more starts on a 2 MiB boundary and its first half is
+// advised transparent huge pages (one fault per 2 MiB of a fresh mapping instead of one per 4 KiB; values
 // unchanged). Call before any thread starts. Sanitizer builds: no effect.
 void advise_huge_pages_for_large_allocations();
 // Whether it was asked for (and is in effect).

@@ -1311,7 +1311,7 @@ TEST(BundleCli, TriangulateReportsTheBundleNumber) {
 // of 2 MiB or more comes from support::allocate_on_huge_pages. Such a block starts on a 2 MiB
 // boundary, holds what is written to it and is released by free().
 TEST(BundleCli, HugePageBlocksAreAlignedAndHoldTheirValues) {
-  for (const std::size_t bytes : {support::kHugePage, 3 * support::kHugePage + 12345}) {
+  for (const std::size_t bytes : {2 * support::kHugePage, 5 * support::kHugePage + 12345}) {
     void* block = support::allocate_on_huge_pages(bytes);
     ASSERT_NE(block, nullptr);
     EXPECT_EQ(reinterpret_cast<std::uintptr_t>(block) % support::kHugePage, 0u);
