@@ -1308,7 +1308,7 @@ TEST(BundleCli, TriangulateReportsTheBundleNumber) {
 }
 
 // `mwst bundle` puts its large arrays on huge pages (src/cli/large_allocations.cpp): every block
-// of 2 MiB or more comes from support::allocate_on_huge_pages. Such a block starts on a 2 MiB
+// of 4 MiB or more comes from support::allocate_on_huge_pages. Such a block starts on a 2 MiB
 // boundary, holds what is written to it and is released by free().
 TEST(BundleCli, HugePageBlocksAreAlignedAndHoldTheirValues) {
   for (const std::size_t bytes : {2 * support::kHugePage, 5 * support::kHugePage + 12345}) {
