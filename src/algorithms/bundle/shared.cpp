@@ -6,6 +6,7 @@
 #include "algorithms/bundle/approx.hpp"
 #include "mwst/error.hpp"
 #include "mwst/mesh/delaunay.hpp"
+#include "support/huge_pages.hpp"
 #include "support/parallel.hpp"
 
 namespace mwst::bundle {
@@ -149,10 +150,13 @@ std::vector<std::uint64_t> Shared::vertex_order(const std::vector<std::uint8_t>&
 
 // Applies the order: pts, mesh_id, used, and the slots with renumbered corners.
 void Shared::apply_order(const std::vector<std::uint64_t>& order, const std::vector<std::uint8_t>& state) {
+  // Fresh arrays, each written whole: on huge pages (support/huge_pages.hpp; values unchanged).
   const std::size_t nv = m.points.size();
-  std::vector<VertexId> renumber(nv, kInfinite);
-  pts.resize(order.size());
-  mesh_id.resize(order.size());
+  std::vector<VertexId> renumber;
+  support::reserve_on_huge_pages(renumber, nv);
+  renumber.assign(nv, kInfinite);
+  support::resize_on_huge_pages(pts, order.size());
+  support::resize_on_huge_pages(mesh_id, order.size());
   for (std::size_t i = 0; i < order.size(); ++i) {
     const auto v = static_cast<VertexId>(order[i] & 0xFFFFFFFFu);
     renumber[v] = static_cast<VertexId>(i);
@@ -160,8 +164,9 @@ void Shared::apply_order(const std::vector<std::uint64_t>& order, const std::vec
     pts[i] = m.points[v];
     if (state[v] == 2) used = static_cast<std::uint32_t>(i + 1);
   }
-  slots.resize(m.triangle_slots());
-  domain.resize(m.triangle_slots());
+  support::resize_on_huge_pages(slots, m.triangle_slots());
+  support::resize_on_huge_pages(domain, m.triangle_slots());
+  support::reserve_on_huge_pages(vertex_edge, pts.size());
   vertex_edge.assign(pts.size(), kNone);
   for (TriangleId t = 0; t < m.triangle_slots(); ++t) {
     domain[t] = m.in_domain(t) ? 1 : 0;

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "mwst/geometry/geometry.hpp"
+#include "support/huge_pages.hpp"
 #include "support/parallel.hpp"
 
 namespace mwst::bundle {
@@ -88,11 +89,15 @@ Box outward_box(double x0, double y0, double x1, double y1) {
 
 BoxCounter::BoxCounter(const std::vector<Box>& boxes, unsigned threads) : n_(boxes.size()) {
   threads = std::min(threads, 2u);
-  std::vector<std::uint32_t> rank_top(n_), rank_bottom(n_);
-  ys_top_.resize(n_);
-  ys_bottom_.resize(n_);
+  // Fresh arrays, each written whole: on huge pages (support/huge_pages.hpp; values unchanged).
+  std::vector<std::uint32_t> rank_top, rank_bottom;
+  support::resize_on_huge_pages(rank_top, n_);
+  support::resize_on_huge_pages(rank_bottom, n_);
+  support::resize_on_huge_pages(ys_top_, n_);
+  support::resize_on_huge_pages(ys_bottom_, n_);
   support::parallel_for(2, threads, [&](std::size_t side) {  // ranks of y1 (top) and of y0 (bottom)
-    std::vector<std::pair<float, std::uint32_t>> order(n_);
+    std::vector<std::pair<float, std::uint32_t>> order;
+    support::resize_on_huge_pages(order, n_);
     for (std::uint32_t i = 0; i < n_; ++i) order[i] = {boxes[i][side == 0 ? 3 : 1], i};
     std::sort(order.begin(), order.end());
     for (std::uint32_t r = 0; r < n_; ++r) {
@@ -100,8 +105,8 @@ BoxCounter::BoxCounter(const std::vector<Box>& boxes, unsigned threads) : n_(box
       (side == 0 ? rank_top : rank_bottom)[order[r].second] = r;
     }
   });
-  by_right_.resize(n_);
-  by_left_.resize(n_);
+  support::resize_on_huge_pages(by_right_, n_);
+  support::resize_on_huge_pages(by_left_, n_);
   support::parallel_for(2, threads, [&](std::size_t side) {  // by x1 ascending, by x0 descending
     std::vector<Keyed>& keyed = side == 0 ? by_right_ : by_left_;
     for (std::uint32_t i = 0; i < n_; ++i) keyed[i] = {boxes[i][side == 0 ? 2 : 0], rank_top[i], rank_bottom[i]};
@@ -115,10 +120,12 @@ BoxCounter::BoxCounter(const std::vector<Box>& boxes, unsigned threads) : n_(box
 
 std::vector<std::uint32_t> BoxCounter::count(const std::vector<Box>& queries, unsigned threads) const {
   const std::size_t q = queries.size();
-  std::vector<std::int64_t> met(q);
+  std::vector<std::int64_t> met;  // (fresh arrays here too: on huge pages)
+  support::resize_on_huge_pages(met, q);
   // Per query: how many boxes lie wholly below it (y1 < query y0) and how many do not lie wholly
   // above it (y0 ≤ query y1): positions in ys_top_ / ys_bottom_, found once.
-  std::vector<std::array<std::uint32_t, 2>> y_rank(q);
+  std::vector<std::array<std::uint32_t, 2>> y_rank;
+  support::resize_on_huge_pages(y_rank, q);
   support::parallel_ranges(threads, q, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       const Box& b = queries[i];
@@ -133,8 +140,9 @@ std::vector<std::uint32_t> BoxCounter::count(const std::vector<Box>& queries, un
   std::array<std::vector<std::int64_t>, 2> side_met;
   support::parallel_for(2, std::min(threads, 2u), [&](std::size_t side) {
     std::vector<std::int64_t>& terms = side_met[side];
-    terms.assign(q, 0);
-    std::vector<std::uint32_t> order(q);
+    support::resize_on_huge_pages(terms, q);
+    std::vector<std::uint32_t> order;
+    support::resize_on_huge_pages(order, q);
     const std::vector<Keyed>& keyed = side == 0 ? by_right_ : by_left_;
     for (std::uint32_t i = 0; i < q; ++i) order[i] = i;
     if (side == 0) {
@@ -143,6 +151,8 @@ std::vector<std::uint32_t> BoxCounter::count(const std::vector<Box>& queries, un
       std::sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) { return queries[x][2] > queries[y][2]; });
     }
     // (Reused from call to call: fresh arrays of this size would be fresh mappings, faulted in.)
+    support::reserve_on_huge_pages(fenwick_top_[side], n_ + 1);
+    support::reserve_on_huge_pages(fenwick_bottom_[side], n_ + 1);
     fenwick_top_[side].assign(n_ + 1, 0);
     fenwick_bottom_[side].assign(n_ + 1, 0);
     Fenwick tops{fenwick_top_[side]}, bottoms{fenwick_bottom_[side]};
@@ -160,7 +170,8 @@ std::vector<std::uint32_t> BoxCounter::count(const std::vector<Box>& queries, un
       terms[i] = -static_cast<std::int64_t>(inserted) + below + above;
     }
   });
-  std::vector<std::uint32_t> out(q);
+  std::vector<std::uint32_t> out;
+  support::resize_on_huge_pages(out, q);
   for (std::size_t i = 0; i < q; ++i) {
     const std::int64_t all = met[i] + side_met[0][i] + side_met[1][i];
     out[i] = static_cast<std::uint32_t>(std::clamp<std::int64_t>(all, 0, static_cast<std::int64_t>(n_)));

@@ -50,6 +50,7 @@
 #include "mwst/algorithms/metrics.hpp"
 #include "mwst/algorithms/refine.hpp"
 #include "algorithms/bundle/circle_predicates.hpp"
+#include "support/huge_pages.hpp"
 #include "support/mesh_queries.hpp"
 
 namespace mwst {
@@ -1303,6 +1304,56 @@ TEST(BundleCli, TriangulateReportsTheBundleNumber) {
   EXPECT_EQ(j.at("bundle_circumdisk_bound").get<int>(), 5);
   EXPECT_GT(j.at("bundle_disk").at("r").get<double>(), 0.0);
   EXPECT_TRUE(j.at("seconds").contains("bundle"));
+  std::filesystem::remove_all(dir);
+}
+
+// `mwst bundle` puts its large arrays on huge pages (src/cli/large_allocations.cpp): every block
+// of 4 MiB or more comes from support::allocate_on_huge_pages. Such a block starts on a 2 MiB
+// boundary, holds what is written to it and is released by free().
+TEST(BundleCli, HugePageBlocksAreAlignedAndHoldTheirValues) {
+  for (const std::size_t bytes : {2 * support::kHugePage, 5 * support::kHugePage + 12345}) {
+    void* block = support::allocate_on_huge_pages(bytes);
+    ASSERT_NE(block, nullptr);
+    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(block) % support::kHugePage, 0u);
+    auto* words = static_cast<std::uint32_t*>(block);
+    const std::size_t count = bytes / sizeof(std::uint32_t);
+    for (std::size_t i = 0; i < count; ++i) words[i] = static_cast<std::uint32_t>(i * 2654435761u);
+    std::size_t wrong = 0;
+    for (std::size_t i = 0; i < count; ++i) wrong += words[i] != static_cast<std::uint32_t>(i * 2654435761u) ? 1 : 0;
+    EXPECT_EQ(wrong, 0u);
+    std::free(block);
+  }
+}
+
+// And with them (a mesh whose arrays run to megabytes) the command gives what the library gives
+// for the same triangles and budget: the number, the bounds and the witness.
+TEST(BundleCli, LargeMeshOnHugePagesMatchesTheLibrary) {
+  const std::string dir = temp_dir("large");
+  std::mt19937_64 rng(20261127);
+  const std::vector<Point> pts = random_points(60000, rng);
+  std::ostringstream node;
+  node.precision(17);
+  node << pts.size() << " 2 0 0\n";
+  for (std::size_t i = 0; i < pts.size(); ++i) node << i + 1 << ' ' << pts[i].x << ' ' << pts[i].y << '\n';
+  write_text(dir + "/u.node", node.str());
+  io::write_mesh(delaunay(pts), dir + "/u.1");
+  const CliRun r = run_mwst(dir, "bundle u.node u.1 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  io::MeshFiles mesh = io::read_mesh(dir + "/u.1");
+  BundleOptions options;
+  options.candidate_budget = 12 * mesh.triangles.size() + (std::size_t{1} << 20);  // the command's default
+  const BundleResult expected = bundle_number(std::move(mesh.points), std::move(mesh.triangles), options);
+  EXPECT_EQ(j.at("bundle_number").get<std::uint32_t>(), expected.bundle_number);
+  EXPECT_EQ(j.at("lower_bound").get<std::uint32_t>(), expected.lower_bound);
+  EXPECT_EQ(j.at("upper_bound").get<std::uint32_t>(), expected.upper_bound);
+  EXPECT_EQ(j.at("disk").at("x").get<double>(), expected.disk_center.x);
+  EXPECT_EQ(j.at("disk").at("y").get<double>(), expected.disk_center.y);
+  EXPECT_EQ(j.at("disk").at("r").get<double>(), expected.disk_radius);
+  std::vector<std::uint32_t> triangles;
+  for (const std::uint32_t t : expected.triangles) triangles.push_back(t + 1);
+  EXPECT_EQ(j.at("triangles").get<std::vector<std::uint32_t>>(), triangles);
+  EXPECT_GT(expected.bundle_number, 0u);
   std::filesystem::remove_all(dir);
 }
 
