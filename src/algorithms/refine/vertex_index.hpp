@@ -8,8 +8,9 @@
 // It answers one question for the local test on constrained meshes: does any vertex lie strictly
 // inside the open circumdisk of corners a, b, c? Floating point only prunes (a kd box farther from
 // the computed centre than the computed radius plus a generous slack holds no vertex of the disk);
-// every vertex within the slack band is decided by the exact incircle sign. Disks too flat for the
-// computed centre to be trusted are not asked (the caller floods them as before).
+// of the vertices it visits, those nearer the circle than the disk's own rounding bound are
+// decided by the exact incircle sign, the others by their computed distance. Disks too flat for
+// the computed centre to be trusted are not asked (the caller floods them as before).
 #pragma once
 
 #include <algorithm>
