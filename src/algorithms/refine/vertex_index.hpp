@@ -8,8 +8,9 @@
 // It answers one question for the local test on constrained meshes: does any vertex lie strictly
 // inside the open circumdisk of corners a, b, c? Floating point only prunes (a kd box farther from
 // the computed centre than the computed radius plus a generous slack holds no vertex of the disk);
-// every vertex within the slack band is decided by the exact incircle sign. Disks too flat for the
-// computed centre to be trusted are not asked (the caller floods them as before).
+// of the vertices it visits, those nearer the circle than the disk's own rounding bound are
+// decided by the exact incircle sign, the others by their computed distance. Disks too flat for
+// the computed centre to be trusted are not asked (the caller floods them as before).
 #pragma once
 
 #include <algorithm>
@@ -74,22 +75,34 @@ class VertexIndex {
     const double magnitude = std::fabs(a.x) + std::fabs(a.y) + std::fabs(ux) + std::fabs(uy);
     reach_ = r * (1.0 + 1e-4) + 1e-13 * magnitude + 1e-300;
     reach2_ = reach_ * reach_;
-    auto check = [&](VertexId x) {
+    // The band a vertex must lie in to be asked the exact incircle sign is narrower, from this
+    // disk's own error bound: the numerators' rounding (and that of the differences to a, a
+    // perturbation of the corners by eps L) moves the centre by ~eps L³ / |d|, the rounding of d
+    // (absolute ~eps L²) by ~eps L² |u| / |d|; 64 times both is the margin (at the flatness
+    // limit still below the pruning's 1e-4 r). The radius is off by at most the centre's error, the
+    // computed distances by a relative 1e-12 and the absolute term above. Most vertices in the
+    // pruning's band lie outside this one and are rejected without an incircle determinant (on a
+    // fan of narrow wedges, slivers' disks pass near thousands of rim vertices). The pruning, and
+    // so the count of visits, is unchanged.
+    const double error = 64.0 * std::numeric_limits<double>::epsilon() * longest * (std::sqrt(longest) + r) / std::fabs(d);
+    const double band = std::min(reach_, (r + 2.0 * error) * (1.0 + 1e-12) + 1e-13 * magnitude + 1e-300);
+    const double band2 = band * band;
+    auto check = [&](VertexId x, const Point& p) {
       if (x < from || x == cv[0] || x == cv[1] || x == cv[2]) return false;
-      const double dx = points[x].x - center_.x, dy = points[x].y - center_.y;
-      if (!(dx * dx + dy * dy < reach2_) || !inside(x)) return false;
+      const double dx = p.x - center_.x, dy = p.y - center_.y;
+      if (!(dx * dx + dy * dy < band2) || !inside(x)) return false;
       found_ = x;
       return true;
     };
     for (const VertexId x : pending_) {
       if (x < from) continue;
       ++visits_;
-      if (check(x)) return Disk::kHoldsVertex;
+      if (check(x, points[x])) return Disk::kHoldsVertex;
     }
     constexpr double kInf = std::numeric_limits<double>::infinity();
     const Cell whole{-kInf, kInf, -kInf, kInf};
     for (const Block& blk : blocks_) {
-      if (!blk.ids.empty() && search(points, blk, 0, blk.ids.size(), 0, whole, from, check)) return Disk::kHoldsVertex;
+      if (!blk.nodes.empty() && search(blk, 0, blk.nodes.size(), 0, whole, from, check)) return Disk::kHoldsVertex;
     }
     return visits_ > kMaxVisits ? Disk::kUnknown : Disk::kEmpty;
   }
@@ -100,11 +113,17 @@ class VertexIndex {
   // rim, points on a circle) are visited one by one, and the flood the caller falls back to is
   // capped.
   static constexpr std::size_t kMaxVisits = 4096;
+  // A kd-tree node: its vertex, with the vertex's coordinates (a search reads them in the node
+  // it visits, not at random in the mesh's point array), and the largest id in its subtree (a merge
+  // mixes old and new vertices, so a search for the newer ones skips the subtrees holding only
+  // older ones).
+  struct Node {
+    Point p;
+    VertexId id;
+    VertexId newest;
+  };
   struct Block {
-    std::vector<VertexId> ids;  // a kd-tree: the median of [lo, hi) at (lo + hi) / 2, x then y
-    // newest[mid]: the largest id in the subtree whose median is ids[mid] (a merge mixes old and
-    // new vertices, so a search for the newer ones skips the subtrees holding only older ones).
-    std::vector<VertexId> newest;
+    std::vector<Node> nodes;  // a kd-tree: the median of [lo, hi) at (lo + hi) / 2, x then y
   };
 
   // Merges the pending vertices with the blocks of the sizes below them (a binary counter).
@@ -112,15 +131,17 @@ class VertexIndex {
     std::vector<VertexId> ids = std::move(pending_);
     pending_.clear();
     std::size_t i = 0;
-    for (; i < blocks_.size() && !blocks_[i].ids.empty(); ++i) {
-      ids.insert(ids.end(), blocks_[i].ids.begin(), blocks_[i].ids.end());
-      blocks_[i].ids.clear();
+    for (; i < blocks_.size() && !blocks_[i].nodes.empty(); ++i) {
+      for (const Node& n : blocks_[i].nodes) ids.push_back(n.id);
+      blocks_[i].nodes.clear();
+      blocks_[i].nodes.shrink_to_fit();
     }
     if (i == blocks_.size()) blocks_.emplace_back();
     build(points, ids, 0, ids.size(), 0);
-    blocks_[i].newest.assign(ids.size(), 0);
-    newest_in(ids, blocks_[i].newest, 0, ids.size());
-    blocks_[i].ids = std::move(ids);
+    std::vector<Node>& nodes = blocks_[i].nodes;
+    nodes.resize(ids.size());
+    for (std::size_t j = 0; j < ids.size(); ++j) nodes[j] = {points[ids[j]], ids[j], 0};
+    newest_in(nodes, 0, nodes.size());
   }
 
   static void build(const std::vector<Point>& points, std::vector<VertexId>& ids, std::size_t lo, std::size_t hi,
@@ -137,12 +158,11 @@ class VertexIndex {
   }
 
   // Fills newest[mid] for the subtree of ids[lo, hi) and its descendants; returns it.
-  static VertexId newest_in(const std::vector<VertexId>& ids, std::vector<VertexId>& newest, std::size_t lo,
-                            std::size_t hi) {
+  static VertexId newest_in(std::vector<Node>& nodes, std::size_t lo, std::size_t hi) {
     if (hi <= lo) return 0;
     const std::size_t mid = lo + (hi - lo) / 2;
-    newest[mid] = std::max({ids[mid], newest_in(ids, newest, lo, mid), newest_in(ids, newest, mid + 1, hi)});
-    return newest[mid];
+    nodes[mid].newest = std::max({nodes[mid].id, newest_in(nodes, lo, mid), newest_in(nodes, mid + 1, hi)});
+    return nodes[mid].newest;
   }
 
   // The region of a kd-tree node: its points lie in [x0, x1] × [y0, y1].
@@ -158,24 +178,23 @@ class VertexIndex {
   // wide thin triangles have huge circumdisks, most of the vertices in every query. A subtree
   // holding no id from `from` on is skipped as well.
   template <class Check>
-  bool search(const std::vector<Point>& points, const Block& blk, std::size_t lo, std::size_t hi, unsigned depth,
-              Cell cell, VertexId from, Check& check) {
-    const std::vector<VertexId>& ids = blk.ids;
+  bool search(const Block& blk, std::size_t lo, std::size_t hi, unsigned depth, Cell cell, VertexId from,
+              Check& check) {
     while (hi > lo && visits_ <= kMaxVisits) {
       const std::size_t mid = lo + (hi - lo) / 2;
-      if (blk.newest[mid] < from) return false;  // only older vertices below
+      const Node& node = blk.nodes[mid];
+      if (node.newest < from) return false;  // only older vertices below
       const double dx = std::max({cell.x0 - center_.x, 0.0, center_.x - cell.x1});
       const double dy = std::max({cell.y0 - center_.y, 0.0, center_.y - cell.y1});
       if (!(dx * dx + dy * dy < reach2_)) return false;
       ++visits_;
-      const VertexId x = ids[mid];
-      if (check(x)) return true;
+      if (check(node.id, node.p)) return true;
       const bool by_x = depth % 2 == 0;
-      const double split = by_x ? points[x].x : points[x].y;
+      const double split = by_x ? node.p.x : node.p.y;
       ++depth;
       Cell low = cell;
       (by_x ? low.x1 : low.y1) = split;
-      if (search(points, blk, lo, mid, depth, low, from, check)) return true;
+      if (search(blk, lo, mid, depth, low, from, check)) return true;
       (by_x ? cell.x0 : cell.y0) = split;
       lo = mid + 1;
     }

@@ -303,6 +303,63 @@ TEST(BrhLocalTest, VertexIndexGivesUpOnManyVerticesNearTheCircle) {
   EXPECT_GT(unknown, 0u);
 }
 
+TEST(BrhLocalTest, VertexIndexAsksTheExactSignOnlyNearTheCircle) {
+  // 3,000 points 1e-7 outside the unit circle and the three corners of the
+  // query on it: all lie within the search's pruning reach (1e-4 r), but the
+  // disk's own error bound (~1e-13 here) places them outside without an
+  // incircle sign. Points 1e-14 outside or 1e-12 inside are asked, and the
+  // answer is the exact one.
+  const std::size_t n = 3000;
+  auto ring = [&](double near_radius, std::size_t near_every) {
+    std::vector<Point> points;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double angle = 2.0 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(n);
+      double radius = i % 1000 == 0 ? 1.0 : 1.0 + 1e-7;
+      if (near_every != 0 && i % near_every == 7) radius = near_radius;
+      points.push_back({radius * std::cos(angle), radius * std::sin(angle)});
+    }
+    return points;
+  };
+  const std::array<VertexId, 3> cv{0, 1000, 2000};
+  struct Case {
+    double near_radius;
+    std::size_t near_every;
+    brh::VertexIndex::Disk expected;
+  };
+  for (const Case c : {Case{1.0, 0, brh::VertexIndex::Disk::kEmpty},
+                       Case{1.0 + 1e-14, 100, brh::VertexIndex::Disk::kEmpty},
+                       Case{1.0 - 1e-12, 1000, brh::VertexIndex::Disk::kHoldsVertex}}) {
+    const std::vector<Point> points = ring(c.near_radius, c.near_every);
+    ASSERT_GT(orient2d(points[cv[0]], points[cv[1]], points[cv[2]]), 0);
+    std::size_t asked = 0;
+    auto inside = [&](VertexId x) {
+      ++asked;
+      return incircle(points[cv[0]], points[cv[1]], points[cv[2]], points[x]) > 0;
+    };
+    std::size_t near = 0;
+    bool any = false;
+    for (VertexId x = 0; x < points.size(); ++x) {
+      if (x == cv[0] || x == cv[1] || x == cv[2]) continue;
+      near += c.near_every != 0 && x % c.near_every == 7 ? 1 : 0;
+      any = any || incircle(points[cv[0]], points[cv[1]], points[cv[2]], points[x]) > 0;
+    }
+    ASSERT_EQ(any, c.expected == brh::VertexIndex::Disk::kHoldsVertex);
+    brh::VertexIndex index;
+    index.sync(points);
+    EXPECT_EQ(index.strictly_inside(points, cv, inside), c.expected) << "near radius " << c.near_radius;
+    // Every point lies within the pruning's reach: the search visits them all,
+    // but asks the exact sign of the near ones only.
+    if (c.expected == brh::VertexIndex::Disk::kEmpty) {
+      EXPECT_GE(index.last_visits(), n - 3);
+      EXPECT_EQ(asked, near) << "near radius " << c.near_radius;
+    } else {
+      EXPECT_GE(asked, 1u);
+      EXPECT_LE(asked, near);
+      EXPECT_EQ(index.last_found() % c.near_every, 7u);  // one of the points inside
+    }
+  }
+}
+
 TEST(BrhLocalTest, RememberedDisksAnswerAsAFreshTestAfterInsertions) {
   // Plate (a circular hole: near-cocircular vertices, whose exact incircle
   // signs the test remembers) and a fan of narrow wedges (disks behind its
