@@ -104,6 +104,25 @@ TEST(FuzzRegressions, OptKickInsertionSurvivesVertexReallocation) {
   expect_valid_or_input_error(kuzmin, options);
 }
 
+// OPT's crossover took a piece whose boundary edge only the other parent marked as a subsegment
+// (coarse doubles, where a segment was both an edge and a chain around a flat triangle).
+TEST(FuzzRegressions, OptCrossoverKeepsSegmentMarksOnPieceBoundaries) {
+  const Pslg pslg = read_regression("opt_crossover_boundary_edge_loses_segment_mark.poly");
+  // (2 and 3 trials both took the piece; 0 and 1 ended in other meshes.)
+  for (const std::size_t trials : {std::size_t{2}, std::size_t{3}}) {
+    TriangulateOptions options;
+    options.method = Method::kOpt;
+    options.convex_hull = true;
+    options.min_angle_deg = 20.0;
+    options.max_steiner = 15;
+    options.opt_trials = trials;
+    Mesh mesh;
+    triangulate(pslg, options, &mesh);
+    SCOPED_TRACE(trials);
+    expect_checked(pslg, mesh);
+  }
+}
+
 // OPT's polygon MWT cut an ear along a hull segment at its Steiner point (Florida.poly cut).
 TEST(FuzzRegressions, OptConvexHullKeepsSegmentsStraight) {
   const Pslg florida = read_regression("opt_hull_mwt_ear_along_segment.poly");

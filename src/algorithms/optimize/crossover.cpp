@@ -10,10 +10,16 @@
 // heavier than either parent and is often lighter than both. This is the partition crossover of
 // Whitley, Hains and Howe (GPX, 2009) for the travelling salesman problem, here for triangulations;
 // a piece is taken from B only if its boundary in B is the same chain of edges (a segment split by
-// different Steiner points in A and B leaves its piece to A).
+// different Steiner points in A and B leaves its piece to A) with the same subsegments on it.
+// The marks matter at coarse doubles (1 apart near 7.7e15): there the CDT resolves crossings
+// within its rounding, and one parent can hold a segment both as an edge u-v and as a chain
+// u-w-v of subsegments around a flat triangle (u, v, w) on the piece's side, with u-v left
+// unmarked, while the other parent marks u-v itself. Spliced with A's marks, the child kept u-v
+// unmarked and lost the chain: a piece is not taken unless both parents mark its boundary alike.
 #include "algorithms/optimize/crossover.hpp"
 
 #include <algorithm>
+#include <compare>
 #include <cstdint>
 #include <unordered_map>
 #include <unordered_set>
@@ -86,10 +92,18 @@ Pieces pieces_of(const Mesh& m, IdOf id_of, const std::unordered_set<std::uint64
   return out;
 }
 
-// The boundary of piece p (directed edges with the piece on their left, in the ids id_of gives),
-// sorted; false if a boundary vertex has no such id.
+// One edge of a piece's boundary: directed with the piece on its left (edge_key in the ids id_of
+// gives), and whether it is a subsegment, with which marker.
+struct BoundaryEdge {
+  std::uint64_t key = 0;
+  bool segment = false;
+  std::int32_t marker = 0;  // (0 when not a subsegment)
+  auto operator<=>(const BoundaryEdge&) const = default;
+};
+
+// The boundary of piece p, sorted; false if a boundary vertex has no such id.
 template <class IdOf>
-bool boundary_of(const Mesh& m, const Pieces& pieces, std::uint32_t p, IdOf id_of, std::vector<std::uint64_t>& out) {
+bool boundary_of(const Mesh& m, const Pieces& pieces, std::uint32_t p, IdOf id_of, std::vector<BoundaryEdge>& out) {
   out.clear();
   for (const TriangleId* t = pieces.begin(p); t != pieces.end(p); ++t) {
     for (unsigned e = 0; e < 3; ++e) {
@@ -97,7 +111,8 @@ bool boundary_of(const Mesh& m, const Pieces& pieces, std::uint32_t p, IdOf id_o
       if (pieces.of[m.sym(h) >> 2] == p) continue;
       const VertexId u = id_of(m.org(h)), v = id_of(m.dest(h));
       if (u == kNone || v == kNone) return false;
-      out.push_back(edge_key(u, v));
+      const bool segment = m.is_segment(h);
+      out.push_back({edge_key(u, v), segment, segment ? m.marker(h) : 0});
     }
   }
   std::sort(out.begin(), out.end());
@@ -250,18 +265,20 @@ CrossoverStats partition_crossover(Mesh& a, const Mesh& b) {
   const auto a_id = [](VertexId v) { return v; };
   const auto b_id = [&b_to_a](VertexId v) { return b_to_a[v]; };
   // The sums of perimeters compare interior weights: a piece is compared only when its boundary is
-  // the same chain in both parents.
+  // the same chain in both parents, with the same subsegments on it (the splice keeps A's marks on
+  // the boundary, B's inside).
   const Pieces a_pieces = pieces_of(a, a_id, shared);
   const Pieces b_pieces = pieces_of(b, b_id, shared);
   const std::uint32_t a_count = a_pieces.count();
   stats.pieces = a_count;
-  std::vector<std::uint64_t> a_boundary, b_boundary;
+  std::vector<BoundaryEdge> a_boundary, b_boundary;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> take;  // (A piece, the B piece replacing it)
   for (std::uint32_t p = 0; p < a_count; ++p) {
     boundary_of(a, a_pieces, p, a_id, a_boundary);
     // B's piece on the same side of a shared boundary edge.
     std::uint32_t q = kNone;
-    for (const std::uint64_t k : a_boundary) {
+    for (const BoundaryEdge& edge : a_boundary) {
+      const std::uint64_t k = edge.key;
       const auto it = b_directed.find(k);
       if (it != b_directed.end() && shared.count(undirected_key(static_cast<VertexId>(k >> 32), static_cast<VertexId>(k)))) {
         q = b_pieces.of[it->second >> 2];

@@ -11,11 +11,12 @@ namespace mwst {
 
 // Cuts the domain along the edges two triangulations of the same input share, and replaces each
 // piece of `a` by `b`'s triangles there when those are lighter and meet the rest along the same
-// edges. `a` is never made heavier; it is compacted.
+// edges, marked as the same subsegments. `a` is never made heavier; it is compacted.
 struct CrossoverStats {
   std::size_t pieces = 0;      // pieces of the domain between shared edges
   std::size_t taken = 0;       // pieces taken from b
-  std::size_t mismatched = 0;  // pieces whose boundary differs in b (a segment split differently)
+  std::size_t mismatched = 0;  // pieces whose boundary differs in b (a segment split differently,
+                               // or an edge a subsegment in one parent only)
   double gain = 0.0;           // weight removed from a
 };
 MWST_API CrossoverStats partition_crossover(Mesh& a, const Mesh& b);
