@@ -233,19 +233,8 @@ void Refiner::reserve_for_area_bound() {
   // triangles (2.4 GB): past that the arrays grow as they are used.
   const double expected = std::min(1.7 * area, 2.0 * static_cast<double>(opt_.max_steiner) + 16.0);
   if (!(expected < 1e8)) return;
-  const std::size_t tris = m_.triangles.size() + static_cast<std::size_t>(expected);
-  const std::size_t verts = m_.points.size() + static_cast<std::size_t>(expected * 0.5);
-  if (tris > m_.triangles.capacity()) {
-    m_.triangles.reserve(tris);
-    m_.flags.reserve(tris);
-    if (!m_.segment_marker.empty()) m_.segment_marker.reserve(3 * tris);
-    if (own_bounds_) m_.area_bound.reserve(tris);
-  }
-  if (verts > m_.points.capacity()) {
-    m_.points.reserve(verts);
-    m_.vertex_kind.reserve(verts);
-    m_.vertex_marker.reserve(verts);
-  }
+  reserve_arrays(m_.triangles.size() + static_cast<std::size_t>(expected),
+                 m_.points.size() + static_cast<std::size_t>(expected * 0.5));
 }
 
 // Without an area bound, refinement to an angle bound ends with 1.6 (uniform points) to 3.7 (a fan
@@ -256,18 +245,7 @@ void Refiner::reserve_for_area_bound() {
 // only address space) until used; past it the arrays grow as before.
 void Refiner::reserve_for_angle_bound() {
   if (max_area_ > 0.0 || own_bounds_ || !(alpha_ > 0.0) || custom_test_) return;  // (BRH often adds nothing)
-  const std::size_t tris = 2 * m_.triangles.size();
-  const std::size_t verts = 2 * m_.points.size();
-  if (tris > m_.triangles.capacity()) {
-    m_.triangles.reserve(tris);
-    m_.flags.reserve(tris);
-    if (!m_.segment_marker.empty()) m_.segment_marker.reserve(3 * tris);
-  }
-  if (verts > m_.points.capacity()) {
-    m_.points.reserve(verts);
-    m_.vertex_kind.reserve(verts);
-    m_.vertex_marker.reserve(verts);
-  }
+  reserve_arrays(2 * m_.triangles.size(), 2 * m_.points.size());
 }
 
 }  // namespace refinement

@@ -267,18 +267,23 @@ class Refiner {
   }
   void ensure_capacity() {
     // Grow by a quarter instead of doubling: for large refinements this bounds peak memory.
-    if (m_.triangles.size() + 2 > m_.triangles.capacity()) {
-      const std::size_t n = m_.triangles.capacity() + m_.triangles.capacity() / 4 + 64;
-      m_.triangles.reserve(n);
-      m_.flags.reserve(n);
-      if (!m_.segment_marker.empty()) m_.segment_marker.reserve(3 * n);
-      if (own_bounds_) m_.area_bound.reserve(n);
+    const std::size_t tris = m_.triangles.capacity(), verts = m_.points.capacity();
+    reserve_arrays(m_.triangles.size() + 2 > tris ? tris + tris / 4 + 64 : 0,
+                   m_.points.size() + 1 > verts ? verts + verts / 4 + 64 : 0);
+  }
+  // Room for `tris` triangle slots and `verts` vertices in every per-slot and per-vertex array of
+  // the mesh (none is shrunk).
+  void reserve_arrays(std::size_t tris, std::size_t verts) {
+    if (tris > m_.triangles.capacity()) {
+      m_.triangles.reserve(tris);
+      m_.flags.reserve(tris);
+      if (!m_.segment_marker.empty()) m_.segment_marker.reserve(3 * tris);
+      if (own_bounds_) m_.area_bound.reserve(tris);
     }
-    if (m_.points.size() + 1 > m_.points.capacity()) {
-      const std::size_t n = m_.points.capacity() + m_.points.capacity() / 4 + 64;
-      m_.points.reserve(n);
-      m_.vertex_kind.reserve(n);
-      m_.vertex_marker.reserve(n);
+    if (verts > m_.points.capacity()) {
+      m_.points.reserve(verts);
+      m_.vertex_kind.reserve(verts);
+      m_.vertex_marker.reserve(verts);
     }
   }
 
