@@ -14,7 +14,7 @@ install(TARGETS mwst mwst_draw mwst_cli EXPORT mwstTargets
 install(DIRECTORY include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(EXPORT mwstTargets NAMESPACE mwst:: DESTINATION ${MWST_CMAKE_DIR})
 
-# A static libmwst leaves GMP (and libmwst_draw cairo), its private dependencies, to the program that links it:
+# A static libmwst leaves GMP, its private dependency, to the program that links it:
 # the config file then finds them the way the build did (pkg-config), under the same target names.
 set(MWST_STATIC_LIBRARY ON)
 if(BUILD_SHARED_LIBS)
@@ -36,19 +36,19 @@ install(FILES ${PROJECT_BINARY_DIR}/mwstConfig.cmake ${PROJECT_BINARY_DIR}/mwstC
 # for `cmake --install build --prefix ANYWHERE`.
 file(RELATIVE_PATH MWST_PC_TO_PREFIX "/${CMAKE_INSTALL_LIBDIR}/pkgconfig" "/")
 string(REGEX REPLACE "/$" "" MWST_PC_TO_PREFIX "${MWST_PC_TO_PREFIX}")
-# mwst-draw.pc is the pictures' library (libmwst_draw, cairo) on top of mwst.pc.
+# mwst-draw.pc is the pictures' library (libmwst_draw) on top of mwst.pc; it loads cairo itself
+# when it first draws (libcairo.so.2), so nothing links cairo.
 if(BUILD_SHARED_LIBS)
   set(MWST_PC_REQUIRES "nlohmann_json")
   set(MWST_PC_REQUIRES_PRIVATE "gmp")
   set(MWST_DRAW_PC_REQUIRES "mwst")
-  set(MWST_DRAW_PC_REQUIRES_PRIVATE "cairo")
+  set(MWST_DRAW_PC_REQUIRES_PRIVATE "")
   set(MWST_PC_CFLAGS "-DMWST_SHARED")
 else()
-  # A static archive: `pkg-config --libs mwst` must name GMP (and mwst-draw cairo) even without
-  # --static.
+  # A static archive: `pkg-config --libs mwst` must name GMP even without --static.
   set(MWST_PC_REQUIRES "nlohmann_json gmp")
   set(MWST_PC_REQUIRES_PRIVATE "")
-  set(MWST_DRAW_PC_REQUIRES "mwst cairo")
+  set(MWST_DRAW_PC_REQUIRES "mwst")
   set(MWST_DRAW_PC_REQUIRES_PRIVATE "")
   set(MWST_PC_CFLAGS "")
 endif()

@@ -10,11 +10,8 @@
 // cairo's rasteriser slows down sharply on one path of very many pieces. PNG is
 // rendered into an image surface and encoded by cairo; SVG and PDF go through cairo's stream
 // surfaces. Everything is rendered into memory and written at once, so a failure leaves no file.
+// cairo's functions come from cairo() (io/cairo_library.hpp), loaded by the first drawing.
 #include "mwst/io/draw.hpp"
-
-#include <cairo-pdf.h>
-#include <cairo-svg.h>
-#include <cairo.h>
 
 #include <algorithm>
 #include <cctype>
@@ -31,6 +28,7 @@
 #include <utility>
 #include <vector>
 
+#include "io/cairo_library.hpp"
 #include "mwst/error.hpp"
 
 namespace mwst::io {
@@ -124,9 +122,9 @@ class Transform {
 };
 
 void set_font(cairo_t* cr, double size, bool bold) {
-  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL,
+  cairo().select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL,
                          bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
-  cairo_set_font_size(cr, size);
+  cairo().set_font_size(cr, size);
 }
 
 // Draws `text` centred on x at baseline y, shrunk to fit max_width if needed.
@@ -135,13 +133,13 @@ void centred_text(cairo_t* cr, const std::string& text, double x, double y, doub
   if (text.empty()) return;
   set_font(cr, size, bold);
   cairo_text_extents_t ext;
-  cairo_text_extents(cr, text.c_str(), &ext);
+  cairo().text_extents(cr, text.c_str(), &ext);
   if (ext.x_advance > max_width && ext.x_advance > 0.0) {
     set_font(cr, size * max_width / ext.x_advance, bold);
-    cairo_text_extents(cr, text.c_str(), &ext);
+    cairo().text_extents(cr, text.c_str(), &ext);
   }
-  cairo_move_to(cr, x - 0.5 * ext.x_advance, y);
-  cairo_show_text(cr, text.c_str());
+  cairo().move_to(cr, x - 0.5 * ext.x_advance, y);
+  cairo().show_text(cr, text.c_str());
 }
 
 // Splits a note into lines of at most ~max_chars characters at spaces.
@@ -167,24 +165,24 @@ std::vector<std::string> wrap(const std::string& text, std::size_t max_chars) {
 
 // The triangles, filled in batches (the seams between batches lie under the stroked edges).
 void fill_triangles(cairo_t* cr, const Picture& pic, const Transform& tf) {
-  cairo_set_fill_rule(cr, CAIRO_FILL_RULE_WINDING);
-  cairo_set_source_rgb(cr, 0.91, 0.94, 0.98);
+  cairo().set_fill_rule(cr, CAIRO_FILL_RULE_WINDING);
+  cairo().set_source_rgb(cr, 0.91, 0.94, 0.98);
   std::size_t in_path = 0;
   for (const auto& tri : pic.triangles) {
     if (++in_path == kStrokeBatch) {
-      cairo_fill(cr);
+      cairo().fill(cr);
       in_path = 1;
     }
     if (tri[0] >= pic.points.size() || tri[1] >= pic.points.size() || tri[2] >= pic.points.size()) continue;
     const Point& a = pic.points[tri[0]];
     const Point& b = pic.points[tri[1]];
     const Point& c = pic.points[tri[2]];
-    cairo_move_to(cr, tf.x(a), tf.y(a));
-    cairo_line_to(cr, tf.x(b), tf.y(b));
-    cairo_line_to(cr, tf.x(c), tf.y(c));
-    cairo_close_path(cr);
+    cairo().move_to(cr, tf.x(a), tf.y(a));
+    cairo().line_to(cr, tf.x(b), tf.y(b));
+    cairo().line_to(cr, tf.x(c), tf.y(c));
+    cairo().close_path(cr);
   }
-  cairo_fill(cr);
+  cairo().fill(cr);
 }
 
 // The distinct edges of the triangles (lower vertex first, sorted), each once.
@@ -209,57 +207,57 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> distinct_edges(const Pictur
 void stroke_edges(cairo_t* cr, const Picture& pic, const Transform& tf, double edge_width,
                   std::vector<double>& shortest) {
   const std::vector<std::pair<std::uint32_t, std::uint32_t>> edges = distinct_edges(pic);
-  cairo_set_source_rgb(cr, 0.25, 0.35, 0.55);
-  cairo_set_line_width(cr, edge_width);
-  cairo_set_line_cap(cr, CAIRO_LINE_CAP_BUTT);  // round caps on thin lines cost much, show nothing
+  cairo().set_source_rgb(cr, 0.25, 0.35, 0.55);
+  cairo().set_line_width(cr, edge_width);
+  cairo().set_line_cap(cr, CAIRO_LINE_CAP_BUTT);  // round caps on thin lines cost much, show nothing
   std::size_t in_path = 0;
   for (const auto& [a, b] : edges) {
     if (++in_path == kStrokeBatch) {
-      cairo_stroke(cr);
+      cairo().stroke(cr);
       in_path = 1;
     }
     const double ax = tf.x(pic.points[a]), ay = tf.y(pic.points[a]);
     const double bx = tf.x(pic.points[b]), by = tf.y(pic.points[b]);
-    cairo_move_to(cr, ax, ay);
-    cairo_line_to(cr, bx, by);
+    cairo().move_to(cr, ax, ay);
+    cairo().line_to(cr, bx, by);
     if (!shortest.empty()) {
       const double len = std::hypot(bx - ax, by - ay);
       shortest[a] = std::min(shortest[a], len);
       shortest[b] = std::min(shortest[b], len);
     }
   }
-  cairo_stroke(cr);
+  cairo().stroke(cr);
 }
 
 // The input segments and the domain boundary, bold, in one path.
 void stroke_bold_segments(cairo_t* cr, const Picture& pic, const Transform& tf, double bold_width) {
   for (const auto& s : pic.bold_segments) {
-    cairo_move_to(cr, tf.x(s[0]), tf.y(s[0]));
-    cairo_line_to(cr, tf.x(s[1]), tf.y(s[1]));
+    cairo().move_to(cr, tf.x(s[0]), tf.y(s[0]));
+    cairo().line_to(cr, tf.x(s[1]), tf.y(s[1]));
   }
-  cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
-  cairo_set_line_width(cr, bold_width);
-  cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
-  cairo_stroke(cr);
+  cairo().set_source_rgb(cr, 0.0, 0.0, 0.0);
+  cairo().set_line_width(cr, bold_width);
+  cairo().set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+  cairo().stroke(cr);
 }
 
 // The Steiner points: disks of radius `marker_radius`, but no wider than a third of the shortest
 // edge at the point (and at least a quarter of `marker_radius`), filled in batches.
 void fill_steiner_disks(cairo_t* cr, const Picture& pic, const Transform& tf, const std::vector<double>& shortest,
                         double marker_radius) {
-  cairo_set_source_rgb(cr, 0.85, 0.1, 0.1);
+  cairo().set_source_rgb(cr, 0.85, 0.1, 0.1);
   std::size_t in_path = 0;
   for (const std::uint32_t v : pic.marked) {
     if (v >= pic.points.size()) continue;
     if (++in_path == kStrokeBatch) {
-      cairo_fill(cr);
+      cairo().fill(cr);
       in_path = 1;
     }
     const double r = std::clamp(shortest[v] / 3.0, 0.25 * marker_radius, marker_radius);
-    cairo_new_sub_path(cr);
-    cairo_arc(cr, tf.x(pic.points[v]), tf.y(pic.points[v]), r, 0.0, 2.0 * std::numbers::pi);
+    cairo().new_sub_path(cr);
+    cairo().arc(cr, tf.x(pic.points[v]), tf.y(pic.points[v]), r, 0.0, 2.0 * std::numbers::pi);
   }
-  cairo_fill(cr);
+  cairo().fill(cr);
 }
 
 // A note (e.g. why a method gave no mesh), wrapped and centred in the panel (x0, y0, w, h).
@@ -268,7 +266,7 @@ void draw_note(cairo_t* cr, const std::string& note, double x0, double y0, doubl
   const std::vector<std::string> lines = wrap(note, max_chars);
   const double line_height = 1.3 * size;
   double y = y0 + 0.5 * h - 0.5 * line_height * static_cast<double>(lines.size()) + size;
-  cairo_set_source_rgb(cr, 0.45, 0.1, 0.1);
+  cairo().set_source_rgb(cr, 0.45, 0.1, 0.1);
   for (const std::string& line : lines) {
     centred_text(cr, line, x0 + 0.5 * w, y, size, w, false);
     y += line_height;
@@ -294,7 +292,7 @@ void draw_panel(cairo_t* cr, const Picture& pic, double x0, double y0, double w,
 
 void check_cairo(cairo_status_t status, const char* what) {
   if (status != CAIRO_STATUS_SUCCESS) {
-    throw InternalError(std::string("cairo: ") + what + ": " + cairo_status_to_string(status));
+    throw InternalError(std::string("cairo: ") + what + ": " + cairo().status_to_string(status));
   }
 }
 
@@ -324,10 +322,10 @@ std::optional<std::string> source_date_epoch() {
 }
 
 struct SurfaceDeleter {
-  void operator()(cairo_surface_t* s) const { cairo_surface_destroy(s); }
+  void operator()(cairo_surface_t* s) const { cairo().surface_destroy(s); }
 };
 struct ContextDeleter {
-  void operator()(cairo_t* c) const { cairo_destroy(c); }
+  void operator()(cairo_t* c) const { cairo().destroy(c); }
 };
 
 // The page: every panel gets the same cell (a margin around it, a title band above the drawing
@@ -370,22 +368,22 @@ std::unique_ptr<cairo_surface_t, SurfaceDeleter> create_surface(PictureFormat fo
   switch (format) {
     case PictureFormat::kPng:
       if (width > 32767.0 || height > 32767.0) throw InputError("", 0, "the picture would be too large for PNG");
-      surface.reset(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, static_cast<int>(width), static_cast<int>(height)));
+      surface.reset(cairo().image_surface_create(CAIRO_FORMAT_ARGB32, static_cast<int>(width), static_cast<int>(height)));
       break;
     case PictureFormat::kSvg:
-      surface.reset(cairo_svg_surface_create_for_stream(append_to_string, &bytes, width, height));
+      surface.reset(cairo().svg_surface_create_for_stream(append_to_string, &bytes, width, height));
       break;
     case PictureFormat::kPdf:
-      surface.reset(cairo_pdf_surface_create_for_stream(append_to_string, &bytes, width, height));
-      cairo_pdf_surface_set_metadata(surface.get(), CAIRO_PDF_METADATA_CREATOR, "mwst");
+      surface.reset(cairo().pdf_surface_create_for_stream(append_to_string, &bytes, width, height));
+      cairo().pdf_surface_set_metadata(surface.get(), CAIRO_PDF_METADATA_CREATOR, "mwst");
       // The reproducible-builds convention: SOURCE_DATE_EPOCH, when set, is the creation date, so
       // that the same drawing gives the same bytes (otherwise cairo writes the current time).
       if (const std::optional<std::string> date = source_date_epoch()) {
-        cairo_pdf_surface_set_metadata(surface.get(), CAIRO_PDF_METADATA_CREATE_DATE, date->c_str());
+        cairo().pdf_surface_set_metadata(surface.get(), CAIRO_PDF_METADATA_CREATE_DATE, date->c_str());
       }
       break;
   }
-  check_cairo(cairo_surface_status(surface.get()), "creating the surface");
+  check_cairo(cairo().surface_status(surface.get()), "creating the surface");
   return surface;
 }
 
@@ -393,27 +391,27 @@ std::unique_ptr<cairo_surface_t, SurfaceDeleter> create_surface(PictureFormat fo
 // of the first surface that uses it, so leaving them to the surface would make the text of a PNG
 // depend on whether a PDF was drawn before it (on another thread, say).
 void set_font_options(cairo_t* cr) {
-  cairo_font_options_t* font = cairo_font_options_create();
-  cairo_font_options_set_antialias(font, CAIRO_ANTIALIAS_GRAY);
-  cairo_font_options_set_subpixel_order(font, CAIRO_SUBPIXEL_ORDER_RGB);
-  cairo_font_options_set_hint_style(font, CAIRO_HINT_STYLE_NONE);
-  cairo_font_options_set_hint_metrics(font, CAIRO_HINT_METRICS_OFF);
-  cairo_set_font_options(cr, font);
-  cairo_font_options_destroy(font);
+  cairo_font_options_t* font = cairo().font_options_create();
+  cairo().font_options_set_antialias(font, CAIRO_ANTIALIAS_GRAY);
+  cairo().font_options_set_subpixel_order(font, CAIRO_SUBPIXEL_ORDER_RGB);
+  cairo().font_options_set_hint_style(font, CAIRO_HINT_STYLE_NONE);
+  cairo().font_options_set_hint_metrics(font, CAIRO_HINT_METRICS_OFF);
+  cairo().set_font_options(cr, font);
+  cairo().font_options_destroy(font);
 }
 
 // Draws the page onto `surface`: white background, the caption, then each panel's title and
 // drawing in its cell.
 void draw_page(cairo_surface_t* surface, const std::vector<Picture>& panels, const PageLayout& page,
                const DrawOptions& o) {
-  std::unique_ptr<cairo_t, ContextDeleter> context(cairo_create(surface));
+  std::unique_ptr<cairo_t, ContextDeleter> context(cairo().create(surface));
   cairo_t* cr = context.get();
-  check_cairo(cairo_status(cr), "creating the context");
+  check_cairo(cairo().status(cr), "creating the context");
   set_font_options(cr);
-  cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
-  cairo_paint(cr);
+  cairo().set_source_rgb(cr, 1.0, 1.0, 1.0);
+  cairo().paint(cr);
   if (!o.caption.empty()) {
-    cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
+    cairo().set_source_rgb(cr, 0.0, 0.0, 0.0);
     centred_text(cr, o.caption, 0.5 * page.width, 1.5 * o.font_size, 1.2 * o.font_size, page.width - 2.0 * page.margin,
                  true);
   }
@@ -422,26 +420,26 @@ void draw_page(cairo_surface_t* surface, const std::vector<Picture>& panels, con
     const double y0 = page.caption_band + page.cell_h * static_cast<double>(i / page.columns);
     const Picture& pic = panels[i];
     if (!pic.title.empty()) {
-      cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
+      cairo().set_source_rgb(cr, 0.0, 0.0, 0.0);
       centred_text(cr, pic.title, x0 + 0.5 * page.cell_w, y0 + page.margin + 1.1 * o.font_size, o.font_size,
                    page.draw_w, false);
     }
-    cairo_save(cr);
+    cairo().save(cr);
     draw_panel(cr, pic, x0 + page.margin, y0 + page.margin + page.title_band, page.draw_w, page.draw_h, o);
-    cairo_restore(cr);
+    cairo().restore(cr);
   }
-  check_cairo(cairo_status(cr), "drawing");
+  check_cairo(cairo().status(cr), "drawing");
 }
 
 // Completes the document: a PNG is encoded into `bytes`; SVG and PDF are finished (their stream
 // already appends to `bytes`).
 void finish_surface(cairo_surface_t* surface, PictureFormat format, std::string& bytes) {
   if (format == PictureFormat::kPng) {
-    cairo_surface_flush(surface);
-    check_cairo(cairo_surface_write_to_png_stream(surface, append_to_string, &bytes), "encoding PNG");
+    cairo().surface_flush(surface);
+    check_cairo(cairo().surface_write_to_png_stream(surface, append_to_string, &bytes), "encoding PNG");
   } else {
-    cairo_surface_finish(surface);
-    check_cairo(cairo_surface_status(surface), "finishing the document");
+    cairo().surface_finish(surface);
+    check_cairo(cairo().surface_status(surface), "finishing the document");
   }
 }
 

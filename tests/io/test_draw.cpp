@@ -6,6 +6,7 @@
 //     side make a proportionally wider image, notes for missing meshes render;
 //   - a bad extension is an InputError and leaves no file; `mwst draw` writes a PNG and refuses a
 //     bad extension with exit code 2.
+#include <dlfcn.h>
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -211,6 +212,22 @@ TEST(DrawPictures, RejectsAnUnknownExtensionAndWritesNothing) {
   EXPECT_EQ(mwst::io::picture_format("a.b/mesh.Pdf"), mwst::io::PictureFormat::kPdf);
   EXPECT_THROW(mwst::io::render_pictures({}, mwst::io::PictureFormat::kPng), mwst::InputError);
   EXPECT_TRUE(fs::is_empty(dir.root()));
+}
+
+// cairo is not linked (neither into this test program nor into mwst_draw): the first drawing loads
+// libcairo.so.2. Checked in a fresh process (the threadsafe death-test style re-runs this test
+// alone), where no other test has drawn yet: not loaded before render_pictures, loaded after.
+TEST(DrawPictures, LoadsCairoOnlyWhenTheFirstPictureIsDrawn) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  EXPECT_EXIT(
+      {
+        const auto loaded = [] { return ::dlopen("libcairo.so.2", RTLD_LAZY | RTLD_NOLOAD) != nullptr; };
+        const bool before = loaded();
+        const std::string png =
+            mwst::io::render_pictures({mwst::io::picture_of(refined_l_shape())}, mwst::io::PictureFormat::kPng);
+        std::exit(!before && loaded() && png.substr(1, 3) == "PNG" ? 0 : 1);
+      },
+      ::testing::ExitedWithCode(0), "");
 }
 
 // ---- the command line --------------------------------------------------------------------------

@@ -1,4 +1,5 @@
-// mwst/io/draw.hpp — pictures of triangulations (PNG, SVG or PDF, drawn with cairo).
+// mwst/io/draw.hpp — pictures of triangulations (PNG, SVG or PDF, drawn with cairo, which is
+// loaded when the first picture is drawn).
 //
 // What `mwst draw`, `mwst triangulate --draw` and the Figure 4 panels of `mwst experiment` draw
 // (after the figures of Boyacı, Erten, Üngör, "Triangulations Loosing Bundles and Weight"): the
@@ -61,7 +62,8 @@ struct DrawOptions {
 };
 
 // Renders the panels and returns the file's bytes in the given format. Throws InputError if the
-// panels are empty and InternalError if cairo fails.
+// panels are empty, ResourceError (mwst/algorithms/pipeline.hpp) if cairo's library
+// (libcairo.so.2, loaded by the first drawing) cannot be loaded, and InternalError if cairo fails.
 MWST_API std::string render_pictures(const std::vector<Picture>& panels, PictureFormat format,
                             const DrawOptions& options = {});
 
