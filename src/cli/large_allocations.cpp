@@ -1,6 +1,6 @@
-// The command line's allocation policies (src/cli/commands.hpp). use_one_huge_page_heap, for the
-// meshing commands, sets glibc's heap up (mallopt) so that their arrays fault in 2 MiB at a time;
-// commands.hpp says why. advise_huge_pages_for_large_allocations, for `mwst bundle`, which puts
+// The command line's allocation policies (src/cli/commands.hpp). use_one_heap, for the meshing
+// commands, sets glibc's heap up (mallopt) so that fewer fresh pages are faulted in; commands.hpp
+// says why. advise_huge_pages_for_large_allocations, for `mwst bundle`, which puts
 // its large arrays in their own mappings instead: once a command
 // asks for it, every allocation by operator new of 4 MiB or more starts on a huge
 // page's boundary and its first half is advised transparent huge pages before it is returned
@@ -22,7 +22,6 @@
 // never touches the memory's values, so no result depends on it. Sanitizer builds keep their own
 // operator new (it is how they track the heap).
 #include <malloc.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cstddef>
@@ -55,28 +54,17 @@ bool g_advise_large = false;
 
 void advise_huge_pages_for_large_allocations() { g_advise_large = MWST_REPLACE_OPERATOR_NEW != 0; }
 
-void use_one_huge_page_heap(double memory_budget_bytes) {
+void use_one_heap(double memory_budget_bytes) {
 #if defined(__GLIBC__) && MWST_REPLACE_OPERATOR_NEW
   constexpr std::size_t kMiB = std::size_t{1} << 20;
-  // The room reserved at once: address space only until touched, but counted by --max-memory's
-  // address-space limit, so at most an eighth of the budget, in whole huge pages.
+  // The room the heap grows by: address space only until touched, but counted by --max-memory's
+  // address-space limit, so at most an eighth of the budget.
   std::size_t room = 64 * kMiB;
   if (memory_budget_bytes > 0.0) room = std::min(room, static_cast<std::size_t>(memory_budget_bytes / 8.0));
-  room -= room % support::kHugePage;
   mallopt(M_ARENA_MAX, 1);
-  mallopt(M_MMAP_THRESHOLD, 32 * kMiB);
   mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
-  if (room == 0) return;
   mallopt(M_TOP_PAD, static_cast<int>(room));
-  // A block larger than what the heap has free makes glibc grow it by the block and the room;
-  // that growth, address space nothing has touched yet, is advised.
-  void* const before = ::sbrk(0);
-  void* volatile block = std::malloc(kMiB);  // volatile: a malloc whose block is unused may be elided
-  void* const after = ::sbrk(0);
-  std::free(block);
-  if (before != reinterpret_cast<void*>(-1) && after > before) {
-    support::advise_huge_pages(before, static_cast<std::size_t>(static_cast<char*>(after) - static_cast<char*>(before)));
-  }
+  mallopt(M_MMAP_THRESHOLD, static_cast<int>(kMiB));
 #else
   (void)memory_budget_bytes;
 #endif
