@@ -244,7 +244,7 @@ int run_triangle(const std::vector<std::string>& arguments) {
   const std::string stem = input_stem(inputs.front(), switches);
   TriangulateOptions options = switches.options;
   options.memory_budget_bytes = memory_budget();
-  use_one_heap(options.memory_budget_bytes);
+  use_one_heap();
   try {
     check_options(options);
   } catch (const std::invalid_argument& e) {

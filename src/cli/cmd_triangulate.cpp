@@ -105,13 +105,13 @@ int run_triangulate(const TriangulateArgs& a) {
   options.opt_trials = a.opt_trials;
   if (!a.max_memory.empty()) set_memory_budget(*parse_bytes(a.max_memory));  // CLI11 checked it
   options.memory_budget_bytes = memory_budget();
-  use_one_heap(options.memory_budget_bytes);
+  use_one_heap();
 #ifdef __GLIBC__
   // BRH's exact tests build and free arrays of megabytes (DT(V), the candidate lists, each phase's
   // scratch): arrays of 4 MB or more get their own mappings, returned to the system when freed
-  // (glibc's adaptive threshold, and use_one_heap's 32 MiB, would keep them in the heap,
-  // whose resident size never drops), as `mwst bundle` does with 1 MB (BRH allocates more often:
-  // 4 MB costs it ~3% CPU instead of ~12%).
+  // (glibc's adaptive threshold would keep them in the heap, whose resident size never drops), as
+  // `mwst bundle` does with 1 MB and use_one_heap with 1 MiB (BRH allocates more often: 4 MB costs
+  // it ~3% CPU instead of ~12%).
   if (options.method == Method::kBrh) mallopt(M_MMAP_THRESHOLD, 4 << 20);
 #endif
   try {

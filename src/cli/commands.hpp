@@ -170,15 +170,14 @@ void advise_huge_pages_for_large_allocations();
 
 // The meshing commands' heap (`mwst triangulate`, `mwst triangle`), set up for one run of a
 // process: every thread allocates from glibc's one main heap (not an arena of its own each), which
-// keeps blocks below 1 MiB (glibc's adaptive threshold let freed arrays of up to 32 MiB stay in a
-// heap), grows by 64 MiB of room at once (at most an eighth of `memory_budget_bytes`) and is never
-// trimmed: memory freed by one phase is written again by the next without faulting in fresh
-// pages. Each first write to a fresh 4 KiB page traps into the kernel, about 9 µs on a virtual
-// machine; DR on 20,000 points on an ellipse wrote ~3,400 fresh pages, a fifth of its CPU time.
-// (Advising the heap transparent huge pages halved the CPU time of 40k-point runs but put 6-9 MB
-// more at their peak: bench/README.md.) Call once, after the memory budget is final and before
-// any thread starts. Sanitizer builds and other C libraries: no effect.
-void use_one_heap(double memory_budget_bytes);
+// keeps the blocks below 1 MiB (glibc's adaptive threshold moves up to 32 MiB as mapped blocks are
+// freed) and is never trimmed: what one phase frees, the next writes again without faulting in
+// fresh pages. Each first write to a fresh 4 KiB page traps into the kernel, about 9 µs on a
+// virtual machine; DR on 20,000 points on an ellipse faulted in ~3,400 pages, a fifth of its CPU.
+// (Growing the heap by 64 MiB at a time, or advising it transparent huge pages, saved more CPU but
+// put 4-9 MB more at the peak of 40k-point runs: bench/README.md.) Call once, before any thread
+// starts. Sanitizer builds and other C libraries: no effect.
+void use_one_heap();
 // Whether it was asked for (and is in effect).
 bool huge_pages_for_large_allocations();
 

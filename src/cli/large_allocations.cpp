@@ -23,7 +23,6 @@
 // operator new (it is how they track the heap).
 #include <malloc.h>
 
-#include <algorithm>
 #include <cstddef>
 #include <cstdlib>
 #include <limits>
@@ -54,19 +53,11 @@ bool g_advise_large = false;
 
 void advise_huge_pages_for_large_allocations() { g_advise_large = MWST_REPLACE_OPERATOR_NEW != 0; }
 
-void use_one_heap(double memory_budget_bytes) {
+void use_one_heap() {
 #if defined(__GLIBC__) && MWST_REPLACE_OPERATOR_NEW
-  constexpr std::size_t kMiB = std::size_t{1} << 20;
-  // The room the heap grows by: address space only until touched, but counted by --max-memory's
-  // address-space limit, so at most an eighth of the budget.
-  std::size_t room = 64 * kMiB;
-  if (memory_budget_bytes > 0.0) room = std::min(room, static_cast<std::size_t>(memory_budget_bytes / 8.0));
   mallopt(M_ARENA_MAX, 1);
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
   mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
-  mallopt(M_TOP_PAD, static_cast<int>(room));
-  mallopt(M_MMAP_THRESHOLD, static_cast<int>(kMiB));
-#else
-  (void)memory_budget_bytes;
 #endif
 }
 

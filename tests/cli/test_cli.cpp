@@ -592,8 +592,7 @@ TEST(Cli, MaxMemoryValues) {
     EXPECT_EQ(r.exit_code, 2) << bad << "\n" << describe(r);
     EXPECT_EQ(r.err_lines().size(), 2u) << describe(r);  // the error and the hint to --help
   }
-  // 24M: a small input fits in a small budget (the room the heap grows by, use_one_heap, is at
-  // most an eighth of the budget).
+  // 24M: a small input fits in a small budget.
   for (const std::string good : {"512M", "1.5G", "2000000000", "1T", "300000k", "24M"}) {
     const Outcome r = box.run({"triangulate", "in.node", "-o", "g", "-q", "--max-memory", good});
     EXPECT_EQ(r.exit_code, 0) << good << "\n" << describe(r);
