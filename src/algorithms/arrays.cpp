@@ -8,6 +8,7 @@
 #include <sstream>
 #include <utility>
 
+#include "algorithms/nearest_segment.hpp"
 #include "mesh/insertion_order.hpp"
 #include "mwst/error.hpp"
 #include "support/huge_pages.hpp"
@@ -426,29 +427,23 @@ struct LinearAttributes {
 };
 
 // The attributes of the vertices of `cdt`, the constrained Delaunay triangulation of `input`:
-// an input point's own; a crossing of input segments linearly along the input segment nearest it.
+// an input point's own; a crossing of input segments linearly along the input segment nearest it
+// (the least rounded squared distance, the first in input order among equal ones). The segments
+// are found in a tree of their pieces, about one per vertex of `cdt`: a scan of all segments for
+// each crossing took O(crossings × segments) (a grid of 400 × 400 crossing segments: 1.9 s of a
+// 2.2 s run).
 std::vector<double> attributes_of_cdt_vertices(const Pslg& input, const Mesh& cdt) {
   const std::size_t count = input.attributes_per_point, inputs = input.points.size();
   std::vector<double> values(cdt.points.size() * count, 0.0);
   std::copy(input.point_attributes.begin(), input.point_attributes.end(), values.begin());
+  if (cdt.points.size() <= inputs || input.segments.empty()) return values;
+  const detail::NearestSegment segments(input.points, input.segments, cdt.points.size());
+  const double* attributes = input.point_attributes.data();
   for (std::size_t v = inputs; v < cdt.points.size(); ++v) {
     const Point& p = cdt.points[v];
-    const Segment* nearest = nullptr;
-    double best = 0.0;
-    for (const Segment& s : input.segments) {
-      const Point &a = input.points[s.a], &b = input.points[s.b];
-      const double dx = b.x - a.x, dy = b.y - a.y, length2 = dx * dx + dy * dy;
-      const double t = length2 > 0.0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / length2, 0.0, 1.0) : 0.0;
-      const double d = squared_distance(p, Point{a.x + t * dx, a.y + t * dy});
-      if (nearest == nullptr || d < best) {
-        nearest = &s;
-        best = d;
-      }
-    }
-    if (nearest == nullptr) continue;
-    const double* attributes = input.point_attributes.data();
-    along_segment(input.points[nearest->a], input.points[nearest->b], attributes + nearest->a * count,
-                  attributes + nearest->b * count, p, count, values.data() + v * count);
+    const Segment& nearest = input.segments[segments.nearest(p)];
+    along_segment(input.points[nearest.a], input.points[nearest.b], attributes + nearest.a * count,
+                  attributes + nearest.b * count, p, count, values.data() + v * count);
   }
   return values;
 }

@@ -10,6 +10,7 @@
 // boundary edges and segments must reappear in the mesh as chains of edges, possibly subdivided
 // by (rounded) Steiner points; the mesh boundary must be exactly those chains, and the areas agree.
 #include "mwst/mesh/check.hpp"
+#include "mesh/check_tables.hpp"
 #include "mesh/keys.hpp"
 #include "geometry/expansion.hpp"
 
@@ -20,8 +21,6 @@
 #include <limits>
 #include <numbers>
 #include <string>
-#include <unordered_map>
-#include <unordered_set>
 #include <utility>
 
 #include "mwst/mesh/delaunay.hpp"
@@ -61,6 +60,8 @@ double angle_deg(const Point& p, const Point& q, const Point& r) {
 // Kinds of mesh edges that lie on a chain of the reference domain.
 constexpr std::uint8_t kOnDomainBoundary = 1;  // on a boundary edge of the domain
 constexpr std::uint8_t kOnSegment = 2;         // on an input segment (or a piece of one)
+constexpr std::uint8_t kOnChain = kOnDomainBoundary | kOnSegment;
+constexpr std::uint8_t kListed = 4;            // (not a chain) listed as a subsegment by the mesh's .poly
 
 // Tolerances for rounding, documented in check.hpp.
 constexpr double kOnLineTolerance = 1e-12;  // times the coordinate magnitude of the segment
@@ -182,48 +183,49 @@ class Checker {
     }
   }
 
-  // Directed edges → the triangle holding them and its apex; undirected adjacency lists.
+  // Directed edges → the triangle holding them and its apex (the first triangle listing an edge;
+  // a later one with the same orientation overlaps it); undirected adjacency lists.
   void build_edges() {
-    apex_.reserve(3 * tri_.size());
     const std::size_t n = p_.size();
     used_.assign(n, 0);
-    std::vector<std::uint32_t> degree(n + 1, 0);
     for (std::size_t t = 0; t < tri_.size(); ++t) {
       if (!valid_[t]) continue;
-      const auto& T = tri_[t];
-      for (unsigned k = 0; k < 3; ++k) {
-        const std::uint32_t u = T[k], v = T[(k + 1) % 3], w = T[(k + 2) % 3];
-        used_[u] = 1;
-        const auto [it, inserted] = apex_.try_emplace(edge_key(u, v), Apex{w, static_cast<std::uint32_t>(t)});
-        if (!inserted) {
-          violation(edge_name(u, v) + " is in " + tri_name(it->second.triangle) + " and " + tri_name(t) +
-                    " with the same orientation (they overlap)");
-          continue;
-        }
-        ++degree[u];
-        ++degree[v];
-      }
+      for (const std::uint32_t u : tri_[t]) used_[u] = 1;
     }
+    for (const detail::DirectedEdges::Duplicate& d : edges_.build(n, tri_, valid_)) {
+      const auto& T = tri_[d.slot / 3];
+      violation(edge_name(T[d.slot % 3], T[(d.slot % 3 + 1) % 3]) + " is in " + tri_name(d.first_slot / 3) + " and " +
+                tri_name(d.slot / 3) + " with the same orientation (they overlap)");
+    }
+    edge_kind_.assign(edges_.size(), 0);
     // Compressed adjacency (with repeats: an interior edge appears from both sides).
     adj_start_.assign(n + 1, 0);
-    for (std::size_t v = 0; v < n; ++v) adj_start_[v + 1] = adj_start_[v] + degree[v];
+    for (std::uint32_t u = 0; u < n; ++u) {
+      for (std::uint32_t e = edges_.begin(u); e < edges_.end(u); ++e) {
+        ++adj_start_[u + 1];
+        ++adj_start_[edges_.destination(e) + 1];
+      }
+    }
+    for (std::size_t v = 0; v < n; ++v) adj_start_[v + 1] += adj_start_[v];
     adj_.resize(adj_start_[n]);
     std::vector<std::uint32_t> fill(adj_start_.begin(), adj_start_.end() - 1);
-    for (const auto& [key, apex] : apex_) {
-      const auto u = static_cast<std::uint32_t>(key >> 32), v = static_cast<std::uint32_t>(key);
-      adj_[fill[u]++] = v;
-      adj_[fill[v]++] = u;
+    for (std::uint32_t u = 0; u < n; ++u) {
+      for (std::uint32_t e = edges_.begin(u); e < edges_.end(u); ++e) {
+        const std::uint32_t v = edges_.destination(e);
+        adj_[fill[u]++] = v;
+        adj_[fill[v]++] = u;
+      }
     }
   }
 
   // Used mesh vertices by their exact coordinates; two at the same point is a violation.
   void index_vertices() {
-    by_point_.reserve(p_.size());
+    by_point_ = detail::PointTable(p_.size());
     for (std::uint32_t v = 0; v < p_.size(); ++v) {
       if (!used_[v]) continue;
-      const auto [it, inserted] = by_point_.try_emplace(PointKey(p_[v]), v);
-      if (!inserted) {
-        violation("vertices " + std::to_string(it->second + 1) + " and " + std::to_string(v + 1) +
+      const std::uint32_t first = by_point_.insert(p_[v], v);
+      if (first != kNone) {
+        violation("vertices " + std::to_string(first + 1) + " and " + std::to_string(v + 1) +
                   " are at the same point " + point_text(p_[v]));
       }
     }
@@ -274,8 +276,7 @@ class Checker {
 
   // The mesh vertex at a reference vertex's exact position, or kNone.
   std::uint32_t mesh_vertex_at(VertexId r) const {
-    const auto it = by_point_.find(PointKey(reference_.points[r]));
-    return it == by_point_.end() ? kNone : it->second;
+    return by_point_.find(reference_.points[r]);
   }
 
   // Every vertex of the domain (input points, crossing points) is a mesh vertex.
@@ -302,8 +303,9 @@ class Checker {
     return cross <= kOnLineTolerance * scale * std::hypot(dx, dy);
   }
 
+  // u and v are adjacent: the chains walk along mesh edges.
   void mark_chain_edge(std::uint32_t u, std::uint32_t v, std::uint8_t kind) {
-    chain_[undirected_key(u, v)] |= kind;
+    edge_kind_[edges_.undirected(u, v)] |= kind;
     if (kind & kOnDomainBoundary) boundary_chain_.push_back({u, v});
   }
 
@@ -320,17 +322,19 @@ class Checker {
       const std::uint32_t v = mesh_vertex_at(r);
       if (v != kNone) junction_[v] = 1;
     }
-    std::unordered_set<std::uint64_t> edges;
-    for (const auto& [key, apex] : apex_) {
-      const auto u = static_cast<std::uint32_t>(key >> 32), v = static_cast<std::uint32_t>(key);
-      if (apex_.count(edge_key(v, u)) == 0) edges.insert(undirected_key(u, v));
+    std::vector<std::uint64_t> edges;  // undirected, sorted, each once
+    for (std::uint32_t u = 0; u < n; ++u) {
+      for (std::uint32_t e = edges_.begin(u); e < edges_.end(u); ++e) {
+        const std::uint32_t v = edges_.destination(e);
+        if (!edges_.contains(v, u)) edges.push_back(undirected_key(u, v));
+      }
     }
     for (const Segment& s : subsegments_) {
       if (s.a >= n || s.b >= n || s.a == s.b) continue;
-      if (apex_.count(edge_key(s.a, s.b)) != 0 || apex_.count(edge_key(s.b, s.a)) != 0) {
-        edges.insert(undirected_key(s.a, s.b));
-      }
+      if (edges_.undirected(s.a, s.b) != kNone) edges.push_back(undirected_key(s.a, s.b));
     }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
     guide_start_.assign(n + 1, 0);
     for (const std::uint64_t key : edges) {
       ++guide_start_[(key >> 32) + 1];
@@ -444,26 +448,26 @@ class Checker {
 
   // The mesh boundary is exactly the domain boundary, with the mesh on the domain side.
   void check_mesh_boundary() {
-    std::unordered_set<std::uint64_t> expected;
-    expected.reserve(2 * boundary_chain_.size());
     for (const auto& [u, v] : boundary_chain_) {
-      expected.insert(edge_key(u, v));
-      const bool forward = apex_.count(edge_key(u, v)) != 0;
-      const bool backward = apex_.count(edge_key(v, u)) != 0;
+      const bool forward = edges_.contains(u, v);
+      const bool backward = edges_.contains(v, u);
       if (forward && backward) {
         violation(edge_name(u, v) + " lies on the domain boundary but has triangles on both sides");
       } else if (!forward) {
         violation(edge_name(u, v) + " lies on the domain boundary but its triangle is outside the domain");
       }
     }
+    // An edge with one orientation is on the mesh boundary (it stands for itself as undirected).
     on_boundary_.assign(p_.size(), 0);
-    for (const auto& [key, apex] : apex_) {
-      const auto u = static_cast<std::uint32_t>(key >> 32), v = static_cast<std::uint32_t>(key);
-      if (apex_.count(edge_key(v, u)) != 0) continue;
-      on_boundary_[u] = on_boundary_[v] = 1;
-      if (expected.count(key) == 0 && expected.count(edge_key(v, u)) == 0) {
-        violation(edge_name(u, v) + " of " + tri_name(apex.triangle) +
-                  " is on the mesh boundary but not on the domain boundary (a gap in the mesh)");
+    for (std::uint32_t u = 0; u < p_.size(); ++u) {
+      for (std::uint32_t e = edges_.begin(u); e < edges_.end(u); ++e) {
+        const std::uint32_t v = edges_.destination(e);
+        if (edges_.contains(v, u)) continue;
+        on_boundary_[u] = on_boundary_[v] = 1;
+        if ((edge_kind_[e] & kOnDomainBoundary) == 0) {
+          violation(edge_name(u, v) + " of " + tri_name(edges_.triangle(e)) +
+                    " is on the mesh boundary but not on the domain boundary (a gap in the mesh)");
+        }
       }
     }
   }
@@ -472,8 +476,6 @@ class Checker {
   // on the hull), and every mesh edge on an input segment is listed.
   void check_subsegments() {
     if (subsegments_.empty()) return;
-    std::unordered_set<std::uint64_t> listed;
-    listed.reserve(2 * subsegments_.size());
     for (std::size_t i = 0; i < subsegments_.size(); ++i) {
       const Segment& s = subsegments_[i];
       const std::string name = "subsegment " + std::to_string(i + 1) + " of the mesh's .poly";
@@ -481,19 +483,23 @@ class Checker {
         violation(name + " names a vertex that does not exist");
         continue;
       }
-      listed.insert(undirected_key(s.a, s.b));
-      if (apex_.count(edge_key(s.a, s.b)) == 0 && apex_.count(edge_key(s.b, s.a)) == 0) {
+      const std::uint32_t e = edges_.undirected(s.a, s.b);
+      if (e == kNone) {
         violation(name + " (" + edge_name(s.a, s.b) + ") is not a mesh edge");
         continue;
       }
-      if (chain_.count(undirected_key(s.a, s.b)) == 0) {
+      edge_kind_[e] |= kListed;
+      if ((edge_kind_[e] & kOnChain) == 0) {
         violation(name + " (" + edge_name(s.a, s.b) + ") lies on no input segment");
       }
     }
-    for (const auto& [key, kind] : chain_) {
-      if ((kind & kOnSegment) == 0 || listed.count(key) != 0) continue;
-      const auto u = static_cast<std::uint32_t>(key >> 32), v = static_cast<std::uint32_t>(key);
-      violation(edge_name(u, v) + " lies on an input segment but the mesh's .poly does not list it");
+    for (std::uint32_t u = 0; u < p_.size(); ++u) {
+      for (std::uint32_t e = edges_.begin(u); e < edges_.end(u); ++e) {
+        if ((edge_kind_[e] & kOnSegment) == 0 || (edge_kind_[e] & kListed) != 0) continue;
+        const std::uint32_t v = edges_.destination(e);  // e stands for {u, v}: only it has kinds
+        violation(edge_name(std::min(u, v), std::max(u, v)) +
+                  " lies on an input segment but the mesh's .poly does not list it");
+      }
     }
   }
 
@@ -510,8 +516,7 @@ class Checker {
     dead_end_.assign(p_.size(), 0);
     std::vector<std::uint32_t> at_input(input_.points.size(), kNone);
     for (std::size_t i = 0; i < input_.points.size(); ++i) {
-      const auto it = by_point_.find(PointKey(input_.points[i]));
-      if (it != by_point_.end()) at_input[i] = it->second;
+      at_input[i] = by_point_.find(input_.points[i]);
     }
     for (std::size_t i = 0; i < input_.segments.size(); ++i) {
       const Segment& s = input_.segments[i];
@@ -663,9 +668,9 @@ class Checker {
     const Point& pc = p_[c];
     for (std::uint32_t k = adj_start_[c]; k < adj_start_[c + 1]; ++k) {
       const std::uint32_t w = adj_[k];
-      const auto it = apex_.find(edge_key(c, w));
-      if (it == apex_.end()) continue;
-      const Point& q = p_[it->second.apex];
+      const std::uint32_t e = edges_.find(c, w);
+      if (e == kNone) continue;
+      const Point& q = p_[edges_.apex(e)];
       if (orient2d(pc, p_[w], line.b) >= 0 && orient2d(pc, q, line.b) <= 0 &&
           segment_meets_open_triangle(line.a, line.b, pc, p_[w], q)) {
         return true;
@@ -697,20 +702,17 @@ class Checker {
   // subsegment) — conforming Delaunay: across every interior edge —, the far apex is not strictly
   // inside the circumcircle (exact incircle).
   void check_delaunay() {
-    std::unordered_set<std::uint64_t> listed;
-    for (const Segment& s : subsegments_) listed.insert(undirected_key(s.a, s.b));
-    for (const auto& [key, apex] : apex_) {
-      const auto u = static_cast<std::uint32_t>(key >> 32), v = static_cast<std::uint32_t>(key);
-      if (u > v) continue;
-      const auto other = apex_.find(edge_key(v, u));
-      if (other == apex_.end()) continue;
-      if (!options_.conforming_delaunay &&
-          (chain_.count(undirected_key(u, v)) != 0 || listed.count(undirected_key(u, v)) != 0)) {
-        continue;
-      }
-      if (incircle(p_[u], p_[v], p_[apex.apex], p_[other->second.apex]) > 0) {
-        violation(edge_name(u, v) + " is not Delaunay: " + vertex_name(other->second.apex) +
-                  " lies inside the circumcircle of " + tri_name(apex.triangle));
+    for (std::uint32_t u = 0; u < p_.size(); ++u) {
+      for (std::uint32_t e = edges_.begin(u); e < edges_.end(u); ++e) {
+        const std::uint32_t v = edges_.destination(e);
+        if (u > v) continue;
+        const std::uint32_t other = edges_.find(v, u);
+        if (other == kNone) continue;
+        if (!options_.conforming_delaunay && edge_kind_[e] != 0) continue;  // on a chain, or listed
+        if (incircle(p_[u], p_[v], p_[edges_.apex(e)], p_[edges_.apex(other)]) > 0) {
+          violation(edge_name(u, v) + " is not Delaunay: " + vertex_name(edges_.apex(other)) +
+                    " lies inside the circumcircle of " + tri_name(edges_.triangle(e)));
+        }
       }
     }
   }
@@ -730,11 +732,6 @@ class Checker {
     }
   }
 
-  struct Apex {
-    std::uint32_t apex;
-    std::uint32_t triangle;
-  };
-
   const Pslg& input_;
   const std::vector<Point>& p_;
   const std::vector<std::array<std::uint32_t, 3>>& tri_;
@@ -746,15 +743,17 @@ class Checker {
   std::vector<char> valid_;
   std::vector<char> used_;
   std::vector<char> on_boundary_;
-  std::unordered_map<std::uint64_t, Apex> apex_;  // directed edge → apex and triangle
+  detail::DirectedEdges edges_;  // directed edge → the triangle holding it and its apex
   std::vector<std::uint32_t> adj_start_, adj_;
-  std::unordered_map<PointKey, std::uint32_t, PointKeyHash> by_point_;
+  detail::PointTable by_point_;  // used mesh vertices by their exact coordinates
   Mesh reference_;
   std::vector<char> junction_;  // mesh vertex at a vertex of the domain (input point, crossing)
   std::vector<std::uint32_t> guide_start_, guide_;  // guide edges (build_guides), both directions
   std::vector<std::uint32_t> path_;                 // scratch for guided_chain, follow_segment
   std::vector<char> dead_end_;                      // scratch for follow_segment
-  std::unordered_map<std::uint64_t, std::uint8_t> chain_;  // undirected mesh edge → kinds
+  // Per entry of edges_ that stands for an undirected edge (DirectedEdges::undirected): the kinds
+  // of the domain's chains it lies on, and kListed if the mesh's .poly lists it; 0 on the others.
+  std::vector<std::uint8_t> edge_kind_;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> boundary_chain_;  // directed, domain on the left
 };
 
