@@ -168,18 +168,19 @@ double memory_budget();
 // unchanged). Call before any thread starts. Sanitizer builds: no effect.
 void advise_huge_pages_for_large_allocations();
 
+// Whether it was asked for (and is in effect).
+bool huge_pages_for_large_allocations();
+
 // The meshing commands' heap (`mwst triangulate`, `mwst triangle`), set up for one run of a
 // process: every thread allocates from glibc's one main heap (not an arena of its own each), which
 // keeps the blocks below 1 MiB (glibc's adaptive threshold moves up to 32 MiB as mapped blocks are
 // freed) and is never trimmed: what one phase frees, the next writes again without faulting in
 // fresh pages. Each first write to a fresh 4 KiB page traps into the kernel, about 9 µs on a
-// virtual machine; DR on 20,000 points on an ellipse faulted in ~3,400 pages, a fifth of its CPU.
-// (Growing the heap by 64 MiB at a time, or advising it transparent huge pages, saved more CPU but
-// put 4-9 MB more at the peak of 40k-point runs: bench/README.md.) Call once, before any thread
-// starts. Sanitizer builds and other C libraries: no effect.
+// virtual machine; DR on 20,000 points on an ellipse faulted in ~3,300 pages, a fifth of its CPU
+// (now ~2,900). Growing the heap by 64 MiB at a time, or advising it transparent huge pages,
+// saved more but put 4-9 MB more at the peak of 40k-point runs (bench/README.md). Call once,
+// before any thread starts. Sanitizer builds and other C libraries: no effect.
 void use_one_heap();
-// Whether it was asked for (and is in effect).
-bool huge_pages_for_large_allocations();
 
 // When the process started (its static initialisation, before main): --time-limit counts from here.
 std::chrono::steady_clock::time_point process_start();

@@ -1,9 +1,8 @@
 // The command line's allocation policies (src/cli/commands.hpp). use_one_heap, for the meshing
 // commands, sets glibc's heap up (mallopt) so that fewer fresh pages are faulted in; commands.hpp
-// says why. advise_huge_pages_for_large_allocations, for `mwst bundle`, which puts
-// its large arrays in their own mappings instead: once a command
-// asks for it, every allocation by operator new of 4 MiB or more starts on a huge
-// page's boundary and its first half is advised transparent huge pages before it is returned
+// says why. advise_huge_pages_for_large_allocations is for `mwst bundle`, which puts its large
+// arrays in their own mappings instead: once a command asks for it, every allocation by operator
+// new of 4 MiB or more starts on a huge page's boundary and its first half is advised transparent huge pages before it is returned
 // (support::allocate_on_huge_pages, which says why only that half).
 //
 // Why: `mwst bundle` puts arrays of 1 MB or more in their own mappings (mallopt, cmd_bundle.cpp), so
@@ -53,6 +52,8 @@ bool g_advise_large = false;
 
 void advise_huge_pages_for_large_allocations() { g_advise_large = MWST_REPLACE_OPERATOR_NEW != 0; }
 
+bool huge_pages_for_large_allocations() { return g_advise_large; }
+
 void use_one_heap() {
 #if defined(__GLIBC__) && MWST_REPLACE_OPERATOR_NEW
   mallopt(M_ARENA_MAX, 1);
@@ -60,8 +61,6 @@ void use_one_heap() {
   mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
 #endif
 }
-
-bool huge_pages_for_large_allocations() { return g_advise_large; }
 
 }  // namespace mwst::cli
 
