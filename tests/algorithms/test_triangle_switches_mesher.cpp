@@ -30,11 +30,7 @@ namespace {
 
 using namespace mwst;
 
-std::string joined(const std::vector<std::string>& lines) {
-  std::string s;
-  for (const auto& l : lines) s += l + "\n";
-  return s;
-}
+using mwst::test::joined;
 
 Point centroid(const Mesh& m, TriangleId t) {
   const auto& v = m.triangles[t].v;

@@ -68,11 +68,7 @@ void write_text(const std::string& path, const std::string& text) {
   out << text;
 }
 
-std::string joined(const std::vector<std::string>& lines) {
-  std::string s;
-  for (const std::string& l : lines) s += "\n  " + l;
-  return s;
-}
+using test::joined;
 
 constexpr Method kMethods[] = {Method::kDt, Method::kDr, Method::kBrh, Method::kQtr, Method::kOpt};
 

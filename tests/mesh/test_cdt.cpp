@@ -44,11 +44,7 @@ using test::read_regression;
 using test::regression_path;
 using test::Tri;
 
-std::string joined(const std::vector<std::string>& lines) {
-  std::string s;
-  for (const auto& l : lines) s += "  " + l + "\n";
-  return s;
-}
+using test::joined;
 
 struct Cdt {
   Mesh mesh;

@@ -20,11 +20,7 @@
 namespace mwst {
 namespace {
 
-std::string joined(const std::vector<std::string>& lines) {
-  std::string s;
-  for (const auto& l : lines) s += l + "\n";
-  return s;
-}
+using test::joined;
 
 bool mentions(const CheckResult& r, const std::string& text) {
   return std::any_of(r.messages.begin(), r.messages.end(),

@@ -21,15 +21,12 @@
 
 #include "mwst/mesh/check.hpp"
 #include "mwst/mesh/pslg.hpp"
+#include "support/exact_checker.hpp"
 
 namespace mwst {
 namespace {
 
-std::string joined(const std::vector<std::string>& lines) {
-  std::string s;
-  for (const auto& l : lines) s += l + "\n";
-  return s;
-}
+using test::joined;
 
 using Triangles = std::vector<std::array<std::uint32_t, 3>>;
 

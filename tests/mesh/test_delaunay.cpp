@@ -34,11 +34,7 @@ namespace {
 
 using test::Tri;
 
-std::string joined(const std::vector<std::string>& lines) {
-  std::string s;
-  for (const auto& l : lines) s += "  " + l + "\n";
-  return s;
-}
+using test::joined;
 
 std::size_t distinct_count(std::vector<Point> p) {
   std::sort(p.begin(), p.end(), [](const Point& a, const Point& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });

@@ -141,6 +141,13 @@ struct CheckResult {
   std::size_t circle_tests = 0;  // (triangle, point) pairs decided by the filter or exactly
 };
 
+// A check's messages, one per line (for a failed expectation's output).
+inline std::string joined(const std::vector<std::string>& lines) {
+  std::string s;
+  for (const auto& l : lines) s += l + "\n";
+  return s;
+}
+
 // Convex hull by Andrew's monotone chain over the given (distinct) point ids, exact orientation.
 // keep_collinear: points on hull edges are kept as hull vertices. Counter-clockwise, no repeat.
 inline std::vector<std::uint32_t> convex_hull(const ExactPlane& ep, const std::vector<Point>& pts,

@@ -32,11 +32,7 @@ namespace {
 namespace fs = std::filesystem;
 using namespace mwst;
 
-std::string joined(const std::vector<std::string>& lines) {
-  std::string s;
-  for (const auto& l : lines) s += l + "\n";
-  return s;
-}
+using mwst::test::joined;
 
 // The input plus the convex hull edges that are not input segments (a point set's domain is its
 // hull, as is the domain of --convex-hull; refine marks those hull edges as subsegments).
