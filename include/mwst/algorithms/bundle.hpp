@@ -122,6 +122,7 @@ struct KBundleStats {
   std::size_t seed_fan_steps = 0;          // first stage: Delaunay triangles around the seed corners walked
   std::size_t flood_visits = 0;            // mesh triangles the floods of both stages popped
   std::size_t decided_by_circumdisks = 0;  // queries met by a circumdisk meeting ≥ k triangles
+  std::size_t decided_by_hints = 0;        // of them, by the Delaunay triangle of KBundleCache::hints
   std::size_t decided_by_bound = 0;        // queries no pencil of which could reach k candidates
   std::size_t decided_by_pencils = 0;      // queries found in a k-bundle by the pencil sweep
   std::size_t pencils_swept = 0;
@@ -173,6 +174,16 @@ class MWST_API KBundleCache {
   // this box are unchanged, and the hull is (bundle removal relies on it between its passes: a
   // disk putting it in a k-bundle after a change must meet a triangle made by the change).
   std::vector<std::array<double, 4>> reach;
+  // Witnesses, in and out (used with or without reuse_sweeps). `hints`, if it holds one entry per
+  // query: the corners (mesh vertex ids; kNone: no hint) of a Delaunay triangle whose circumdisk
+  // decided that query in an earlier call. A query whose hint is still a triangle of DT(V) (its
+  // disk still vertex-empty), whose circumdisk still meets k triangles or more and meets the query
+  // (all decided exactly, as in the first stage) is answered 1 without walking S(t). It is the
+  // answer the walk would give (the question is exact), at O(k) instead of the walk's cost.
+  // `witnesses` (set by every call): per query, the corners of the Delaunay triangle whose
+  // circumdisk answered it 1 in the first stage, or kNone (answered 0, or by the pencils).
+  std::vector<std::array<VertexId, 3>> hints;
+  std::vector<std::array<VertexId, 3>> witnesses;
   // False: the call neither reuses nor keeps sweeps, nor sets `reach`; it only keeps (and reuses)
   // DT(V). A call over the whole mesh keeps DT(V) here, and the next such call inserts only the
   // vertices added since (Lawson flips keep it Delaunay) if every vertex it holds is still a

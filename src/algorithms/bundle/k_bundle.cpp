@@ -67,15 +67,18 @@ class KBundleAttempt {
  public:
   // `sh` is built (DT(V): Shared::build(false); DT(W): Shared::build_region, `subset` true);
   // `queries` are slots of sh (kNone for a query outside the domain).
+  // `memo` (may be null): the caller's KBundleCache for the witnesses (hints and witnesses), used
+  // even when `cache` is null.
   KBundleAttempt(Shared& sh, std::uint32_t k, const std::vector<TriangleId>& queries, KBundleStats& st, bool subset,
-                 std::vector<std::uint8_t>& answer, KBundleCache* cache)
-      : sh_(sh), k_(k), queries_(queries), st_(st), subset_(subset), answer_(answer), cache_(cache), dt_(sh.dt),
-        dt_slots_(sh.dt.triangle_slots()) {}
+                 std::vector<std::uint8_t>& answer, KBundleCache* cache, KBundleCache* memo)
+      : sh_(sh), k_(k), queries_(queries), st_(st), subset_(subset), answer_(answer), cache_(cache), memo_(memo),
+        dt_(sh.dt), dt_slots_(sh.dt.triangle_slots()) {}
 
   Attempt run(unsigned threads_requested) {
     answer_.assign(queries_.size(), 0);
     st_ = {};
     index_dt_vertices();
+    resolve_hints();
     const unsigned threads = bundle::worker_threads(threads_requested, 64 * queries_.size());
     workers_ = bundle::make_workers(sh_, threads, true, false);
     // Stage 1's floods decide the edges the filters leave open exactly (see Worker::exact_edges):
@@ -85,6 +88,7 @@ class KBundleAttempt {
     std::vector<Part> parts(workers_.size());
     first_stage(parts);
     if (!merge_parts(parts)) return Attempt::kGaveUp;
+    record_witnesses();
     if (!subset_) {
       second_stage_one_sided();
       for (const auto& w : workers_) st_.flood_visits += w->flood_visits;
@@ -121,7 +125,7 @@ class KBundleAttempt {
   struct Part {
     std::vector<TriangleId> s_list, fan;
     std::vector<std::uint32_t> dt_stamp;
-    std::size_t decided = 0, disks_counted = 0, fan_steps = 0;
+    std::size_t decided = 0, disks_counted = 0, fan_steps = 0, hinted = 0;
     bool gave_up = false;
   };
 
@@ -139,6 +143,72 @@ class KBundleAttempt {
         if (dt_vertex_edge_[o] == kNone) dt_vertex_edge_[o] = make_handle(t, e);
         ++dt_degree_[o];
       }
+    }
+  }
+
+  // ---- witnesses from an earlier call ----
+
+  // hint_dt_: per query, the Delaunay triangle the caller's hint names, if it is one of DT(V)
+  // now (kNone otherwise). Only over DT(V): a subset attempt's DT(W) would need each hint shown
+  // to be a DT(V) triangle, and few queries are cheap to walk anyway.
+  void resolve_hints() {
+    decided_by_.assign(queries_.size(), kNone);
+    if (memo_ != nullptr) memo_->witnesses.clear();
+    if (subset_ || memo_ == nullptr || memo_->hints.size() != queries_.size()) return;
+    // The renumbered id of each mesh vertex of DT(V).
+    std::vector<VertexId> dt_id(sh_.pts.size(), kNone);
+    for (VertexId i = 0; i < sh_.used; ++i) {
+      if (sh_.mesh_id[i] < dt_id.size()) dt_id[sh_.mesh_id[i]] = i;
+    }
+    hint_dt_.assign(queries_.size(), kNone);
+    for (std::size_t qi = 0; qi < queries_.size(); ++qi) {
+      const auto& hint = memo_->hints[qi];
+      std::array<VertexId, 3> v{};
+      bool known = true;
+      for (unsigned c = 0; c < 3; ++c) {
+        known = known && hint[c] < dt_id.size() && dt_id[hint[c]] != kNone;
+        if (known) v[c] = dt_id[hint[c]];
+      }
+      if (known) hint_dt_[qi] = dt_triangle(v);
+    }
+  }
+
+  // The finite Delaunay triangle with corners v (any order), or kNone: a walk around the corner
+  // of fewest Delaunay triangles (a vertex that lost its triangle to an insertion may have
+  // thousands around it on a fan's rim; past kHintFan the hint is not looked up).
+  static constexpr std::uint32_t kHintFan = 256;
+  TriangleId dt_triangle(const std::array<VertexId, 3>& v) const {
+    unsigned c = 0;
+    for (unsigned i = 1; i < 3; ++i) {
+      if (dt_degree_[v[i]] < dt_degree_[v[c]]) c = i;
+    }
+    if (dt_vertex_edge_[v[c]] == kNone || dt_degree_[v[c]] > kHintFan) return kNone;
+    const Handle first = dt_vertex_edge_[v[c]];
+    Handle g = first;
+    for (std::uint32_t turn = 0; turn <= kHintFan + 1; ++turn) {
+      const TriangleId d = triangle_of(g);
+      if (!dt_.is_ghost(d)) {
+        const auto& dv = dt_.triangles[d].v;
+        auto has = [&](VertexId x) { return dv[0] == x || dv[1] == x || dv[2] == x; };
+        if (has(v[0]) && has(v[1]) && has(v[2])) return d;
+      }
+      g = dt_.onext(g);
+      if (g == first) break;
+    }
+    return kNone;
+  }
+
+  // The caller's witnesses: the corners (mesh ids) of the Delaunay triangle that decided each
+  // query in the first stage.
+  void record_witnesses() {
+    if (memo_ == nullptr) return;
+    constexpr std::array<VertexId, 3> kNoWitness{kNone, kNone, kNone};
+    memo_->witnesses.assign(queries_.size(), kNoWitness);
+    for (std::size_t qi = 0; qi < queries_.size(); ++qi) {
+      const TriangleId d = decided_by_[qi];
+      if (d == kNone) continue;
+      const auto& dv = dt_.triangles[d].v;
+      memo_->witnesses[qi] = {sh_.mesh_id[dv[0]], sh_.mesh_id[dv[1]], sh_.mesh_id[dv[2]]};
     }
   }
 
@@ -228,6 +298,20 @@ class KBundleAttempt {
   bool first_stage_query(Worker& w, Part& part, std::size_t qi, std::uint32_t stamp, std::vector<TriangleId>& stack) {
     const TriangleId t = queries_[qi];
     const auto& tv = sh_.slots[t].v;
+    // The earlier call's witness first: its disk, if still vertex-empty (the Delaunay triangle
+    // still exists), meeting k triangles and t, decides t as the walk would (on the fan 160k,
+    // 80,000 triangles left at small input angles are asked again before BRH stops; their walks
+    // took ~22 s of CPU).
+    if (!hint_dt_.empty() && hint_dt_[qi] != kNone) {
+      const TriangleId d = hint_dt_[qi];
+      if (large_disk(w, part, d) && w.disk_meets(d, t)) {
+        answer_[qi] = 1;
+        decided_by_[qi] = d;
+        ++part.decided;
+        ++part.hinted;
+        return true;
+      }
+    }
     const Point* const corners[3] = {&sh_.pts[tv[0]], &sh_.pts[tv[1]], &sh_.pts[tv[2]]};
     const std::size_t first = part.s_list.size(), first_fan = part.fan.size();
     stack.clear();
@@ -247,6 +331,7 @@ class KBundleAttempt {
     const Handle start = dt_vertex_edge_[tv[corner]];
     Handle h = start;
     bool decided = false;
+    TriangleId decider = kNone;
     std::size_t popped = 0;
     do {
       ++part.fan_steps;
@@ -259,13 +344,17 @@ class KBundleAttempt {
         const TriangleId d = stack.back();
         stack.pop_back();
         decided = large_disk(w, part, d) && w.disk_meets(d, t);
-        if (decided) break;
+        if (decided) {
+          decider = d;
+          break;
+        }
         for (unsigned e = 0; e < 3; ++e) consider(triangle_of(dt_.sym(make_handle(d, e))));
       }
       h = dt_.onext(h);
     } while (h != start && !decided);
     if (decided) {
       answer_[qi] = 1;
+      decided_by_[qi] = decider;
       ++part.decided;
       part.s_list.resize(first);
       part.fan.resize(first_fan);
@@ -288,6 +377,7 @@ class KBundleAttempt {
     for (Part& part : parts) {
       if (part.gave_up) return false;
       st_.decided_by_circumdisks += part.decided;
+      st_.decided_by_hints += part.hinted;
       st_.disks_counted += part.disks_counted;
       st_.seed_fan_steps += part.fan_steps;
       s_list_.insert(s_list_.end(), part.s_list.begin(), part.s_list.end());
@@ -656,6 +746,7 @@ class KBundleAttempt {
   const bool subset_;
   std::vector<std::uint8_t>& answer_;
   KBundleCache* const cache_;
+  KBundleCache* const memo_;
   const Mesh& dt_;
   const std::size_t dt_slots_;
   std::vector<Handle> dt_vertex_edge_;
@@ -664,14 +755,16 @@ class KBundleAttempt {
   std::unique_ptr<std::atomic<std::uint8_t>[]> disk_state_;  // per Delaunay triangle (large_disk)
   std::vector<std::uint32_t> s_count_ = std::vector<std::uint32_t>(queries_.size(), 0);  // |S(t)| per query
   std::vector<std::uint32_t> s_begin_;
+  std::vector<TriangleId> hint_dt_;     // per query: the Delaunay triangle its hint names (resolve_hints)
+  std::vector<TriangleId> decided_by_;  // per query: the Delaunay triangle whose disk answered it 1
   std::vector<TriangleId> s_list_, fan_;
   bundle::FloodBoxes boxes_;  // per Delaunay triangle listed: its flood's box
 };
 
 Attempt in_k_bundle_attempt(Shared& sh, std::uint32_t k, const std::vector<TriangleId>& queries, KBundleStats& st,
                             unsigned threads_requested, bool subset, std::vector<std::uint8_t>& answer,
-                            KBundleCache* cache) {
-  return KBundleAttempt(sh, k, queries, st, subset, answer, cache).run(threads_requested);
+                            KBundleCache* cache, KBundleCache* memo) {
+  return KBundleAttempt(sh, k, queries, st, subset, answer, cache, memo).run(threads_requested);
 }
 
 // ---- the region of a local attempt begins here ----------------------------------------------------
@@ -749,6 +842,7 @@ std::vector<std::uint8_t> in_k_bundle(const Mesh& mesh, std::uint32_t k, const s
   KBundleStats& st = stats ? *stats : local_stats;
   st = {};
   if (cache) cache->reach.assign(queries.size(), {kInf, kInf, -kInf, -kInf});  // empty: nothing known
+  if (cache_given) cache_given->witnesses.clear();  // (each attempt sets them)
   if (queries.empty()) return answer;
   // Few queries in a large mesh: try the Delaunay triangulation of the vertices within a few
   // rings of mesh triangles around them (verified, see in_k_bundle_attempt) before DT(V), over a
@@ -765,7 +859,7 @@ std::vector<std::uint8_t> in_k_bundle(const Mesh& mesh, std::uint32_t k, const s
       if (!sh.build_region(region, region_ids, w)) break;
       std::vector<TriangleId> local_queries(queries.size());
       for (std::size_t qi = 0; qi < queries.size(); ++qi) local_queries[qi] = region_ids.find(queries[qi]);
-      a = in_k_bundle_attempt(sh, k, local_queries, st, threads, true, answer, cache);
+      a = in_k_bundle_attempt(sh, k, local_queries, st, threads, true, answer, cache, cache_given);
       if (a == Attempt::kAnswered) {
         st.local = true;
         return answer;
@@ -776,7 +870,7 @@ std::vector<std::uint8_t> in_k_bundle(const Mesh& mesh, std::uint32_t k, const s
       // Floods reach far (long Delaunay disks, e.g. along the hull of a point set): the same
       // attempt over the whole mesh, still cheaper than DT(V).
       Shared sh(mesh, deadline);
-      if (sh.build(false, &w) && in_k_bundle_attempt(sh, k, queries, st, threads, true, answer, cache) == Attempt::kAnswered) {
+      if (sh.build(false, &w) && in_k_bundle_attempt(sh, k, queries, st, threads, true, answer, cache, cache_given) == Attempt::kAnswered) {
         st.local = true;
         return answer;
       }
@@ -794,7 +888,7 @@ std::vector<std::uint8_t> in_k_bundle(const Mesh& mesh, std::uint32_t k, const s
   // gets them back.
   const bool points_dropped = sh.dt.points.size() == sh.used;
   if (points_dropped) bundle::release(sh.dt.points);
-  in_k_bundle_attempt(sh, k, queries, st, threads, false, answer, cache);
+  in_k_bundle_attempt(sh, k, queries, st, threads, false, answer, cache, cache_given);
   st.kept_dt = sh.kept_dt;
   if (keep) {
     if (points_dropped) sh.dt.points.assign(sh.pts.begin(), sh.pts.begin() + sh.used);

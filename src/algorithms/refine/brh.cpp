@@ -79,8 +79,16 @@ class BundleRemoval {
   // asking about them again after every pass only costs (a narrow fan: all but ~900 of 18,000
   // skinny triangles, asked 20 times). The next exact tests skip them; when a test over the
   // others marks nothing, or its pass inserts nothing, every skinny triangle is asked again
-  // (`ask_all_`), so BRH stops on a full test as before.
-  std::unordered_set<std::array<VertexId, 3>, TripleHash> left_marked_;
+  // (`ask_all_`), so BRH stops on a full test as before. Each keeps its witness (the corners of
+  // the Delaunay triangle whose circumdisk put it in a K-bundle, KBundleCache::witnesses; kNone if
+  // the pencils did): the full test tries that disk first (on the fan 160k it asks 80,000 of them
+  // again, and each walk over S(t) cost ~0.3 ms).
+  using Triple = std::array<VertexId, 3>;
+  static constexpr Triple kNoWitness{kNone, kNone, kNone};
+  std::unordered_map<Triple, Triple, TripleHash> left_marked_;
+  // The witnesses of the seeds of the next pass (ro_.seed_triangles, in order), until the pass
+  // tells which it left.
+  std::vector<Triple> seed_witness_;
   std::size_t skipped_left_ = 0;  // skinny triangles the last exact test skipped as left
   bool ask_all_ = false;
   LocalBundleTest local_;
@@ -297,6 +305,7 @@ bool BundleRemoval::local_sample() {
 BundleRemoval::Step BundleRemoval::exact_test(bool ask_all) {
   ask_all_ = false;
   std::vector<std::uint8_t> exact(skinny_.size(), 0);
+  std::vector<Triple> witness_at;  // per skinny triangle answered 1: its witness (if any)
   // Sweeps are kept from the second exact test on (the first pass changes most of the mesh; with
   // the default K one test is often all there is).
   const bool use_cache = stats_.exact_evaluations >= 1;
@@ -308,14 +317,21 @@ BundleRemoval::Step BundleRemoval::exact_test(bool ask_all) {
   std::vector<TriangleId> asked;
   std::vector<std::size_t> asked_at;
   skipped_left_ = 0;
-  if (ask_all) left_marked_.clear();
-  std::unordered_set<std::array<VertexId, 3>, TripleHash> still_left;  // (entries of gone triangles dropped)
+  // A full test asks the left triangles again, each with its witness as a hint.
+  std::unordered_map<Triple, Triple, TripleHash> witness_of;
+  if (ask_all) witness_of.swap(left_marked_);
+  std::vector<Triple> hints;
+  bool any_hint = false;
+  std::unordered_map<Triple, Triple, TripleHash> still_left;  // (entries of gone triangles dropped)
   for (std::size_t i = 0; i < skinny_.size(); ++i) {
-    const std::array<VertexId, 3> triple = sorted_triple(mesh_, skinny_[i]);
-    if (!left_marked_.empty() && left_marked_.count(triple) != 0) {
-      still_left.insert(triple);
-      ++skipped_left_;
-      continue;
+    const Triple triple = sorted_triple(mesh_, skinny_[i]);
+    if (!left_marked_.empty()) {
+      const auto it = left_marked_.find(triple);
+      if (it != left_marked_.end()) {
+        still_left.insert(*it);
+        ++skipped_left_;
+        continue;
+      }
     }
     if (use_clean && clean_.contains(triple)) {
       ++stats_.known_clean;
@@ -323,9 +339,19 @@ BundleRemoval::Step BundleRemoval::exact_test(bool ask_all) {
     }
     asked.push_back(skinny_[i]);
     asked_at.push_back(i);
+    const auto w = witness_of.find(triple);
+    hints.push_back(w != witness_of.end() ? w->second : kNoWitness);
+    any_hint = any_hint || hints.back() != kNoWitness;
   }
   left_marked_ = std::move(still_left);
+  std::unordered_map<Triple, Triple, TripleHash>().swap(witness_of);
+  if (any_hint) {
+    sweep_cache_.hints = std::move(hints);
+  } else {
+    sweep_cache_.hints.clear();
+  }
   if (!asked.empty()) {
+    witness_at.assign(skinny_.size(), kNoWitness);
     // Before the second test only DT(V) and the reach boxes are kept (the next test inserts the
     // new vertices into DT(V)).
     sweep_cache_.reuse_sweeps = use_cache || use_clean;
@@ -338,17 +364,23 @@ BundleRemoval::Step BundleRemoval::exact_test(bool ask_all) {
       stats_.stop = StopReason{StopKind::kTimeBudget, 0, {}};
       return Step::kStop;
     }
+    sweep_cache_.hints.clear();
+    sweep_cache_.hints.shrink_to_fit();
+    const bool witnessed = sweep_cache_.witnesses.size() == asked.size();
     for (std::size_t j = 0; j < asked.size(); ++j) {
       exact[asked_at[j]] = answers[j];
+      if (answers[j] && witnessed) witness_at[asked_at[j]] = sweep_cache_.witnesses[j];
       if (use_clean && !answers[j]) clean_.add(sorted_triple(mesh_, asked[j]), sweep_cache_.reach[j]);
     }
   }
   ++stats_.exact_evaluations;
   ro_.seed_triangles.clear();
+  seed_witness_.clear();
   for (std::size_t i = 0; i < skinny_.size(); ++i) {
     if (!exact[i]) continue;
     marked_.insert(sorted_triple(mesh_, skinny_[i]));
     ro_.seed_triangles.push_back(skinny_[i]);
+    seed_witness_.push_back(witness_at[i]);
   }
   if (marked_.empty() && skipped_left_ > 0) return exact_test(true);  // the full test decides
   if (marked_.empty()) return stop_or_recheck();  // no skinny triangle is in a K-bundle
@@ -411,9 +443,10 @@ void BundleRemoval::remember_left(const std::vector<std::array<VertexId, 3>>& se
     const TriangleId t = ro_.seed_triangles[i];
     if (t < mesh_.triangles.size() && mesh_.in_domain(t) && sorted_triple(mesh_, t) == seeds_before[i] &&
         is_skinny_(mesh_, t)) {
-      left_marked_.insert(seeds_before[i]);
+      left_marked_.emplace(seeds_before[i], i < seed_witness_.size() ? seed_witness_[i] : kNoWitness);
     }
   }
+  std::vector<Triple>().swap(seed_witness_);
 }
 
 }  // namespace
