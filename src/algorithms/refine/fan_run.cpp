@@ -84,10 +84,10 @@ std::size_t Refiner::skip_fan_run(const Point& p, TriangleId& t, Handle& came_fr
   auto far = [&](std::size_t i) -> const Point& { return m_.points[m_.dest(fan_spokes_[i])]; };  // w_i
   std::size_t crossed = 0;
   if (came_from == spoke) {
-    // Turning counter-clockwise: from triangle i − 1 the walk crosses spoke i iff p lies strictly
-    // clockwise of the ray c → w_i... seen from the triangle, i.e. orient(w_i, c, p) < 0. With
-    // w_i within a half turn counter-clockwise of w_j (orient(c, w_j, w_i) > 0), and p there too
-    // (the walk crossed spoke j), that is "w_i's angle from w_j is below p's": true, then false.
+    // Turning counter-clockwise: from triangle i − 1 the walk crosses spoke i iff
+    // orient(w_i, c, p) < 0, p strictly within a half turn counter-clockwise of the ray c → w_i.
+    // With w_i within a half turn counter-clockwise of w_j (orient(c, w_j, w_i) > 0), and p there
+    // too (the walk crossed spoke j), that is "w_i's angle from w_j is below p's": true, then false.
     const Point& wj = far(j);
     auto turns_on = [&](std::size_t i) { return orient2d(c, wj, far(i)) > 0 && orient2d(far(i), c, p) < 0; };
     std::size_t lo = j, hi = fan_spokes_.size();  // spokes j+1..lo are crossed, hi and on not
