@@ -106,6 +106,11 @@ struct RefineOptions {
   // vertices earlier passes put on segments for input vertices, the rule no longer saw the small
   // angle, and the splits near it did not end (BRH on a fan of 0.01° wedges).
   std::unordered_map<VertexId, std::pair<VertexId, VertexId>>* segment_origins = nullptr;
+  // The point location walk crosses a fan of triangles around one vertex whose far edges lie on
+  // one line (a point fan) in one step where its path there is forced (docs/algorithms/refine.md,
+  // "The point fan"). The result is the same either way, to the bit: false walks every triangle,
+  // for tests that compare the two.
+  bool fan_shortcut = true;
 };
 
 // The termination guard's edge length for a carved mesh not yet refined: kFeatureGuardFraction
@@ -140,6 +145,11 @@ struct RefineStats {
   std::array<std::size_t, 32> cavity_histogram{};
   std::size_t circumcenters_for_large_cavities = 0;  // off-centers whose cavity was too large,
                                                      // replaced by the circumcenter
+  // The point location walks: triangles stepped through one at a time, and triangles crossed in
+  // one step by the fan shortcut (RefineOptions::fan_shortcut). Their sum is what the walks would
+  // have stepped through without it.
+  std::size_t walk_steps = 0;
+  std::size_t walk_steps_skipped = 0;
   StopReason stop;                    // kBoundReached, kSteinerBudget, kTimeBudget,
                                       // kSmallInputAngles (count left), kProtectedSegments (count
                                       // left), kBeyondFeatureSize (the termination guard)

@@ -35,11 +35,33 @@ constexpr std::size_t kScatteredStar = 512;
 
 // A visibility walk from triangle `start` (in the domain) towards p that never crosses a
 // subsegment: if every edge with p strictly beyond it is a subsegment, returns kBlocked with one.
+//
+// Where the walk turns about one vertex through a point fan (a run of triangles whose far edges
+// lie on one line), the triangles of the run where its step is forced are crossed in one step
+// (skip_fan_run, fan_run.cpp), with the random generator advanced as if each had been stepped
+// through: the walk ends where it would have, in the same state.
 Refiner::WalkResult Refiner::walk(const Point& p, TriangleId start) {
   TriangleId t = start;
   Handle came_from = kNone;
   const std::size_t limit = 64 + 4 * m_.triangles.size();
+  // The vertex the last crossed edges share, and how many edges in a row were crossed at it.
+  VertexId pivot = kNone, last_org = kNone, last_dest = kNone;
+  std::size_t turns = 0;
+  std::size_t walked = 0, skipped = 0;
   for (std::size_t steps = 0; steps < limit; ++steps) {
+    if (came_from != kNone && opt_.fan_shortcut) {
+      if (turns >= kFanTurns && !in_fan_run(t) && fan_credit_ >= std::max(kFanTurns, fan_build_cost_ / 4)) {
+        build_fan_run(pivot, t);
+      }
+      if (in_fan_run(t)) {
+        const std::size_t crossed = skip_fan_run(p, t, came_from);
+        skipped += crossed;
+        steps += crossed;
+        if (steps >= limit) break;
+      }
+    }
+    ++walked;
+    if (turns >= kFanTurns) ++fan_credit_;
     const Triangle& T = m_.triangles[t];
     int o[3];
     for (unsigned e = 0; e < 3; ++e) {
@@ -47,9 +69,7 @@ Refiner::WalkResult Refiner::walk(const Point& p, TriangleId start) {
                  ? 1
                  : orient2d(m_.points[T.v[next3(e)]], m_.points[T.v[prev3(e)]], p);
     }
-    walk_rng_ ^= walk_rng_ << 13;
-    walk_rng_ ^= walk_rng_ >> 17;
-    walk_rng_ ^= walk_rng_ << 5;
+    walk_rng_ = xorshift_step(walk_rng_);
     const unsigned first = walk_rng_ % 3;
     Handle blocked = kNone;
     bool moved = false;
@@ -62,12 +82,23 @@ Refiner::WalkResult Refiner::walk(const Point& p, TriangleId start) {
         blocked = h;
         continue;
       }
+      const VertexId a = T.v[next3(e)], b = T.v[prev3(e)];
+      if (a == pivot || b == pivot) {
+        ++turns;
+      } else {
+        pivot = (a == last_org || a == last_dest) ? a : ((b == last_org || b == last_dest) ? b : kNone);
+        turns = pivot == kNone ? 0 : 2;
+      }
+      last_org = a;
+      last_dest = b;
       came_from = s;
       t = s >> 2;
       moved = true;
       break;
     }
     if (moved) continue;
+    stats_.walk_steps += walked;
+    stats_.walk_steps_skipped += skipped;
     if (blocked != kNone) return {WalkKind::kBlocked, blocked};
     const int zeros = (o[0] == 0) + (o[1] == 0) + (o[2] == 0);
     if (zeros == 0) return {WalkKind::kInTriangle, make_handle(t, 0)};
@@ -182,6 +213,16 @@ Refiner::InsertKind Refiner::check_cavity_boundary(const Point& p) {
 // Replaces the cavity by the star of p: triangle i = (p, a_i, a_{i+1}) over boundary edge i.
 void Refiner::fill_star(const Point& p) {
   ensure_capacity();
+  // The fan run stays valid unless the cavity takes one of its triangles: the others keep their
+  // corners, flags and the neighbours across their spokes.
+  if (fan_run_edits_ == mesh_edits_) {
+    for (const TriangleId c : cavity_) {
+      if (c < fan_position_.size() && fan_position_[c] != 0) {
+        ++mesh_edits_;
+        break;
+      }
+    }
+  }
   const std::size_t n = boundary_.size();
   ring_.clear();
   for (const Handle h : boundary_) {
@@ -249,6 +290,7 @@ void Refiner::queue_star(std::size_t n) {
 // above ever finds the cavity not star-shaped.
 void Refiner::insert_lawson(const Point& p, TriangleId t0) {
   ensure_capacity();
+  ++mesh_edits_;
   const VertexId v = m_.add_vertex(p, VertexKind::kSteiner, 0);
   Handle hint = kNone;
   const VertexId got = m_.insert_vertex(v, make_handle(t0, 0), &hint);

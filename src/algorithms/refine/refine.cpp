@@ -176,6 +176,7 @@ void Refiner::report(std::size_t left) {
 // A point set's domain (or Triangle's -c) is its convex hull: hull edges of the domain that are not
 // subsegments are marked as subsegments (marker 1), so they are protected like input segments.
 void Refiner::mark_hull_segments() {
+  ++mesh_edits_;  // (the fan run, fan_run.cpp)
   const std::size_t slots = m_.triangles.size();
   for (TriangleId g = 0; g < slots; ++g) {
     if (m_.is_dead(g) || !m_.is_ghost(g)) continue;

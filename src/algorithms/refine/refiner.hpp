@@ -15,6 +15,7 @@
 //                    find_split_point, insert_split_vertex, fold_hull_after_split), relax,
 //                    restore_hull, unfold_hull_slivers, queue_unfolded_corners
 //   termination_guard.cpp   set_feature_guard and feature_guard_length
+//   fan_run.cpp      the walk's shortcut across a point fan: build_fan_run, skip_fan_run
 #pragma once
 
 #include <algorithm>
@@ -30,6 +31,7 @@
 #include <utility>
 #include <vector>
 
+#include "algorithms/refine/walk_rng.hpp"
 #include "mesh/keys.hpp"
 #include "mwst/algorithms/refine.hpp"
 #include "mwst/mesh/mesh.hpp"
@@ -113,6 +115,10 @@ class BucketQueue {
 inline constexpr std::size_t kOffCenterCavityLimit = 1024;
 inline constexpr std::size_t kNoCavityLimit = ~std::size_t{0};
 
+// The walk looks for a point fan (fan_run.cpp) once it has crossed this many edges in a row at one
+// vertex; ordinary walks cross a handful.
+inline constexpr std::size_t kFanTurns = 16;
+
 // What the default test learns about a triangle.
 struct Eval {
   bool bad = false;
@@ -184,6 +190,12 @@ class Refiner {
     Handle handle;
   };
   WalkResult walk(const Point& p, TriangleId start);
+  // The walk's shortcut across a point fan (fan_run.cpp).
+  void build_fan_run(VertexId hub, TriangleId t);
+  std::size_t skip_fan_run(const Point& p, TriangleId& t, Handle& came_from);
+  bool in_fan_run(TriangleId t) const {
+    return fan_run_edits_ == mesh_edits_ && t < fan_position_.size() && fan_position_[t] != 0;
+  }
   // kTooLarge: an off-center's cavity outgrew kOffCenterCavityLimit (insertion.cpp); nothing changed.
   enum class InsertKind { kInserted, kEncroaches, kProtected, kFailed, kTooLarge };
   InsertKind insert_for(TriangleId t, const Eval& ev, const Point& p, TriangleId t0, std::size_t cavity_limit);
@@ -322,6 +334,24 @@ class Refiner {
   std::unordered_map<VertexId, std::pair<VertexId, VertexId>>& segment_of_ =
       opt_.segment_origins != nullptr ? *opt_.segment_origins : own_segment_of_;
   std::uint32_t walk_rng_ = 0x2545F491u;
+
+  // The walk's shortcut across a point fan (fan_run.cpp): one run of triangles around a vertex
+  // (the hub) whose far edges lie on one line. fan_spokes_[i] is the edge hub → w_i of the run's
+  // i-th triangle (hub, w_i, w_i+1), counter-clockwise; fan_position_[t] is 1 + t's index in the
+  // run (0: not in it). The run is valid while fan_run_edits_ == mesh_edits_: every change of the
+  // mesh that could touch the run counts one edit (an insertion whose cavity misses the run does
+  // not, fill_star).
+  std::vector<Handle> fan_spokes_;
+  std::vector<std::uint32_t> fan_position_;
+  VertexId fan_hub_ = kNone;
+  Point fan_line_a_, fan_line_b_;  // two points of the line, in the direction of the far edges
+  std::uint64_t mesh_edits_ = 0;
+  std::uint64_t fan_run_edits_ = ~std::uint64_t{0};
+  // Walk steps taken one at a time while turning about one vertex since the last run was built,
+  // and what that build cost: a new run is built only once the first is a quarter of the second,
+  // so building never costs more than four times the walking it could save.
+  std::size_t fan_credit_ = 0;
+  std::size_t fan_build_cost_ = 0;
 
   // Scratch (no allocation per insertion).
   std::vector<TriangleId> cavity_;

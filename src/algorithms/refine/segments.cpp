@@ -205,6 +205,7 @@ bool Refiner::split_point_valid(Handle h, const Point& p) const {
 // Splits subsegment h (seen from a domain side) on a concentric shell or at its midpoint; false if
 // it cannot be split (too thin, no valid rounded point, or the conforming splits' guard).
 bool Refiner::split_subsegment(Handle h) {
+  ++mesh_edits_;  // (the fan run, fan_run.cpp)
   if (!m_.in_domain(h >> 2)) h = m_.sym(h);
   if (!m_.in_domain(h >> 2)) return false;
   const VertexId a = m_.org(h), b = m_.dest(h);
@@ -394,6 +395,7 @@ void Refiner::queue_unfolded_corners() {
 // rounded split point is not exactly on the subsegment, and next to the thin outside triangles of
 // a convex-hull boundary an edge at the new vertex itself can fail the Delaunay test.
 void Refiner::relax() {
+  ++mesh_edits_;  // (the fan run, fan_run.cpp)
   while (!stack_.empty()) {
     const Handle h = stack_.back();
     stack_.pop_back();
@@ -421,6 +423,7 @@ void Refiner::relax() {
 // the two ghosts into a thin finite triangle — marked kOutside, as it is not domain — and one
 // ghost. `work` holds ghosts whose second finite corner is to be checked.
 void Refiner::restore_hull(std::vector<TriangleId>& work) {
+  ++mesh_edits_;  // (the fan run, fan_run.cpp)
   while (!work.empty()) {
     const TriangleId g = work.back();
     work.pop_back();
@@ -458,6 +461,7 @@ void Refiner::restore_hull(std::vector<TriangleId>& work) {
 // Only near-degenerate triangles (area below 1e-10 of the squared longest edge) are unfolded,
 // never a real part of the outside region. Returns true if h now has a ghost on its far side.
 bool Refiner::unfold_hull_slivers(Handle h) {
+  ++mesh_edits_;  // (the fan run, fan_run.cpp)
   auto thin = [&](TriangleId t) {
     if (m_.is_ghost(t) || !m_.is_outside(t)) return false;
     const Triangle& T = m_.triangles[t];
