@@ -1,7 +1,7 @@
 # cmake/install.cmake — what `cmake --install` writes besides the library, the CLI and the headers:
 #   lib/cmake/mwst/mwstConfig.cmake, mwstConfigVersion.cmake (SameMinorVersion before 1.0, then
 #     SameMajorVersion, as the soname), mwstTargets.cmake
-#     so that another project's find_package(mwst 0.3 CONFIG REQUIRED) gives the target mwst::mwst;
+#     so that another project's find_package(mwst 0.4 CONFIG REQUIRED) gives the target mwst::mwst;
 #   lib/pkgconfig/mwst.pc and mwst-draw.pc (the pictures) for builds without CMake.
 include(CMakePackageConfigHelpers)
 

@@ -37,7 +37,7 @@ ctest --test-dir build-ci --output-on-failure -j "$jobs"
 echo "== run-tests: release: $((SECONDS - started)) s" >&2
 
 # 1b. The installed package: mwst installed into a scratch prefix, and the three programs of
-#     examples/cpp/ built against that prefix alone (find_package(mwst 0.3 CONFIG)) and run.
+#     examples/cpp/ built against that prefix alone (find_package(mwst 0.4 CONFIG)) and run.
 t=$SECONDS
 step "installed package and examples/cpp"
 consumers=$(mktemp -d)

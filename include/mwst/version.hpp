@@ -6,9 +6,9 @@
 #pragma once
 
 #define MWST_VERSION_MAJOR 0
-#define MWST_VERSION_MINOR 3
+#define MWST_VERSION_MINOR 4
 #define MWST_VERSION_PATCH 0
-#define MWST_VERSION_STRING "0.3.0"
+#define MWST_VERSION_STRING "0.4.0"
 
 namespace mwst {
 
