@@ -20,6 +20,7 @@
 
 #include "algorithms/bundle/circle_predicates.hpp"
 #include "algorithms/bundle/lists.hpp"
+#include "algorithms/bundle/part_lists.hpp"
 #include "algorithms/bundle/shared.hpp"
 #include "algorithms/bundle/worker.hpp"
 
@@ -364,15 +365,12 @@ class KBundleAttempt {
     return true;
   }
 
-  // The workers' S(t) lists in query order (s_begin_, s_list_, fan_); false if one gave up.
+  // The workers' S(t) lists in query order (s_begin_, s_lists_: each worker's part as it wrote it,
+  // not copied; fan_); false if one gave up.
   bool merge_parts(std::vector<Part>& parts) {
     s_begin_.assign(queries_.size() + 1, 0);
-    std::size_t s_total = 0, fan_total = 0;  // (reserved exactly: the lists are held through stage 2)
-    for (const Part& part : parts) {
-      s_total += part.s_list.size();
-      fan_total += part.fan.size();
-    }
-    s_list_.reserve(s_total);
+    std::size_t fan_total = 0;  // (reserved exactly: the lists are held through stage 2)
+    for (const Part& part : parts) fan_total += part.fan.size();
     fan_.reserve(fan_total);
     for (Part& part : parts) {
       if (part.gave_up) return false;
@@ -380,7 +378,7 @@ class KBundleAttempt {
       st_.decided_by_hints += part.hinted;
       st_.disks_counted += part.disks_counted;
       st_.seed_fan_steps += part.fan_steps;
-      s_list_.insert(s_list_.end(), part.s_list.begin(), part.s_list.end());
+      s_lists_.append(std::move(part.s_list));
       fan_.insert(fan_.end(), part.fan.begin(), part.fan.end());
       part = Part{};
     }
@@ -395,7 +393,21 @@ class KBundleAttempt {
   // of DT(W) that is not one of the mesh.
   bool mark_needed(std::vector<std::uint8_t>& needed) {
     needed.assign(dt_slots_, 0);
-    for (const TriangleId d : s_list_) {
+    for (const auto& part : s_lists_.parts()) {
+      if (!mark_s_part(part, needed)) return false;
+    }
+    for (const TriangleId d : fan_) {
+      if (needed[d] == 0) needed[d] = 2;
+    }
+    for (TriangleId d = 0; d < dt_slots_; ++d) {
+      if (needed[d] != 0) ++st_.flooded;
+    }
+    return true;
+  }
+
+  // mark_needed over one worker's part of the S(t) lists: its triangles and their neighbours.
+  bool mark_s_part(const std::vector<TriangleId>& s_part, std::vector<std::uint8_t>& needed) const {
+    for (const TriangleId d : s_part) {
       needed[d] = 1;
       for (unsigned e = 0; e < 3; ++e) {
         const Handle h = make_handle(d, e);
@@ -403,12 +415,6 @@ class KBundleAttempt {
         if (!dt_.is_ghost(n) && needed[n] == 0) needed[n] = 2;
         if (subset_ && dt_.is_ghost(n) && !mesh_hull_edge(dt_.org(h), dt_.dest(h))) return false;
       }
-    }
-    for (const TriangleId d : fan_) {
-      if (needed[d] == 0) needed[d] = 2;
-    }
-    for (TriangleId d = 0; d < dt_slots_; ++d) {
-      if (needed[d] != 0) ++st_.flooded;
     }
     return true;
   }
@@ -438,8 +444,7 @@ class KBundleAttempt {
     };
     for (std::size_t qi = 0; qi < queries_.size(); ++qi) {
       auto& r = cache_->reach[qi];
-      for (std::uint32_t i = s_begin_[qi]; i < s_begin_[qi + 1]; ++i) {
-        const TriangleId d = s_list_[i];
+      for (const TriangleId d : s_lists_.range(s_begin_[qi], s_begin_[qi + 1])) {
         widen(r, d);
         for (unsigned e = 0; e < 3; ++e) {
           const TriangleId n = triangle_of(dt_.sym(make_handle(d, e)));
@@ -484,8 +489,7 @@ class KBundleAttempt {
       const TriangleId t = queries_[qi];
       if (!in_domain(t) || answer_[qi]) continue;
       bool any = false;
-      for (std::uint32_t i = s_begin_[qi]; i < s_begin_[qi + 1]; ++i) {
-        const TriangleId d = s_list_[i];
+      for (const TriangleId d : s_lists_.range(s_begin_[qi], s_begin_[qi + 1])) {
         for (unsigned e = 0; e < 3; ++e) {
           const Handle h = make_handle(d, e);
           const TriangleId n = triangle_of(dt_.sym(h));
@@ -517,7 +521,9 @@ class KBundleAttempt {
   // neighbours of S(t) listed in full held 75M of the 81M candidates of the first exact test.
   void second_stage_one_sided() {
     std::vector<std::uint8_t> in_s(dt_slots_, 0);  // the Delaunay triangles of some S(t)
-    for (const TriangleId d : s_list_) in_s[d] = 1;
+    for (const auto& part : s_lists_.parts()) {
+      for (const TriangleId d : part) in_s[d] = 1;
+    }
     count_ends(in_s);
     // The ends to list and the pencils to sweep: one-sided, or both ends listed (with k candidates
     // together, once listed), each once, directed as pencils_to_sweep directs them.
@@ -617,8 +623,8 @@ class KBundleAttempt {
   template <class F>
   void for_each_s_edge(F f) const {
     for (std::size_t qi = 0; qi < queries_.size(); ++qi) {
-      for (std::uint32_t i = s_begin_[qi]; i < s_begin_[qi + 1]; ++i) {
-        for (unsigned e = 0; e < 3; ++e) f(qi, normalized(make_handle(s_list_[i], e)));
+      for (const TriangleId d : s_lists_.range(s_begin_[qi], s_begin_[qi + 1])) {
+        for (unsigned e = 0; e < 3; ++e) f(qi, normalized(make_handle(d, e)));
       }
     }
   }
@@ -757,7 +763,8 @@ class KBundleAttempt {
   std::vector<std::uint32_t> s_begin_;
   std::vector<TriangleId> hint_dt_;     // per query: the Delaunay triangle its hint names (resolve_hints)
   std::vector<TriangleId> decided_by_;  // per query: the Delaunay triangle whose disk answered it 1
-  std::vector<TriangleId> s_list_, fan_;
+  bundle::PartLists s_lists_;  // S(t) of the queries left, from s_begin_[qi] (merge_parts)
+  std::vector<TriangleId> fan_;
   bundle::FloodBoxes boxes_;  // per Delaunay triangle listed: its flood's box
 };
 

@@ -239,6 +239,8 @@ void BundleRemoval::update_skinny() {
     std::erase_if(skinny_, [&](TriangleId t) {
       return t >= mesh_.triangles.size() || !mesh_.in_domain(t) || !is_skinny_(mesh_, t);
     });
+    // (its capacity held the old list and every evaluation of the pass: strip 160k, 3.9 MB)
+    skinny_.shrink_to_fit();
   } else {
     sweep_skinny();
   }
@@ -304,8 +306,11 @@ bool BundleRemoval::local_sample() {
 // K-bundle are marked and seed the next pass.
 BundleRemoval::Step BundleRemoval::exact_test(bool ask_all) {
   ask_all_ = false;
-  std::vector<std::uint8_t> exact(skinny_.size(), 0);
-  std::vector<Triple> witness_at;  // per skinny triangle answered 1: its witness (if any)
+  // Per skinny triangle: the answer, and the witness of one answered 1 (if any). Both are made
+  // after in_k_bundle, whose peak of memory is BRH's (as are `asked` and the hints: 4 and 12
+  // bytes a query, the hints only when a full test has witnesses to give).
+  std::vector<std::uint8_t> exact;
+  std::vector<Triple> witness_at;
   // Sweeps are kept from the second exact test on (the first pass changes most of the mesh; with
   // the default K one test is often all there is).
   const bool use_cache = stats_.exact_evaluations >= 1;
@@ -315,7 +320,7 @@ BundleRemoval::Step BundleRemoval::exact_test(bool ask_all) {
   const bool use_clean = skinny_.size() >= kCleanQueriesFrom;
   if (!use_clean) clean_.clear();
   std::vector<TriangleId> asked;
-  std::vector<std::size_t> asked_at;
+  std::vector<std::uint32_t> asked_at;  // (skinny_ holds triangle ids: fewer than 2^32)
   skipped_left_ = 0;
   // A full test asks the left triangles again, each with its witness as a hint.
   std::unordered_map<Triple, Triple, TripleHash> witness_of;
@@ -338,7 +343,8 @@ BundleRemoval::Step BundleRemoval::exact_test(bool ask_all) {
       continue;
     }
     asked.push_back(skinny_[i]);
-    asked_at.push_back(i);
+    asked_at.push_back(static_cast<std::uint32_t>(i));
+    if (witness_of.empty()) continue;  // (no hint to give)
     const auto w = witness_of.find(triple);
     hints.push_back(w != witness_of.end() ? w->second : kNoWitness);
     any_hint = any_hint || hints.back() != kNoWitness;
@@ -349,9 +355,9 @@ BundleRemoval::Step BundleRemoval::exact_test(bool ask_all) {
     sweep_cache_.hints = std::move(hints);
   } else {
     sweep_cache_.hints.clear();
+    std::vector<Triple>().swap(hints);
   }
   if (!asked.empty()) {
-    witness_at.assign(skinny_.size(), kNoWitness);
     // Before the second test only DT(V) and the reach boxes are kept (the next test inserts the
     // new vertices into DT(V)).
     sweep_cache_.reuse_sweeps = use_cache || use_clean;
@@ -366,6 +372,8 @@ BundleRemoval::Step BundleRemoval::exact_test(bool ask_all) {
     }
     sweep_cache_.hints.clear();
     sweep_cache_.hints.shrink_to_fit();
+    exact.assign(skinny_.size(), 0);
+    witness_at.assign(skinny_.size(), kNoWitness);
     const bool witnessed = sweep_cache_.witnesses.size() == asked.size();
     for (std::size_t j = 0; j < asked.size(); ++j) {
       exact[asked_at[j]] = answers[j];
@@ -373,6 +381,7 @@ BundleRemoval::Step BundleRemoval::exact_test(bool ask_all) {
       if (use_clean && !answers[j]) clean_.add(sorted_triple(mesh_, asked[j]), sweep_cache_.reach[j]);
     }
   }
+  exact.resize(skinny_.size());  // (all 0 if none was asked)
   ++stats_.exact_evaluations;
   ro_.seed_triangles.clear();
   seed_witness_.clear();
