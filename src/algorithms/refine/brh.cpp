@@ -23,6 +23,7 @@
 
 #include "algorithms/refine/brh_criteria.hpp"
 #include "algorithms/refine/clean_queries.hpp"
+#include "algorithms/refine/tested_slots.hpp"
 #include "algorithms/triangle_key.hpp"
 #include "mwst/algorithms/bundle.hpp"
 #include "support/time_budget.hpp"
@@ -35,6 +36,7 @@ using brh::CleanQueries;
 using brh::kCleanQueriesFrom;
 using brh::LocalBundleTest;
 using brh::SkinnyTest;
+using brh::TestedSlots;
 using brh::sorted_triple;
 using detail::TripleHash;
 
@@ -102,7 +104,7 @@ class BundleRemoval {
   std::unordered_map<VertexId, std::pair<VertexId, VertexId>> segment_origins_;
   // Skinny triangles a pass tested: every triangle a pass makes passes through is_bad, and an
   // unseeded pass (a custom is_bad) ends by testing every triangle of the domain again (refine.cpp).
-  std::vector<TriangleId> made_skinny_;
+  TestedSlots made_skinny_;
   bool record_skinny_ = false;
   std::size_t steiner_budget_;
   // Set when a pass driven by the local test alone inserted nothing (its triangles sit at small
@@ -142,7 +144,7 @@ BundleRemoval::BundleRemoval(Mesh& mesh, const BrhOptions& options)
   // The criterion: skinny, and marked by the last exact test or found by the local test.
   ro_.is_bad = [this](const Mesh& m, TriangleId t) {
     if (!is_skinny_(m, t)) return false;
-    if (record_skinny_) made_skinny_.push_back(t);
+    if (record_skinny_) made_skinny_.add(t);
     return (!marked_.empty() && marked_.count(sorted_triple(m, t)) != 0) || local_.in_bundle(m, t);
   };
 }
@@ -233,7 +235,7 @@ void BundleRemoval::update_skinny() {
   if (swept_again_) {
     swept_again_ = false;  // skinny_ holds confirm_skinny's sweep
   } else if (skinny_updated_) {
-    skinny_.insert(skinny_.end(), made_skinny_.begin(), made_skinny_.end());
+    made_skinny_.append_to(skinny_);
     std::sort(skinny_.begin(), skinny_.end());
     skinny_.erase(std::unique(skinny_.begin(), skinny_.end()), skinny_.end());
     std::erase_if(skinny_, [&](TriangleId t) {
@@ -246,7 +248,7 @@ void BundleRemoval::update_skinny() {
   }
   // Freed, not cleared: a pass tests a triangle many times over (on 40k points on a circle it
   // held a million entries), and the exact test that follows is BRH's peak of memory.
-  std::vector<TriangleId>().swap(made_skinny_);
+  made_skinny_.release();
 }
 
 void BundleRemoval::sweep_skinny() {
