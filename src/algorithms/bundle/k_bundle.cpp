@@ -675,6 +675,7 @@ class KBundleAttempt {
   // it meets (a pencil with both ends listed: either end; with neither, no disk of it meets t).
   void reach_boxes_one_sided(const std::vector<std::uint32_t>& box_index, const bundle::FloodBoxes& boxes,
                              const std::vector<std::array<double, 4>>& lens_boxes) {
+    if (!reach_wanted()) return;
     own_boxes();
     auto widen = [](std::array<double, 4>& r, const std::array<double, 4>& b) {
       r = {std::min(r[0], b[0]), std::min(r[1], b[1]), std::max(r[2], b[2]), std::max(r[3], b[3])};
@@ -689,6 +690,16 @@ class KBundleAttempt {
       if (m != 1 && !dt_.is_ghost(right)) widen(r, boxes.box(right));
       if (m != 0) widen(r, lens_boxes[box_index[index_of(sh_.pencils, h)]]);
     });
+  }
+
+  // Are the reach boxes to be computed (once every query is answered: over DT(V), after the
+  // sweeps)? Not when the caller wants none for a call answering no query 1
+  // (KBundleCache::reach_when_all_no): every box is then left empty, "nothing known". (The local
+  // attempts, over DT(W), compute theirs before the sweeps and always do: they are cheap.)
+  bool reach_wanted() {
+    if (cache_->reach_when_all_no || std::find(answer_.begin(), answer_.end(), 1) != answer_.end()) return true;
+    cache_->reach.assign(queries_.size(), {kInf, kInf, -kInf, -kInf});
+    return false;
   }
 
   // A query answered 1 gets the box of its own corners; the others start empty.

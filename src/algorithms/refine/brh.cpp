@@ -364,6 +364,11 @@ BundleRemoval::Step BundleRemoval::exact_test(bool ask_all) {
     // new vertices into DT(V)).
     sweep_cache_.reuse_sweeps = use_cache || use_clean;
     sweep_cache_.keep_sweeps = use_cache;
+    // A test that marks nothing ends BRH (stop_or_recheck) unless it skipped left triangles (the
+    // full test then asks the others again, and skips the clean ones): only then are the reach
+    // boxes of a test answering all no used. (Were the skinny list's confirmation to fail, the
+    // next test would ask those triangles again: slower, the same answers.)
+    sweep_cache_.reach_when_all_no = skipped_left_ > 0;
     std::vector<std::uint8_t> answers;
     local_.release_spare(mesh_);  // (the peak memory is reached in the exact test)
     try {

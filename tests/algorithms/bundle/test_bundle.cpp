@@ -859,6 +859,42 @@ TEST(Bundle, KBundleCacheReusesSweepsAndBoundsWhatChangesAnAnswer) {
   }
 }
 
+// KBundleCache::reach_when_all_no false: a call answering every query 0 leaves every reach box
+// empty ("nothing known", which bundle removal does not keep); a call answering some query 1
+// computes the same boxes as with the flag set. The answers never change.
+TEST(Bundle, KBundleCacheSkipsReachBoxesOnlyWhenEveryAnswerIsNo) {
+  std::mt19937_64 rng(23);
+  const Mesh mesh = delaunay(random_points(3000, rng));
+  const std::uint32_t b = bundle_number(mesh).bundle_number;
+  std::vector<TriangleId> queries;
+  for (TriangleId t = 0; t < mesh.triangle_slots(); ++t) {
+    if (mesh.in_domain(t)) queries.push_back(t);
+  }
+  auto is_empty = [](const std::array<double, 4>& r) { return !(r[0] <= r[2] && r[1] <= r[3]); };
+  for (const std::uint32_t k : {6u, b + 1}) {
+    SCOPED_TRACE(k);
+    const std::vector<std::uint8_t> plain = in_k_bundle(mesh, k, queries, nullptr, 1);
+    const bool any_yes = std::find(plain.begin(), plain.end(), 1) != plain.end();
+    EXPECT_EQ(any_yes, k <= b);  // (the bundle number is the largest k with a k-bundle)
+    KBundleCache with, without;
+    without.reach_when_all_no = false;
+    KBundleStats st_with, st_without;
+    EXPECT_EQ(in_k_bundle(mesh, k, queries, &st_with, 1, &with), plain);
+    EXPECT_EQ(in_k_bundle(mesh, k, queries, &st_without, 2, &without), plain);
+    EXPECT_FALSE(st_with.local);  // (the reach boxes are skipped over DT(V) only)
+    ASSERT_EQ(with.reach.size(), queries.size());
+    ASSERT_EQ(without.reach.size(), queries.size());
+    for (std::size_t i = 0; i < queries.size(); ++i) {
+      EXPECT_FALSE(is_empty(with.reach[i])) << "query " << i;  // it holds the query's corners
+      if (any_yes) {
+        EXPECT_EQ(without.reach[i], with.reach[i]) << "query " << i;
+      } else {
+        EXPECT_TRUE(is_empty(without.reach[i])) << "query " << i;
+      }
+    }
+  }
+}
+
 // A KBundleCache keeps DT(V) between calls over the whole mesh; the next call inserts the vertices
 // added since (here by refinement, which also splits hull edges, so some land outside the old
 // hull) instead of building DT(V) again. The answers must be those of a fresh DT(V); a cache
