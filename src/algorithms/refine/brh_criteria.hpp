@@ -139,6 +139,7 @@ class LocalBundleTest {
     std::uint64_t reached_k = 0;       // floods that counted K in-domain triangles
     std::uint64_t index_queries = 0;   // constrained mesh: questions to the vertex index
     std::uint64_t index_newer = 0;     // of them, about the vertices newer than the disk's last query only
+    std::uint64_t index_crowded = 0;   // disks not searched: more vertices near the rim than the search visits
   };
 
   // A flood pops at most cap_ + 1 triangles, so it adds at most 3 (cap_ + 1) + 1 triangles and
@@ -318,6 +319,7 @@ class LocalBundleTest {
     // triangle meeting the disk, hence every vertex in it.
     bool known_empty = delaunay_;
     bool index_asked = delaunay_;
+    bool index_deferred = false;  // the search was not run: the disk is crowded (see below)
     if (!delaunay_ && cache_[c].empty_below != 0) {
       index_asked = true;
       ++stats_.index_newer;
@@ -348,8 +350,15 @@ class LocalBundleTest {
         if (count == k_) ++stats_.reached_k;
         if (!index_asked) {
           index_asked = true;
-          known_empty = indexed_empty(m, cv, 0);
-          if (holds_vertex_) return 0;
+          // A disk crowded by more vertices near its rim than the search may visit cannot be shown
+          // empty by it: the search would find a vertex inside (answer 0) or give up (the flood
+          // goes on, whole). The flood goes on at once; the search is run only if the flood ends
+          // below its cap, when its answer decides (see index_deferred below).
+          index_deferred = crowded(m, cv);
+          if (!index_deferred) {
+            known_empty = indexed_empty(m, cv, 0);
+            if (holds_vertex_) return 0;
+          }
         }
         if (known_empty) {
           ++stats_.stopped_at_k;
@@ -391,6 +400,14 @@ class LocalBundleTest {
         }
         stack_.push_back(n);
       }
+    }
+    // The flood saw the whole disk without passing its cap. The search skipped for a crowded disk
+    // answers now as it would have then: a vertex inside it found ends in 0, as before; it cannot
+    // show the disk empty (then the count at K, as a flood stopped there, would be the answer).
+    if (index_deferred) {
+      known_empty = indexed_empty(m, cv, 0);
+      if (holds_vertex_) return 0;
+      if (known_empty) return k_;
     }
     return count;
   }
@@ -442,6 +459,15 @@ class LocalBundleTest {
     return true;
   }
   VertexIndex index_;
+
+  // Is the circumdisk of corners cv crowded (VertexIndex::crowded: its search over every vertex
+  // would pass its visit cap or find a vertex inside, never show it empty)?
+  bool crowded(const Mesh& m, const std::array<VertexId, 3>& cv) {
+    index_.sync(m.points);
+    if (!index_.crowded(m.points, cv)) return false;
+    ++stats_.index_crowded;
+    return true;
+  }
 
   void remember_inside(VertexId x) {
     if (std::find(recent_inside_.begin(), recent_inside_.end(), x) == recent_inside_.end()) {
