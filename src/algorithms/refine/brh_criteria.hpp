@@ -140,6 +140,7 @@ class LocalBundleTest {
     std::uint64_t index_queries = 0;   // constrained mesh: questions to the vertex index
     std::uint64_t index_newer = 0;     // of them, about the vertices newer than the disk's last query only
     std::uint64_t index_crowded = 0;   // disks not searched: more vertices near the rim than the search visits
+    std::uint64_t crowd_reads = 0;     // kd boxes the crowding counts read
   };
 
   // A flood pops at most cap_ + 1 triangles, so it adds at most 3 (cap_ + 1) + 1 triangles and
@@ -168,6 +169,9 @@ class LocalBundleTest {
 
   const Stats& stats() const { return stats_; }
   std::size_t cap() const { return cap_; }
+  // Whether a crowded disk's index search waits for its flood (on by default; off only for the
+  // tests, which compare the answers of both).
+  void set_defer_crowded(bool on) { defer_crowded_ = on; }
 
   bool in_bundle(const Mesh& m, TriangleId t) {
     if (!delaunay_known_) {
@@ -354,7 +358,7 @@ class LocalBundleTest {
           // empty by it: the search would find a vertex inside (answer 0) or give up (the flood
           // goes on, whole). The flood goes on at once; the search is run only if the flood ends
           // below its cap, when its answer decides (see index_deferred below).
-          index_deferred = crowded(m, cv);
+          index_deferred = defer_crowded_ && crowded(m, cv);
           if (!index_deferred) {
             known_empty = indexed_empty(m, cv, 0);
             if (holds_vertex_) return 0;
@@ -464,7 +468,9 @@ class LocalBundleTest {
   // would pass its visit cap or find a vertex inside, never show it empty)?
   bool crowded(const Mesh& m, const std::array<VertexId, 3>& cv) {
     index_.sync(m.points);
-    if (!index_.crowded(m.points, cv)) return false;
+    const bool crowded = index_.crowded(m.points, cv);
+    stats_.crowd_reads += index_.last_crowd_reads();
+    if (!crowded) return false;
     ++stats_.index_crowded;
     return true;
   }
@@ -515,6 +521,7 @@ class LocalBundleTest {
   std::vector<SlotCache> cache_;
   bool holds_vertex_ = false;  // the last flood found a vertex strictly inside its disk
   bool shown_empty_ = false;   // the index showed the last flood's disk vertex-empty
+  bool defer_crowded_ = true;
   std::uint16_t epoch_ = 1;
   bool delaunay_known_ = false;
   bool delaunay_ = false;  // every segment is a hull edge: circumdisks are vertex-empty

@@ -89,14 +89,20 @@ class VertexIndex {
   bool crowded(const std::vector<Point>& points, const std::array<VertexId, 3>& cv) {
     crowd_reads_ = 0;
     if (!set_disk(points, cv)) return false;
-    std::size_t count = 0;
+    // count: vertices found within reach; possible: count plus the vertices not yet ruled out.
+    // The count stops once either settles the answer, or after kMaxCrowdReads box reads (then
+    // the answer is no: the search runs, as without this shortcut).
+    std::size_t count = 0, possible = indexed_;
     for (const VertexId x : pending_) {
       const double dx = points[x].x - center_.x, dy = points[x].y - center_.y;
-      if (dx * dx + dy * dy < reach2_) ++count;
+      if (dx * dx + dy * dy < reach2_) {
+        ++count;
+      } else {
+        --possible;
+      }
     }
     for (const Block& blk : blocks_) {
-      if (count > kMaxVisits) break;
-      if (!blk.nodes.empty()) count_within(blk, 0, blk.nodes.size(), count);
+      if (!blk.nodes.empty() && !count_within(blk, 0, blk.nodes.size(), count, possible)) break;
     }
     return count > kMaxVisits;
   }
@@ -147,6 +153,9 @@ class VertexIndex {
   // rim, points on a circle) are visited one by one, and the flood the caller falls back to is
   // capped.
   static constexpr std::size_t kMaxVisits = 4096;
+  // crowded() gives up (answers no) after this many box reads: on the fan's crowded disks it
+  // needs ~130, and a disk it cannot settle so is searched as before.
+  static constexpr std::size_t kMaxCrowdReads = 1024;
   // A kd-tree node: its vertex, with the vertex's coordinates (a search reads them in the node
   // it visits, not at random in the mesh's point array), and the largest id in its subtree (a merge
   // mixes old and new vertices, so a search for the newer ones skips the subtrees holding only
@@ -212,27 +221,37 @@ class VertexIndex {
   }
 
   // Adds to count the vertices of nodes[lo, hi) whose computed distance to center_ is below
-  // reach_ (the search's test), stopping once count passes kMaxVisits.
-  void count_within(const Block& blk, std::size_t lo, std::size_t hi, std::size_t& count) {
-    while (hi > lo && count <= kMaxVisits) {
+  // reach_ (the search's test) and takes those that are not from possible; false once the answer
+  // is settled (count > kMaxVisits or possible <= kMaxVisits) or the reads are spent.
+  bool count_within(const Block& blk, std::size_t lo, std::size_t hi, std::size_t& count, std::size_t& possible) {
+    while (hi > lo) {
+      if (count > kMaxVisits || possible <= kMaxVisits || crowd_reads_ >= kMaxCrowdReads) return false;
       const std::size_t mid = lo + (hi - lo) / 2;
       const Box& b = blk.boxes[mid];
       ++crowd_reads_;
       const double x0 = double{b.x0} - center_.x, x1 = double{b.x1} - center_.x;
       const double y0 = double{b.y0} - center_.y, y1 = double{b.y1} - center_.y;
       const double nx = std::max({x0, 0.0, -x1}), ny = std::max({y0, 0.0, -y1});
-      if (!(nx * nx + ny * ny < reach2_)) return;  // no vertex of the box within reach
+      if (!(nx * nx + ny * ny < reach2_)) {  // no vertex of the box within reach
+        possible -= hi - lo;
+        return true;
+      }
       const double fx = std::max(-x0, x1), fy = std::max(-y0, y1);
       if (fx * fx + fy * fy < reach2_) {  // every vertex of the box within reach
         count += hi - lo;
-        return;
+        return true;
       }
       const Point& p = blk.nodes[mid].p;
       const double dx = p.x - center_.x, dy = p.y - center_.y;
-      if (dx * dx + dy * dy < reach2_) ++count;
-      count_within(blk, lo, mid, count);
+      if (dx * dx + dy * dy < reach2_) {
+        ++count;
+      } else {
+        --possible;
+      }
+      if (!count_within(blk, lo, mid, count, possible)) return false;
       lo = mid + 1;
     }
+    return true;
   }
 
   static void build(const std::vector<Point>& points, std::vector<VertexId>& ids, std::size_t lo, std::size_t hi,
