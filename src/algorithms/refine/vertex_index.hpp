@@ -101,8 +101,11 @@ class VertexIndex {
         --possible;
       }
     }
-    for (const Block& blk : blocks_) {
-      if (!blk.nodes.empty() && !count_within(blk, 0, blk.nodes.size(), count, possible)) break;
+    // The largest blocks first: a small disk rules out most of a block in a few reads (one half per
+    // level of its kd-tree), so the blocks left may add up to kMaxVisits or less before the small
+    // ones are read at all.
+    for (auto blk = blocks_.rbegin(); blk != blocks_.rend(); ++blk) {
+      if (!blk->nodes.empty() && !count_within(*blk, 0, blk->nodes.size(), count, possible)) break;
     }
     return count > kMaxVisits;
   }
