@@ -4,6 +4,7 @@
 // if the flood ends under its cap. The shortcut must not change any answer.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
@@ -126,6 +127,56 @@ TEST(BrhCrowdedTest, DeferringTheSearchOfCrowdedDisksChangesNoAnswer) {
     ASSERT_EQ(meshes[0].points[i].x, meshes[1].points[i].x) << i;
     ASSERT_EQ(meshes[0].points[i].y, meshes[1].points[i].y) << i;
   }
+}
+
+TEST(BrhCrowdedTest, ACrowdedDiskWhoseFloodEndsUnderTheCapIsStillAWitness) {
+  // The unit circle through corners 0, 1, 2 and 4,200 points 5e-5 outside it on a 0.01 rad arc:
+  // the disk holds no vertex, and more than 4,096 lie within the index's pruning radius (it is
+  // crowded: the search gives up). The disk meets the ~4,200 triangles from the corners to the arc,
+  // fewer than the flood's cap at K = 600 (8 K + 64), so the flood sees it whole. An interior
+  // segment far away makes the mesh constrained (the index is used). The triangle of the three
+  // corners is in a K-bundle by its own disk, with the search deferred or not: the shortcut must
+  // not take "crowded" for "holds a vertex".
+  Pslg g;
+  for (int i = 0; i < 3; ++i) {
+    const double a = 2.0 * std::numbers::pi * i / 3.0;
+    g.points.push_back({std::cos(a), std::sin(a)});
+  }
+  for (std::size_t i = 0; i < 4200; ++i) {
+    const double a = 0.5 + 0.01 * static_cast<double>(i) / 4200.0;
+    g.points.push_back({(1.0 + 5e-5) * std::cos(a), (1.0 + 5e-5) * std::sin(a)});
+  }
+  const std::uint32_t far = static_cast<std::uint32_t>(g.points.size());
+  g.points.insert(g.points.end(), {{9.0, 0.5}, {11.0, 0.5}, {10.0, 0.0}, {10.0, 1.0}});
+  g.segments.push_back({far, far + 1});
+  g.point_markers.assign(g.points.size(), 0);
+  ConstrainOptions whole_hull;
+  whole_hull.convex_hull = true;
+  const Mesh m = constrained_delaunay(g, whole_hull);
+  constexpr std::uint32_t kK = 600;
+  std::vector<bool> answers[2];
+  std::uint64_t crowded = 0;
+  TriangleId corners = kNone;
+  for (const bool defer : {true, false}) {
+    brh::LocalBundleTest local(kK);
+    local.set_defer_crowded(defer);
+    for (TriangleId t = 0; t < m.triangle_slots(); ++t) {
+      if (!m.in_domain(t)) continue;
+      std::array<VertexId, 3> v = m.triangles[t].v;
+      std::sort(v.begin(), v.end());
+      if (v == std::array<VertexId, 3>{0, 1, 2}) corners = t;
+      answers[defer ? 0 : 1].push_back(local.in_bundle(m, t));
+    }
+    if (defer) crowded = local.stats().index_crowded;
+  }
+  ASSERT_NE(corners, kNone);
+  EXPECT_GT(crowded, 0u);
+  EXPECT_EQ(answers[0], answers[1]);
+  brh::LocalBundleTest local(kK);
+  EXPECT_TRUE(local.in_bundle(m, corners));
+  EXPECT_GT(local.stats().index_crowded, 0u);
+  EXPECT_LE(local.stats().max_visits, local.cap());
+  EXPECT_TRUE(in_k_bundle(m, kK, {corners})[0]);
 }
 
 }  // namespace
