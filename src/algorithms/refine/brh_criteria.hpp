@@ -139,6 +139,8 @@ class LocalBundleTest {
     std::uint64_t reached_k = 0;       // floods that counted K in-domain triangles
     std::uint64_t index_queries = 0;   // constrained mesh: questions to the vertex index
     std::uint64_t index_newer = 0;     // of them, about the vertices newer than the disk's last query only
+    std::uint64_t index_crowded = 0;   // disks not searched: more vertices near the rim than the search visits
+    std::uint64_t crowd_reads = 0;     // kd boxes the crowding counts read
   };
 
   // A flood pops at most cap_ + 1 triangles, so it adds at most 3 (cap_ + 1) + 1 triangles and
@@ -167,6 +169,9 @@ class LocalBundleTest {
 
   const Stats& stats() const { return stats_; }
   std::size_t cap() const { return cap_; }
+  // Whether a crowded disk's index search waits for its flood (on by default; off only for the
+  // tests, which compare the answers of both).
+  void set_defer_crowded(bool on) { defer_crowded_ = on; }
 
   bool in_bundle(const Mesh& m, TriangleId t) {
     if (!delaunay_known_) {
@@ -318,6 +323,7 @@ class LocalBundleTest {
     // triangle meeting the disk, hence every vertex in it.
     bool known_empty = delaunay_;
     bool index_asked = delaunay_;
+    bool index_deferred = false;  // the search was not run: the disk is crowded (see below)
     if (!delaunay_ && cache_[c].empty_below != 0) {
       index_asked = true;
       ++stats_.index_newer;
@@ -348,8 +354,15 @@ class LocalBundleTest {
         if (count == k_) ++stats_.reached_k;
         if (!index_asked) {
           index_asked = true;
-          known_empty = indexed_empty(m, cv, 0);
-          if (holds_vertex_) return 0;
+          // A disk crowded by more vertices near its rim than the search may visit cannot be shown
+          // empty by it: the search would find a vertex inside (answer 0) or give up (the flood
+          // goes on, whole). The flood goes on at once; the search is run only if the flood ends
+          // below its cap, when its answer decides (see index_deferred below).
+          index_deferred = defer_crowded_ && crowded(m, cv);
+          if (!index_deferred) {
+            known_empty = indexed_empty(m, cv, 0);
+            if (holds_vertex_) return 0;
+          }
         }
         if (known_empty) {
           ++stats_.stopped_at_k;
@@ -391,6 +404,14 @@ class LocalBundleTest {
         }
         stack_.push_back(n);
       }
+    }
+    // The flood saw the whole disk without passing its cap. The search skipped for a crowded disk
+    // answers now as it would have then: a vertex inside it found ends in 0, as before; it cannot
+    // show the disk empty (then the count at K, as a flood stopped there, would be the answer).
+    if (index_deferred) {
+      known_empty = indexed_empty(m, cv, 0);
+      if (holds_vertex_) return 0;
+      if (known_empty) return k_;
     }
     return count;
   }
@@ -443,6 +464,17 @@ class LocalBundleTest {
   }
   VertexIndex index_;
 
+  // Is the circumdisk of corners cv crowded (VertexIndex::crowded: its search over every vertex
+  // would pass its visit cap or find a vertex inside, never show it empty)?
+  bool crowded(const Mesh& m, const std::array<VertexId, 3>& cv) {
+    index_.sync(m.points);
+    const bool crowded = index_.crowded(m.points, cv);
+    stats_.crowd_reads += index_.last_crowd_reads();
+    if (!crowded) return false;
+    ++stats_.index_crowded;
+    return true;
+  }
+
   void remember_inside(VertexId x) {
     if (std::find(recent_inside_.begin(), recent_inside_.end(), x) == recent_inside_.end()) {
       recent_inside_[recent_next_++ % kRecentInside] = x;
@@ -489,6 +521,7 @@ class LocalBundleTest {
   std::vector<SlotCache> cache_;
   bool holds_vertex_ = false;  // the last flood found a vertex strictly inside its disk
   bool shown_empty_ = false;   // the index showed the last flood's disk vertex-empty
+  bool defer_crowded_ = true;
   std::uint16_t epoch_ = 1;
   bool delaunay_known_ = false;
   bool delaunay_ = false;  // every segment is a hull edge: circumdisks are vertex-empty
