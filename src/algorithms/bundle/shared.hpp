@@ -102,11 +102,16 @@ struct Shared {
   std::vector<VertexId> mesh_id;            // by renumbered vertex id: the mesh's id
   struct Slot {
     std::array<VertexId, 3> v;  // corners, renumbered (kInfinite for ghosts and dead slots)
-    std::array<Handle, 3> n;    // neighbours, as in Triangle::n (renumbered slots in a region)
   };
   // Every mesh slot (build), or the slots of a region of the mesh renumbered densely followed by
   // one slot, `outside`, that stands for every triangle beyond the region (build_region).
   std::vector<Slot> slots;
+  // The slots' neighbours (Triangle::n; the corners of these entries are not read): over the whole
+  // mesh the mesh's own triangles (slot numbers are the mesh's, so its neighbour handles are
+  // already right: a copy of them was 12 bytes a slot at in_k_bundle's peak), over a region
+  // `region_neighbours` (renumbered slots, `outside` beyond).
+  const Triangle* neighbours_ = nullptr;
+  std::vector<Triangle> region_neighbours;
   std::vector<std::uint8_t> domain;         // per slot: in the domain (Mesh::in_domain)
   TriangleId outside = kNone;               // the slot beyond a region (kNone: the whole mesh)
   std::vector<Handle> vertex_edge;          // renumbered id → a mesh edge leaving the vertex
@@ -135,7 +140,8 @@ struct Shared {
   std::vector<std::uint8_t> cocircular;
   bool kept_dt = false;                     // dt is a kept DT(V) with the new vertices inserted
 
-  Handle sym(Handle h) const { return slots[h >> 2].n[h & 3]; }
+  Handle sym(Handle h) const { return neighbours_[h >> 2].n[h & 3]; }
+  const std::array<Handle, 3>& neighbours(TriangleId t) const { return neighbours_[t].n; }
   VertexId org(Handle h) const { return slots[h >> 2].v[next3(h & 3)]; }
   VertexId dest(Handle h) const { return slots[h >> 2].v[prev3(h & 3)]; }
   VertexId apex(Handle h) const { return slots[h >> 2].v[h & 3]; }
