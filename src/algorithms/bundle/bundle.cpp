@@ -131,6 +131,7 @@ BundleResult bundle_number_of(const Mesh& mesh, const BundleOptions& options, Re
     if (options.per_triangle) result.per_triangle.assign(mesh.triangle_slots(), 0);
     return result;
   }
+  sh.own_neighbours();  // (Shared reads the mesh's neighbours; `release` may free the mesh)
   release();
   const unsigned threads = bundle::worker_threads(options.threads, sh.pencils.size());
   result.disks = sh.share_cocircular_disks(threads);

@@ -17,6 +17,9 @@
 #include <unordered_map>
 #include <utility>
 #include <vector>
+#ifdef __GLIBC__
+#include <malloc.h>  // malloc_trim
+#endif
 
 #include "algorithms/bundle/circle_predicates.hpp"
 #include "algorithms/bundle/lists.hpp"
@@ -125,7 +128,9 @@ class KBundleAttempt {
   // One worker's share of stage 1.
   struct Part {
     std::vector<TriangleId> s_list, fan;
-    std::vector<std::uint32_t> dt_stamp;
+    // Per DT slot: the stamp of the last query whose walk considered it (16 bits, cleared when the
+    // stamps wrap: 2 bytes a DT slot per worker at in_k_bundle's peak instead of 4).
+    std::vector<std::uint16_t> dt_stamp;
     std::size_t decided = 0, disks_counted = 0, fan_steps = 0, hinted = 0;
     bool gave_up = false;
   };
@@ -251,10 +256,15 @@ class KBundleAttempt {
       Part& part = parts[k_part];
       part.dt_stamp.assign(dt_slots_, 0);
       std::vector<TriangleId> stack;
+      std::uint16_t stamp = 0;
       for (std::size_t qi = begin; qi < end; ++qi) {
         if (!in_domain(queries_[qi])) continue;
         sh_.check_deadline();
-        if (!first_stage_query(w, part, qi, static_cast<std::uint32_t>(qi - begin + 1), stack)) return;
+        if (++stamp == 0) {  // wrapped: no slot may keep a stamp the next queries reuse
+          std::fill(part.dt_stamp.begin(), part.dt_stamp.end(), std::uint16_t{0});
+          stamp = 1;
+        }
+        if (!first_stage_query(w, part, qi, stamp, stack)) return;
       }
     });
   }
@@ -296,7 +306,7 @@ class KBundleAttempt {
   // time, each followed by the flood it starts (a vertex of DT(V) may have thousands of
   // neighbours, e.g. on a circle: a query decided near its first fan triangle does not walk the
   // whole fan). False if the attempt gives up (no seed corner).
-  bool first_stage_query(Worker& w, Part& part, std::size_t qi, std::uint32_t stamp, std::vector<TriangleId>& stack) {
+  bool first_stage_query(Worker& w, Part& part, std::size_t qi, std::uint16_t stamp, std::vector<TriangleId>& stack) {
     const TriangleId t = queries_[qi];
     const auto& tv = sh_.slots[t].v;
     // The earlier call's witness first: its disk, if still vertex-empty (the Delaunay triangle
@@ -724,6 +734,15 @@ class KBundleAttempt {
       w->min_candidates = k_;
       if (cache_ && cache_->keep_sweeps) w->reuse = cache_->impl.get();
     }
+#ifdef __GLIBC__
+    // The arrays freed since stage 1 (the floods' per-vertex and per-slot scratch, the marks of
+    // the lists' Delaunay triangles) are under the 4 MB that gets its own mapping, so they stay
+    // resident in the heap (`mwst triangulate` never trims it), and the sweeps' per-slot scratch
+    // does not fit in their holes: in_k_bundle's peak was here, at the end of the sweeps. Returning
+    // the free pages now (~12 MB at 160k points) lowers it by 2–3 MB; the sweeps fault in what
+    // they use afresh. (No value depends on it.)
+    malloc_trim(0);
+#endif
     bundle::for_ranges(workers_, sh_.pencils.size(), [&](Worker& w, std::size_t begin, std::size_t end, std::size_t) {
       for (std::size_t i = begin; i < end; ++i) {
         sh_.check_deadline();

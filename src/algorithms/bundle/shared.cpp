@@ -165,6 +165,7 @@ void Shared::apply_order(const std::vector<std::uint64_t>& order, const std::vec
     if (state[v] == 2) used = static_cast<std::uint32_t>(i + 1);
   }
   support::resize_on_huge_pages(slots, m.triangle_slots());
+  read_mesh_neighbours();
   support::resize_on_huge_pages(domain, m.triangle_slots());
   support::reserve_on_huge_pages(vertex_edge, pts.size());
   vertex_edge.assign(pts.size(), kNone);
@@ -173,7 +174,6 @@ void Shared::apply_order(const std::vector<std::uint64_t>& order, const std::vec
     for (unsigned k = 0; k < 3; ++k) {
       const VertexId v = m.triangles[t].v[k];
       slots[t].v[k] = (v == kInfinite || m.is_dead(t)) ? kInfinite : renumber[v];
-      slots[t].n[k] = m.triangles[t].n[k];
     }
     if (m.is_dead(t)) continue;
     for (unsigned e = 0; e < 3; ++e) {
@@ -223,6 +223,8 @@ bool Shared::build_region(const std::vector<TriangleId>& region, const DenseIds&
   }
   outside = static_cast<TriangleId>(region.size());
   slots.resize(region.size() + 1);
+  neighbours_held.resize(region.size() + 1);
+  read_held_neighbours();
   domain.assign(region.size() + 1, 0);
   vertex_edge.assign(pts.size(), kNone);
   for (TriangleId t = 0; t < region.size(); ++t) {
@@ -232,7 +234,7 @@ bool Shared::build_region(const std::vector<TriangleId>& region, const DenseIds&
       const VertexId v = tri.v[k];
       slots[t].v[k] = v == kInfinite ? kInfinite : renumber[ids.find(v)];
       const TriangleId n = region_ids.find(triangle_of(tri.n[k]));
-      slots[t].n[k] = n == kNone ? make_handle(outside, 0) : make_handle(n, edge_of(tri.n[k]));
+      neighbours_held[t][k] = n == kNone ? make_handle(outside, 0) : make_handle(n, edge_of(tri.n[k]));
     }
     for (unsigned e = 0; e < 3; ++e) {
       const Handle h = make_handle(t, e);
@@ -241,7 +243,7 @@ bool Shared::build_region(const std::vector<TriangleId>& region, const DenseIds&
     }
   }
   slots[outside].v = {kInfinite, kInfinite, kInfinite};
-  for (unsigned k = 0; k < 3; ++k) slots[outside].n[k] = make_handle(outside, k);
+  for (unsigned k = 0; k < 3; ++k) neighbours_held[outside][k] = make_handle(outside, k);
   return finish(false);
 }
 

@@ -272,16 +272,18 @@ class Worker {
   };
   static constexpr std::int8_t kUnsetSide = 127;  // pencil_side_: not computed for this pencil
 
-  // A new disk for meets_circumdisk's caches. (Stamps below 2^30: edge_meets_ keeps the stamp
-  // shifted by one bit, disk_side_ by two.)
+  // A new disk for meets_circumdisk's caches. (Stamps below 2^15: edge_meets_ keeps the stamp
+  // shifted by one bit in 16 bits, disk_side_ by two in 32. Three entries a mesh slot per worker
+  // were 12 bytes at in_k_bundle's peak, its first stage; the clearing every 32767 disks costs
+  // a pass over 6 bytes a slot, against a flood per disk.)
   void start_disk() {
     if (edge_meets_.empty()) {
       disk_side_.assign(sh_.pts.size(), 0u);
-      edge_meets_.assign(3 * sh_.slots.size(), 0u);
+      edge_meets_.assign(3 * sh_.slots.size(), std::uint16_t{0});
     }
-    if (++disk_stamp_ == (1u << 30)) {
+    if (++disk_stamp_ == (1u << 15)) {
       std::fill(disk_side_.begin(), disk_side_.end(), 0u);
-      std::fill(edge_meets_.begin(), edge_meets_.end(), 0u);
+      std::fill(edge_meets_.begin(), edge_meets_.end(), std::uint16_t{0});
       disk_stamp_ = 1;
     }
   }
@@ -402,7 +404,7 @@ class Worker {
   // answer), per disk.
   std::uint32_t disk_stamp_ = 0;
   std::vector<std::uint32_t> disk_side_;
-  std::vector<std::uint32_t> edge_meets_;
+  std::vector<std::uint16_t> edge_meets_;
   // Per mesh slot: its index in candidates_ if it is a candidate of the current pencil (a sparse
   // set: valid when candidates_[i].triangle is the slot, so that nothing is cleared per pencil).
   std::vector<std::uint32_t> candidate_index_;
@@ -644,7 +646,7 @@ inline bool Worker::meets_circumdisk(TriangleId t, VertexId ca, VertexId cb, Ver
       continue;
     }
     const bool meets = segment_meets_open_circumdisk(a, b, c, sh_.pts[tv[iu]], sh_.pts[tv[iw]]);
-    const std::uint32_t value = disk_stamp_ << 1 | (meets ? 1u : 0u);
+    const auto value = static_cast<std::uint16_t>(disk_stamp_ << 1 | (meets ? 1u : 0u));
     edge_meets_[edge_entry(h)] = value;
     // (Only in-domain triangles are candidates; a region's edges out of it all lead to the one
     // `outside` slot, which is not.)

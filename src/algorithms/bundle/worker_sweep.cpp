@@ -676,7 +676,7 @@ void Worker::classify(std::uint32_t i, bool& has_a, Threshold& a, bool& has_b, T
     always = orient2d(pc_.q, x, pc_.p) > 0 && orient2d(pc_.q, pc_.p, y) > 0;
   }
   has_a = has_b = false;
-  const auto& neighbours = sh_.slots[t].n;
+  const auto& neighbours = sh_.neighbours(t);
   for (unsigned k = 0; k < 3; ++k) {
     const Handle across = neighbours[k];
     const TriangleId n = triangle_of(across);

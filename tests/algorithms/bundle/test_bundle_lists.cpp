@@ -148,5 +148,31 @@ TEST(BundleLists, NeededSlotsGetTheirFloodsAndBoxes) {
   EXPECT_GT(flooded, 1000u);
 }
 
+// Over the whole mesh Shared reads the mesh's own neighbour handles (no copy); own_neighbours
+// copies them for a caller that frees the mesh (bundle_number of a triangle list): afterwards the
+// mesh's triangles are not read for adjacency, and every slot's neighbours are still the mesh's.
+TEST(BundleShared, NeighboursReadFromTheMeshOrOwnedOnceItIsFreed) {
+  Mesh m = delaunay(uniform_points(2000, 5));
+  bundle::Shared sh(m);
+  ASSERT_TRUE(sh.build(false));
+  const std::vector<Triangle> original = m.triangles;
+  EXPECT_TRUE(sh.neighbours_held.empty());
+  for (TriangleId t = 0; t < original.size(); ++t) {
+    for (unsigned e = 0; e < 3; ++e) ASSERT_EQ(sh.sym(make_handle(t, e)), original[t].n[e]);
+  }
+  sh.own_neighbours();
+  ASSERT_EQ(sh.neighbours_held.size(), original.size());
+  for (Triangle& tri : m.triangles) tri.n = {kNone, kNone, kNone};  // as if freed
+  std::size_t checked = 0;
+  for (TriangleId t = 0; t < original.size(); ++t) {
+    EXPECT_EQ(sh.neighbours(t), original[t].n);
+    for (unsigned e = 0; e < 3; ++e) {
+      ASSERT_EQ(sh.sym(make_handle(t, e)), original[t].n[e]);
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 3 * original.size());
+}
+
 }  // namespace
 }  // namespace mwst
