@@ -106,16 +106,15 @@ struct Shared {
   // Every mesh slot (build), or the slots of a region of the mesh renumbered densely followed by
   // one slot, `outside`, that stands for every triangle beyond the region (build_region).
   std::vector<Slot> slots;
-  // The slots' neighbours (as in Triangle::n), read through neighbour_base_ with a stride of
-  // neighbour_stride_ handles a slot: over the whole mesh (build) the mesh's own triangles' `n`
-  // (slot numbers are the mesh's, so its neighbour handles are right as they are: a copy of them
-  // was 12 bytes a slot at in_k_bundle's peak); over a region (build_region), or once the mesh is
-  // to be freed (own_neighbours), `neighbours_held` (three handles a slot).
+  // The slots' neighbours (as in Triangle::n): over the whole mesh (build) the mesh's own
+  // triangles' `n`, read through mesh_triangles_ (slot numbers are the mesh's, so its neighbour
+  // handles are right as they are: a copy of them was 12 bytes a slot at in_k_bundle's peak); over
+  // a region (build_region), or once the mesh is to be freed (own_neighbours), `neighbours_held`.
   std::vector<std::array<Handle, 3>> neighbours_held;
   // Copies the mesh's neighbours into neighbours_held (build over the whole mesh only): for a
   // caller that frees the mesh while Shared is still read (bundle_number of a triangle list).
   void own_neighbours() {
-    if (neighbour_base_ != mesh_neighbours()) return;
+    if (mesh_triangles_ == nullptr) return;
     neighbours_held.resize(m.triangles.size());
     for (std::size_t t = 0; t < m.triangles.size(); ++t) neighbours_held[t] = m.triangles[t].n;
     read_held_neighbours();
@@ -148,9 +147,9 @@ struct Shared {
   std::vector<std::uint8_t> cocircular;
   bool kept_dt = false;                     // dt is a kept DT(V) with the new vertices inserted
 
-  Handle sym(Handle h) const { return neighbour_base_[std::size_t{h >> 2} * neighbour_stride_ + (h & 3)]; }
+  Handle sym(Handle h) const { return neighbours(h >> 2)[h & 3]; }
   const std::array<Handle, 3>& neighbours(TriangleId t) const {
-    return *reinterpret_cast<const std::array<Handle, 3>*>(neighbour_base_ + std::size_t{t} * neighbour_stride_);
+    return mesh_triangles_ != nullptr ? mesh_triangles_[t].n : neighbours_held[t];
   }
   VertexId org(Handle h) const { return slots[h >> 2].v[next3(h & 3)]; }
   VertexId dest(Handle h) const { return slots[h >> 2].v[prev3(h & 3)]; }
@@ -220,18 +219,9 @@ struct Shared {
   bool build_region(const std::vector<TriangleId>& region, const DenseIds& region_ids, const std::vector<VertexId>& w);
 
  private:
-  static_assert(sizeof(Triangle) % sizeof(Handle) == 0 && sizeof(std::array<Handle, 3>) == 3 * sizeof(Handle));
-  const Handle* neighbour_base_ = nullptr;
-  std::size_t neighbour_stride_ = 3;
-  const Handle* mesh_neighbours() const { return m.triangles.empty() ? nullptr : m.triangles.front().n.data(); }
-  void read_mesh_neighbours() {
-    neighbour_base_ = mesh_neighbours();
-    neighbour_stride_ = sizeof(Triangle) / sizeof(Handle);
-  }
-  void read_held_neighbours() {
-    neighbour_base_ = neighbours_held.empty() ? nullptr : neighbours_held.front().data();
-    neighbour_stride_ = 3;
-  }
+  const Triangle* mesh_triangles_ = nullptr;  // the mesh's triangles whose `n` are read, or none
+  void read_mesh_neighbours() { mesh_triangles_ = m.triangles.data(); }
+  void read_held_neighbours() { mesh_triangles_ = nullptr; }
 
   Mesh* prior_ = nullptr;        // build(): the Delaunay triangulation of vertices [0, prior_used_)
   std::uint32_t prior_used_ = 0;
