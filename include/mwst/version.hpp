@@ -7,8 +7,8 @@
 
 #define MWST_VERSION_MAJOR 0
 #define MWST_VERSION_MINOR 4
-#define MWST_VERSION_PATCH 0
-#define MWST_VERSION_STRING "0.4.0"
+#define MWST_VERSION_PATCH 1
+#define MWST_VERSION_STRING "0.4.1"
 
 namespace mwst {
 
